@@ -1,0 +1,92 @@
+/* acuity: what can be seen. Reddy's visual acuity model (Reddy 1998 eqs. 1–5), per-object viewing
+ * geometry batched over plain arrays, and the LOD selectors that use them. Prefix acu_.
+ * Knows nothing of OpenGL, files or devices; allocates nothing. Angles in degrees (as the paper). */
+#ifndef HMDLOD_ACUITY_H
+#define HMDLOD_ACUITY_H
+
+#include "base/base.h"
+
+/* ---- Reddy's model --------------------------------------------------------------------------
+ * Preconditions for the three below: inputs are not NaN (check at the boundary with
+ * acu_check_inputs). v < 0 is treated as its magnitude; E is clamped to [0, 180]. */
+double acu_velocity_factor_cpd(double velocity_degps); /* G(v), eq. 2, clamped to [0, 60] */
+double acu_eccentricity_factor(double eccentricity_deg); /* M(E), eq. 3, in (0, 1] */
+double acu_acuity_cpd(double velocity_degps, double eccentricity_deg); /* H = G·M, eq. 1 */
+
+/* Boundary check for user- or file-supplied values: NaN, negative velocity or eccentricity
+ * outside [0, 180] → −1 with the reason in err. +∞ velocity is accepted (H = 0). */
+int acu_check_inputs(double velocity_degps, double eccentricity_deg, struct hl_error *err);
+
+/* Inverses used for Reddy's §4 figures (all for a still-or-moving eye at a target acuity):
+ * the eccentricity where H(0, E) = target (0 if target ≥ 60, +∞ if target ≤ 0), and the velocity
+ * where H(v, E) = target at eccentricity E (0 if unreachable, +∞ if target ≤ 0). */
+double acu_eccentricity_at_acuity_deg(double target_cpd);
+double acu_velocity_at_acuity_degps(double target_cpd, double eccentricity_deg);
+
+/* ---- per-display limits: model only what a scene needs -------------------------------------- */
+struct acu_limits {
+    double xi_cpd;        /* highest displayable frequency (eq. 4), > 0 */
+    double scale;         /* Reddy §6 global factor s, (0, 1]; 1 = plain perceptual LOD */
+    int use_velocity;     /* 0 → treat every object as still on the retina */
+    int use_eccentricity; /* 0 → treat every object as at the gaze centre */
+    /* Precomputed: H ≥ ξ holds on the union of two rectangles, so objects inside skip the model:
+     * (E ≤ 5.79 and v ≤ velocity_xi) or (v ≤ 0.825 and E ≤ eccentricity_xi). */
+    double eccentricity_xi_deg; /* E where H(0, E) = ξ */
+    double velocity_xi_degps;   /* v where H(v, 0) = ξ */
+};
+void acu_limits_init(struct acu_limits *lim, double xi_cpd, double scale);
+/* min(H(v,E), ξ)·s; skips the model inside the precomputed region and counts evaluations. */
+double acu_limit_cpd(const struct acu_limits *lim, double velocity_degps, double eccentricity_deg,
+                     uint64_t *model_evaluations);
+
+/* ---- viewing geometry, batched --------------------------------------------------------------
+ * The viewer: cyclopean eye position and gaze in world space, head angular and linear velocity.
+ * Positions are double so objects 1e6 m from the origin keep millimetres. */
+struct acu_viewer {
+    hl_vec3d eye_position_m;
+    hl_vec3d gaze_dir;               /* unit, world */
+    hl_vec3d angular_velocity_radps; /* head, world frame */
+    hl_vec3d linear_velocity_mps;    /* head, world frame */
+};
+
+/* For each of the `count` objects listed in `index` (into the scene arrays center_m[3·i..],
+ * radius_m[i], velocity_mps[3·i..] or NULL for static objects), writes position-ordered outputs:
+ *   eccentricity_deg[k]     angle from the gaze to the NEAREST point of the bounding sphere, ≥ 0
+ *                           (conservative: a big object near the gaze counts as at the gaze);
+ *   retinal_velocity_degps  speed of the sphere centre's image on a head-locked eye:
+ *                           |(u − (u·d)d)/r − ω × d| with d the unit direction, u the relative velocity;
+ *   angular_diameter_deg    2·asin(radius/distance), 180 when the eye is inside the sphere.
+ * An eye inside the sphere gets E = 0 and v = |ω| (the object fills the view and slides with it). */
+void acu_compute_geometry(const struct acu_viewer *viewer, const double *center_m, const double *radius_m,
+                          const double *velocity_mps, const uint32_t *index, size_t count,
+                          double *eccentricity_deg, double *retinal_velocity_degps,
+                          double *angular_diameter_deg);
+
+/* ---- LOD selection ----------------------------------------------------------------------------
+ * A chain of LODs, 0 = finest. unique_freq_cpdiam[k] (k ≥ 1) is the highest spatial frequency
+ * present in LOD k−1 and lost in LOD k, in cycles per object diameter (Reddy §3.2); it falls as
+ * k rises. At run time f[c/deg] = f[cycles/diameter] / angular diameter[deg]. */
+enum { ACU_MAX_LODS = 8 };
+struct acu_chain {
+    int lod_count;
+    double unique_freq_cpdiam[ACU_MAX_LODS];
+};
+
+struct acu_select_stats {
+    uint64_t model_evaluations; /* objects whose H(v,E) was computed */
+    uint64_t model_skips;       /* objects inside the H ≥ ξ region */
+};
+
+/* Reddy's selector: per object the coarsest LOD whose every removed frequency lies above the
+ * acuity limit (so nothing the viewer can resolve is dropped). Writes lod_out[k] and, when not
+ * NULL, the limit used ceiling_cpd_out[k]. chain_of_object is indexed like the scene (via index). */
+void acu_select_reddy(const struct acu_limits *lim, const struct acu_chain *chains,
+                      const uint32_t *chain_of_object, const uint32_t *index, size_t count,
+                      const double *eccentricity_deg, const double *retinal_velocity_degps,
+                      const double *angular_diameter_deg, uint8_t *lod_out, double *ceiling_cpd_out,
+                      struct acu_select_stats *stats);
+
+/* The `none` baseline: finest LOD for every listed object. */
+void acu_select_finest(size_t count, uint8_t *lod_out);
+
+#endif

@@ -1,0 +1,82 @@
+/* hmdlod base: the few things every module needs — errors, a monotonic clock, double-precision
+ * vectors and quaternions, and a terminal progress bar. Prefix hl_. Nothing else belongs here. */
+#ifndef HMDLOD_BASE_H
+#define HMDLOD_BASE_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+/* ---- errors ----------------------------------------------------------------------------------
+ * Fallible functions return 0 on success or a negative code, and fill a struct hl_error with
+ * "place: what was wrong" (place = file:line or file: field). One message, no stack of them. */
+struct hl_error {
+    char msg[512];
+};
+
+/* Formats the message into err (may be NULL) and returns -1, so callers can `return hl_fail(...)`. */
+int hl_fail(struct hl_error *err, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* ---- clock ----------------------------------------------------------------------------------- */
+int64_t hl_clock_now_ns(void); /* CLOCK_MONOTONIC, nanoseconds */
+double hl_clock_now_s(void);   /* the same in seconds (double keeps ns resolution for ~100 days) */
+
+/* ---- vectors (double; world positions and fusion state) --------------------------------------- */
+typedef struct hl_vec3d {
+    double x, y, z;
+} hl_vec3d;
+
+static inline hl_vec3d hl_v3(double x, double y, double z) { hl_vec3d v = {x, y, z}; return v; }
+static inline hl_vec3d hl_v3_add(hl_vec3d a, hl_vec3d b) { return hl_v3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static inline hl_vec3d hl_v3_sub(hl_vec3d a, hl_vec3d b) { return hl_v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static inline hl_vec3d hl_v3_scale(hl_vec3d a, double s) { return hl_v3(a.x * s, a.y * s, a.z * s); }
+static inline double hl_v3_dot(hl_vec3d a, hl_vec3d b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline hl_vec3d hl_v3_cross(hl_vec3d a, hl_vec3d b)
+{
+    return hl_v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+double hl_v3_length(hl_vec3d a);              /* hypot-based: no overflow for 1e200-sized inputs */
+hl_vec3d hl_v3_normalize(hl_vec3d a);         /* zero vector stays zero */
+double hl_v3_angle_rad(hl_vec3d a, hl_vec3d b); /* atan2(|a×b|, a·b): exact near 0 and π; 0 if either is zero */
+
+/* ---- quaternions, scalar first (w x y z) — the order of trace files. cglm's versor is x y z w. -- */
+typedef struct hl_quatd {
+    double w, x, y, z;
+} hl_quatd;
+
+static inline hl_quatd hl_q(double w, double x, double y, double z) { hl_quatd q = {w, x, y, z}; return q; }
+static inline hl_quatd hl_q_identity(void) { return hl_q(1, 0, 0, 0); }
+static inline double hl_q_dot(hl_quatd a, hl_quatd b) { return a.w * b.w + a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline hl_quatd hl_q_conj(hl_quatd q) { return hl_q(q.w, -q.x, -q.y, -q.z); }
+static inline hl_quatd hl_q_neg(hl_quatd q) { return hl_q(-q.w, -q.x, -q.y, -q.z); }
+hl_quatd hl_q_mul(hl_quatd a, hl_quatd b);      /* Hamilton product a ⊗ b */
+double hl_q_norm(hl_quatd q);
+hl_quatd hl_q_normalize(hl_quatd q);            /* zero quaternion → identity */
+hl_vec3d hl_q_rotate(hl_quatd q, hl_vec3d v);   /* q v q*, q unit */
+hl_quatd hl_q_from_axis_angle(hl_vec3d axis, double angle_rad);
+hl_quatd hl_q_exp(hl_vec3d rotvec_rad);         /* rotation vector → unit quaternion (stable near 0) */
+hl_vec3d hl_q_log(hl_quatd q);                  /* unit quaternion → rotation vector, shortest arc, atan2-based */
+double hl_q_angle_rad(hl_quatd a, hl_quatd b);  /* rotation angle between two orientations, in [0, π] */
+hl_quatd hl_q_slerp(hl_quatd a, hl_quatd b, double t); /* shortest arc; b flipped when a·b < 0 */
+
+#define HL_PI 3.14159265358979323846
+#define HL_DEG_PER_RAD (180.0 / HL_PI)
+#define HL_RAD_PER_DEG (HL_PI / 180.0)
+
+/* ---- progress bar ----------------------------------------------------------------------------
+ * Draws "label [#####.....] 42% 12/30" on stderr when stderr is a terminal; silent otherwise. */
+struct hl_progress {
+    const char *label;
+    uint64_t total;
+    int enabled;
+    int last_permille;
+};
+void hl_progress_begin(struct hl_progress *p, const char *label, uint64_t total);
+void hl_progress_update(struct hl_progress *p, uint64_t done);
+void hl_progress_end(struct hl_progress *p);
+
+#endif

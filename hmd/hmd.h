@@ -1,0 +1,59 @@
+/* hmd: what the display is — profiles (built-in table and JSON files), Reddy's highest displayable
+ * frequency ξ, and per-eye asymmetric frusta. Prefix hmd_. Depends on base only. */
+#ifndef HMDLOD_HMD_H
+#define HMDLOD_HMD_H
+
+#include "base/base.h"
+
+enum { HMD_NAME_MAX = 64, HMD_EYE_LEFT = 0, HMD_EYE_RIGHT = 1 };
+
+/* One display. Pixels and FOV are per eye. FOV is four tangent magnitudes for the LEFT eye
+ * (temporal = left, nasal = right); the right eye mirrors left↔right. A symmetric FOV of H×V
+ * degrees is tan(H/2) on both sides. */
+struct hmd_profile {
+    char name[HMD_NAME_MAX];
+    char description[128];
+    int eye_width_px, eye_height_px;
+    double tan_left, tan_right, tan_up, tan_down; /* left eye, all > 0 */
+    double refresh_hz;                            /* > 0 */
+    double ipd_m;                                 /* eye separation, >= 0 */
+    double distortion_k[4];                       /* PanoTools a, b, c, d (1,0,0,0-free: all 0 = none) */
+    double aberration[3];                         /* per-channel scale r, g, b (1 = none) */
+    double xi_override_cpd;                       /* > 0 replaces Reddy eq. 4's ξ; 0 = use eq. 4 */
+};
+
+/* Reddy's highest displayable frequency, eq. 4: one pixel is half a cycle. */
+struct hmd_xi {
+    double horizontal_cpd; /* eye_width_px / (2 · horizontal FOV°) */
+    double vertical_cpd;   /* eye_height_px / (2 · vertical FOV°) */
+    double used_cpd;       /* the override if set, else max(horizontal, vertical) */
+};
+
+/* Built-in table (DEVICES.md §1). Index 0 … hmd_builtin_count()-1; pointers stay valid forever. */
+int hmd_builtin_count(void);
+const struct hmd_profile *hmd_builtin_at(int index);
+const struct hmd_profile *hmd_builtin_find(const char *name); /* case-insensitive; NULL if unknown */
+
+/* Loads `name_or_path`: a built-in name, else a JSON profile file (docs/formats.md). On bad input
+ * returns -1 with "file: field: reason" in err and leaves *out unspecified. */
+int hmd_profile_load(const char *name_or_path, struct hmd_profile *out, struct hl_error *err);
+int hmd_profile_load_json(const char *path, struct hmd_profile *out, struct hl_error *err);
+/* Checks ranges (pixels > 0, tangents > 0 and < tan(90°), refresh > 0 …); `where` prefixes the message. */
+int hmd_profile_validate(const struct hmd_profile *p, const char *where, struct hl_error *err);
+
+double hmd_fov_horizontal_deg(const struct hmd_profile *p); /* atan(L) + atan(R) */
+double hmd_fov_vertical_deg(const struct hmd_profile *p);   /* atan(U) + atan(D) */
+struct hmd_xi hmd_compute_xi(const struct hmd_profile *p);
+
+/* One eye's frustum in the head frame (+X right, +Y up, −Z forward). Tangents are magnitudes;
+ * the eye sits at (offset_x_m, 0, 0): −ipd/2 for the left eye, +ipd/2 for the right. */
+struct hmd_eye {
+    double offset_x_m;
+    double tan_left, tan_right, tan_up, tan_down;
+};
+struct hmd_eye hmd_eye_frustum(const struct hmd_profile *p, int eye);
+
+/* Off-axis perspective projection for an eye, column-major 4×4 (OpenGL clip space, depth −1…1). */
+void hmd_eye_projection(const struct hmd_eye *eye, double near_m, double far_m, double out_m4[16]);
+
+#endif

@@ -1,0 +1,97 @@
+/* replay: sessions over time. Head-motion trace formats (the project's CSV and Corbillon MMSys'18),
+ * resampling by slerp with sane angular velocity, the trace pose source, the frame loop on a
+ * virtual clock, per-frame CSV and summaries. Prefix rpl_. The only module that joins the others. */
+#ifndef HMDLOD_REPLAY_H
+#define HMDLOD_REPLAY_H
+
+#include <stdio.h>
+
+#include "base/base.h"
+#include "tracking/tracking.h"
+
+/* ---- traces --------------------------------------------------------------------------------- */
+enum rpl_trace_format { RPL_TRACE_HMDLOD_CSV = 0, RPL_TRACE_CORBILLON = 1 };
+
+/* What loading found and did (docs/formats.md lists each rule). */
+struct rpl_trace_report {
+    size_t rows;              /* data rows read */
+    size_t sign_flips;        /* q → −q to stay in the previous sample's hemisphere */
+    size_t repeated_samples;  /* rows whose orientation repeats the previous row exactly (kept) */
+    size_t gaps;              /* steps longer than RPL_TRACE_GAP_S */
+    double longest_gap_s;
+    size_t speed_outliers;    /* samples whose step speed exceeds RPL_TRACE_OUTLIER_DEGPS (marked) */
+    double max_step_speed_degps;
+};
+#define RPL_TRACE_GAP_S 0.1
+#define RPL_TRACE_OUTLIER_DEGPS 1500.0   /* above any physiological head turn (peaks ~600–800 deg/s) */
+#define RPL_TRACE_UNIT_TOLERANCE 1e-3    /* | |q| − 1 | beyond this is an error, not renormalised */
+
+/* A loaded trace: times strictly increasing, orientations unit and hemisphere-continuous,
+ * body-to-world in the project frame (+Y up, −Z forward). Arrays owned by the trace. */
+struct rpl_trace {
+    enum rpl_trace_format format;
+    size_t count;
+    double *time_s;
+    hl_quatd *orientation;
+    hl_vec3d *position_m;   /* NULL when the trace has none */
+    hl_vec3d *gaze_dir;     /* head frame, unit; NULL when the trace has none */
+    unsigned char *outlier; /* 1 where the sample was a speed outlier (excluded from velocity) */
+    struct rpl_trace_report report;
+};
+
+/* Parses a whole file held in memory; `name` labels messages ("name:line: reason"). Pure: no I/O.
+ * Detects the format from the header line. On error returns −1 and frees what it allocated. */
+int rpl_trace_parse(const char *text, size_t length, const char *name, struct rpl_trace *out,
+                    struct hl_error *err);
+int rpl_trace_load(const char *path, struct rpl_trace *out, struct hl_error *err);
+void rpl_trace_free(struct rpl_trace *trace);
+
+/* The built-in clip for `hmdlod demo`: 8 s of synthetic head motion (still, slow look-around, a fast
+ * 180 deg/s turn, still) at 60 Hz in the project's format. */
+int rpl_trace_builtin_clip(struct rpl_trace *out, struct hl_error *err);
+
+/* Orientation at t (slerp between neighbours, clamped to the ends) and angular velocity (world,
+ * rad/s) from a ±RPL_VELOCITY_HALF_WINDOW_S window that skips outliers and bridges gaps. */
+#define RPL_VELOCITY_HALF_WINDOW_S 0.025
+void rpl_trace_sample(const struct rpl_trace *trace, double time_s, struct trk_pose *out);
+
+/* A pose source over a trace (takes ownership of *trace's arrays; zeroes *trace). */
+int rpl_trace_source_create(struct rpl_trace *trace, struct trk_pose_source **out, struct hl_error *err);
+
+/* ---- the frame loop ------------------------------------------------------------------------- */
+struct rpl_options {
+    const char *trace_path;  /* NULL → built-in clip */
+    const char *scene;       /* built-in scene name */
+    const char *display;     /* built-in name or JSON file */
+    const char *selector;    /* "none" | "reddy" */
+    const char *out_dir;     /* created if missing */
+    double rate_hz;          /* 0 → the display's refresh */
+    long frames;             /* 0 → the whole trace */
+    long capture_every;      /* 0 → no PNG; N → frames 0, N, 2N … */
+    int object_count;        /* field: number of objects */
+    uint64_t seed;
+    double acuity_scale;     /* Reddy §6 s; 1 by default */
+    double render_scale;     /* per-eye resolution factor (1 = the display's pixels) */
+    int quiet;               /* no summary table on stdout */
+};
+void rpl_options_defaults(struct rpl_options *o);
+
+struct rpl_summary {
+    long frames;
+    double frame_ms_mean, frame_ms_max, frame_ms_stddev;
+    double draw_ms_mean, acuity_us_mean, select_us_mean;
+    double triangles_per_eye_mean;
+    double triangles_relative_to_none; /* mean triangles / mean finest-LOD triangles of the same frames */
+    double deadline_met_fraction;
+    double acuity_evaluations_mean;
+    double visible_mean;
+    double budget_ms;
+    char renderer[128];
+    char selector[16], scene[32], display[64];
+};
+
+/* Runs the replay and writes DIR/frames.csv, DIR/summary.json and PNG captures. */
+int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_error *err);
+void rpl_summary_print(FILE *f, const struct rpl_summary *s);
+
+#endif

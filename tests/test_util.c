@@ -1,0 +1,35 @@
+#include "test_util.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+int tu_failures;
+int tu_checks;
+
+void tu_check_near(double actual, double expected, double tol, const char *what, const char *file, int line)
+{
+    ++tu_checks;
+    if (!(fabs(actual - expected) <= tol)) {
+        ++tu_failures;
+        fprintf(stderr, "%s:%d: %s = %.9g, expected %.9g ± %.3g\n", file, line, what, actual, expected, tol);
+    }
+}
+
+const char *tu_shared_path(const char *relative)
+{
+    static char path[4096];
+    const char *root = getenv("HMDLOD_SHARED");
+    snprintf(path, sizeof path, "%s/%s", root && *root ? root : "../shared", relative);
+    if (access(path, R_OK) != 0) {
+        printf("skip: %s is absent (set HMDLOD_SHARED to the shared data folder)\n", path);
+        return NULL;
+    }
+    return path;
+}
+
+int tu_finish(const char *suite)
+{
+    printf("%s: %d checks, %d failed\n", suite, tu_checks, tu_failures);
+    return tu_failures ? 1 : 0;
+}

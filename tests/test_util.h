@@ -1,0 +1,31 @@
+/* Minimal test harness shared by the test programs: CHECK macros that count failures and keep
+ * going, tolerance checks that print both values, and the location of ../shared. */
+#ifndef HMDLOD_TEST_UTIL_H
+#define HMDLOD_TEST_UTIL_H
+
+#include <stdio.h>
+
+extern int tu_failures;
+extern int tu_checks;
+
+#define CHECK(cond)                                                                                \
+    do {                                                                                           \
+        ++tu_checks;                                                                               \
+        if (!(cond)) {                                                                             \
+            ++tu_failures;                                                                         \
+            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);               \
+        }                                                                                          \
+    } while (0)
+
+/* |actual − expected| ≤ tol; NaN never passes. */
+#define CHECK_NEAR(actual, expected, tol) tu_check_near((actual), (expected), (tol), #actual, __FILE__, __LINE__)
+void tu_check_near(double actual, double expected, double tol, const char *what, const char *file, int line);
+
+/* Path of a file under the shared data folder (HMDLOD_SHARED, else ../shared); NULL if absent,
+ * after printing "skip: <why>". The returned buffer is static (one at a time). */
+const char *tu_shared_path(const char *relative);
+
+/* Prints the summary and returns the process exit code (0 pass, 1 fail). */
+int tu_finish(const char *suite);
+
+#endif

@@ -1,0 +1,213 @@
+/* Reddy's acuity model against the paper's figures (PAPERS.md §1), its hard numeric cases, the
+ * "model only what a scene needs" region, viewing geometry and the Reddy selector. */
+#include "acuity/acuity.h"
+#include "test_util.h"
+
+#include <math.h>
+#include <string.h>
+
+static void test_paper_figures(void)
+{
+    /* Reddy §4 desktop: ξ = 12.5 → E* ≈ 17° (closed form 16.65), v* ≈ 42 deg/s (42.3), and at
+     * E = 10°, M = 0.468 and v ≈ 13 deg/s (13.05). Tolerances: the paper's rounding. */
+    CHECK_NEAR(acu_eccentricity_at_acuity_deg(12.5), 16.65, 0.01);
+    CHECK_NEAR(acu_velocity_at_acuity_degps(12.5, 0.0), 42.3, 0.05);
+    CHECK_NEAR(acu_eccentricity_factor(10.0), 0.468, 0.001);
+    CHECK_NEAR(acu_velocity_at_acuity_degps(12.5, 10.0), 13.05, 0.05);
+    /* i-glasses: ξ = 4.8 → E* ≈ 29° (28.9), v* ≈ 80 deg/s (80.2); at 15°, M = 0.2476, v ≈ 24 (23.9). */
+    CHECK_NEAR(acu_eccentricity_at_acuity_deg(4.8), 28.9, 0.05);
+    CHECK_NEAR(acu_velocity_at_acuity_degps(4.8, 0.0), 80.2, 0.1);
+    CHECK_NEAR(acu_eccentricity_factor(15.0), 0.2476, 0.0001);
+    CHECK_NEAR(acu_velocity_at_acuity_degps(4.8, 15.0), 23.9, 0.1);
+    /* The acceptance figure: H(24 deg/s, 15°) ≈ 4.8 c/deg. */
+    CHECK_NEAR(acu_acuity_cpd(24.0, 15.0), 4.8, 0.01);
+    /* Round trips: the inverses really invert. */
+    CHECK_NEAR(acu_acuity_cpd(0.0, acu_eccentricity_at_acuity_deg(12.5)), 12.5, 1e-9);
+    CHECK_NEAR(acu_acuity_cpd(acu_velocity_at_acuity_degps(4.8, 15.0), 15.0), 4.8, 1e-9);
+}
+
+static void test_continuity(void)
+{
+    /* Both pieces meet at their knees (PAPERS.md: G(0.825) ≈ 60.01, M(5.79) ≈ 0.9999). */
+    CHECK_NEAR(acu_velocity_factor_cpd(0.825), 60.0, 1e-12);
+    CHECK_NEAR(acu_velocity_factor_cpd(nextafter(0.825, 1.0)), 60.01, 0.01);
+    CHECK_NEAR(acu_eccentricity_factor(5.79), 1.0, 1e-12);
+    CHECK_NEAR(acu_eccentricity_factor(nextafter(5.79, 6.0)), 0.9999, 0.0001);
+    /* Monotone non-increasing in both arguments over a fine grid. */
+    double prev = INFINITY;
+    int monotone = 1;
+    for (double v = 0.0; v < 200.0; v += 0.01) {
+        double g = acu_velocity_factor_cpd(v);
+        monotone &= g <= prev + 1e-12;
+        prev = g;
+    }
+    CHECK(monotone);
+    prev = INFINITY;
+    monotone = 1;
+    for (double e = 0.0; e <= 180.0; e += 0.01) {
+        double m = acu_eccentricity_factor(e);
+        monotone &= m <= prev + 1e-12 && m > 0.0;
+        prev = m;
+    }
+    CHECK(monotone);
+}
+
+static void test_hard_cases(void)
+{
+    struct hl_error err = {{0}};
+    /* v = 0, 1e-12 (still), 119.3 (G crosses 0), 1e6 and ∞: finite, never negative. */
+    CHECK(acu_velocity_factor_cpd(0.0) == 60.0);
+    CHECK(acu_velocity_factor_cpd(1e-12) == 60.0);
+    CHECK_NEAR(acu_velocity_factor_cpd(119.3), 0.0, 0.01);
+    CHECK(acu_velocity_factor_cpd(119.4) == 0.0);
+    CHECK(acu_velocity_factor_cpd(1e6) == 0.0);
+    CHECK(acu_velocity_factor_cpd(INFINITY) == 0.0);
+    CHECK(acu_acuity_cpd(INFINITY, 180.0) == 0.0);
+    /* E = 0, 180 and out of range are clamped by the model; the boundary check rejects them. */
+    CHECK(acu_eccentricity_factor(0.0) == 1.0);
+    CHECK(acu_eccentricity_factor(-5.0) == 1.0);
+    CHECK_NEAR(acu_eccentricity_factor(180.0), 7.49 / (55.0 * 55.0), 1e-12);
+    CHECK(acu_eccentricity_factor(1e9) == acu_eccentricity_factor(180.0));
+    CHECK(acu_check_inputs(0.0, 0.0, &err) == 0);
+    CHECK(acu_check_inputs(INFINITY, 180.0, &err) == 0);
+    CHECK(acu_check_inputs(NAN, 0.0, &err) < 0 && strstr(err.msg, "velocity"));
+    CHECK(acu_check_inputs(0.0, NAN, &err) < 0 && strstr(err.msg, "eccentricity"));
+    CHECK(acu_check_inputs(-1.0, 0.0, &err) < 0 && strstr(err.msg, "negative"));
+    CHECK(acu_check_inputs(0.0, -0.5, &err) < 0 && strstr(err.msg, "[0, 180]"));
+    CHECK(acu_check_inputs(0.0, 180.5, &err) < 0);
+    /* Inverses at their edges. */
+    CHECK(acu_eccentricity_at_acuity_deg(60.0) == 0.0);
+    CHECK(isinf(acu_eccentricity_at_acuity_deg(0.0)));
+    CHECK(acu_velocity_at_acuity_degps(60.0, 0.0) == 0.0);
+    CHECK(acu_velocity_at_acuity_degps(10.0, 90.0) == 0.0); /* unreachable even still */
+    CHECK(isinf(acu_velocity_at_acuity_degps(0.0, 0.0)));
+}
+
+static void test_skip_region(void)
+{
+    /* Every (v, E) the limits skip must truly have H ≥ ξ, for several displays' ξ; and points well
+     * outside must be evaluated. A dense grid, including the knees exactly. */
+    const double xis[] = {3.2, 4.79, 5.38, 11.24, 12.46, 35.6, 59.0};
+    for (size_t x = 0; x < sizeof xis / sizeof xis[0]; ++x) {
+        struct acu_limits lim;
+        acu_limits_init(&lim, xis[x], 1.0);
+        int wrong = 0;
+        uint64_t evaluations = 0, points = 0;
+        for (double v = 0.0; v <= 130.0; v += 0.125) {
+            for (double e = 0.0; e <= 60.0; e += 0.0625) {
+                uint64_t before = evaluations;
+                double limit = acu_limit_cpd(&lim, v, e, &evaluations);
+                double exact = fmin(acu_acuity_cpd(v, e), xis[x]);
+                ++points;
+                if (fabs(limit - exact) > 1e-12)
+                    ++wrong;
+                if (evaluations == before && acu_acuity_cpd(v, e) < xis[x] - 1e-12)
+                    ++wrong;
+            }
+        }
+        CHECK(wrong == 0);
+        CHECK(evaluations < points); /* something was skipped */
+    }
+    struct acu_limits lim;
+    acu_limits_init(&lim, 5.38, 0.5);
+    uint64_t n = 0;
+    CHECK_NEAR(acu_limit_cpd(&lim, 0.0, 0.0, &n), 5.38 * 0.5, 1e-12);
+    CHECK(n == 0);
+    CHECK_NEAR(acu_limit_cpd(&lim, 200.0, 0.0, &n), 0.0, 1e-12);
+    CHECK(n == 1);
+    lim.use_velocity = 0;
+    CHECK_NEAR(acu_limit_cpd(&lim, 200.0, 0.0, &n), 5.38 * 0.5, 1e-12);
+}
+
+static void test_geometry(void)
+{
+    /* Objects along −Z and to the side; the head turns about +Y at 100 deg/s. */
+    const double center[] = {0, 0, -10,  10, 0, 0,  0, 0, 0,  0, 0, 10,  1e6, 1e6, 1e6 - 10};
+    const double radius[] = {1, 1, 1, 1, 0.5};
+    const uint32_t index[] = {0, 1, 2, 3, 4};
+    double ecc[5], vel[5], diam[5];
+    struct acu_viewer viewer = {
+        .eye_position_m = hl_v3(0, 0, 0),
+        .gaze_dir = hl_v3(0, 0, -1),
+        .angular_velocity_radps = hl_v3(0, 100.0 * HL_RAD_PER_DEG, 0),
+        .linear_velocity_mps = hl_v3(0, 0, 0),
+    };
+    acu_compute_geometry(&viewer, center, radius, NULL, index, 4, ecc, vel, diam);
+    double half = asin(0.1) * HL_DEG_PER_RAD;
+    CHECK_NEAR(ecc[0], 0.0, 1e-12);
+    CHECK_NEAR(diam[0], 2 * half, 1e-12);
+    CHECK_NEAR(vel[0], 100.0, 1e-9);           /* d ⊥ ω: full head rate */
+    CHECK_NEAR(ecc[1], 90.0 - half, 1e-9);
+    CHECK_NEAR(ecc[2], 0.0, 0.0);              /* eye inside the sphere */
+    CHECK_NEAR(diam[2], 180.0, 0.0);
+    CHECK_NEAR(vel[2], 100.0, 1e-9);
+    CHECK_NEAR(ecc[3], 180.0 - half, 1e-9);    /* behind the viewer */
+    /* The far-away object, with the eye next to it: same answers as near the origin. */
+    viewer.eye_position_m = hl_v3(1e6, 1e6, 1e6);
+    viewer.angular_velocity_radps = hl_v3(0, 0, 0);
+    uint32_t far_index = 4;
+    acu_compute_geometry(&viewer, center, radius, NULL, &far_index, 1, ecc, vel, diam);
+    CHECK_NEAR(ecc[0], 0.0, 1e-12);
+    CHECK_NEAR(diam[0], 2 * asin(0.05) * HL_DEG_PER_RAD, 1e-9);
+    CHECK_NEAR(vel[0], 0.0, 1e-12);
+    /* Eccentricity of a tiny off-axis angle: atan2 keeps it (acos of the dot would give 0). */
+    const double tiny_center[] = {1e-7, 0, -1};
+    const double tiny_radius[] = {0};
+    viewer.eye_position_m = hl_v3(0, 0, 0);
+    acu_compute_geometry(&viewer, tiny_center, tiny_radius, NULL, index, 1, ecc, vel, diam);
+    CHECK_NEAR(ecc[0], 1e-7 * HL_DEG_PER_RAD, 1e-15);
+    /* Translation: an object 10 m ahead passing sideways at 1 m/s moves at 0.1 rad/s. */
+    const double moving_vel[] = {1, 0, 0};
+    acu_compute_geometry(&viewer, center, radius, moving_vel, index, 1, ecc, vel, diam);
+    CHECK_NEAR(vel[0], 0.1 * HL_DEG_PER_RAD, 1e-9);
+    /* The head turning the same way cancels it (smooth pursuit by the head). */
+    viewer.angular_velocity_radps = hl_v3(0, -0.1, 0);
+    acu_compute_geometry(&viewer, center, radius, moving_vel, index, 1, ecc, vel, diam);
+    CHECK_NEAR(vel[0], 0.0, 1e-9);
+}
+
+static void test_select_reddy(void)
+{
+    /* One chain: 4 LODs whose removed detail has 40, 12, 4 cycles per diameter. */
+    struct acu_chain chain = {.lod_count = 4, .unique_freq_cpdiam = {INFINITY, 40.0, 12.0, 4.0}};
+    const uint32_t chain_of[] = {0, 0, 0, 0, 0};
+    const uint32_t index[] = {0, 1, 2, 3, 4};
+    /* Limit ξ = 10 at the fovea and still: level k is safe while f_k / diameter > 10. */
+    const double ecc[] = {0, 0, 0, 0, 30};
+    const double vel[] = {0, 0, 0, 0, 0};
+    const double diam[] = {10.0, 2.0, 0.5, 0.1, 2.0};
+    uint8_t lod[5];
+    double ceiling[5];
+    struct acu_limits lim;
+    struct acu_select_stats stats = {0};
+    acu_limits_init(&lim, 10.0, 1.0);
+    acu_select_reddy(&lim, &chain, chain_of, index, 5, ecc, vel, diam, lod, ceiling, &stats);
+    CHECK(lod[0] == 0); /* 40/10 = 4 c/deg < 10: visible */
+    CHECK(lod[1] == 1); /* 40/2 = 20 > 10, 12/2 = 6 < 10 */
+    CHECK(lod[2] == 2); /* 24 > 10, then 4/0.5 = 8 < 10 */
+    CHECK(lod[3] == 3);
+    /* At 30° eccentricity H = 60·M(30) = 4.49 c/deg: 12/2 = 6 > 4.49, 4/2 = 2 < 4.49 → level 2. */
+    CHECK(lod[4] == 2);
+    CHECK_NEAR(ceiling[4], 60.0 * 7.49 / (10.0 * 10.0), 1e-9);
+    CHECK(stats.model_evaluations == 1 && stats.model_skips == 4);
+    /* Faster eyes only go coarser: velocity never raises the LOD. */
+    const double fast[] = {150, 150, 150, 150, 150};
+    uint8_t lod_fast[5];
+    acu_select_reddy(&lim, &chain, chain_of, index, 5, ecc, fast, diam, lod_fast, NULL, NULL);
+    for (int k = 0; k < 5; ++k)
+        CHECK(lod_fast[k] >= lod[k] && lod_fast[k] == 3);
+    uint8_t finest[5] = {9, 9, 9, 9, 9};
+    acu_select_finest(5, finest);
+    CHECK(finest[0] == 0 && finest[4] == 0);
+}
+
+int main(void)
+{
+    test_paper_figures();
+    test_continuity();
+    test_hard_cases();
+    test_skip_region();
+    test_geometry();
+    test_select_reddy();
+    return tu_finish("test_acuity");
+}

@@ -1,0 +1,308 @@
+/* Trace parsing: the project's CSV and Corbillon MMSys'18 text files, held in memory. Every rule
+ * is in docs/trace-format.md. The parser never reads past `length` and never relies on a NUL:
+ * each line is bounded by the buffer, and only data lines are copied (bounded) for strtod. */
+#include "replay/trace_internal.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define LINE_MAX_BYTES 1024 /* a data row is at most ~11 numbers; far longer is not a trace */
+#define MAX_COLUMNS 11
+
+static const char CORBILLON_HEADER[] = "timestamp viewpoint w x y z";
+static const char CSV_HEADER_BASE[] = "t_s,qw,qx,qy,qz";
+static const char CSV_EXPECTED[] =
+    "\"t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]\" or \"timestamp viewpoint w x y z\"";
+
+struct layout {
+    enum rpl_trace_format format;
+    int columns;
+    int has_position, has_gaze;
+    int pos_col, gaze_col; /* first column of each group */
+    const char *names[MAX_COLUMNS];
+};
+
+static int is_blank(char c) { return c == ' ' || c == '\t'; }
+
+/* Trims spaces, tabs and a CR (CRLF files) from both ends of [*s, *s+*n). */
+static void trim(const char **s, size_t *n)
+{
+    while (*n > 0 && (is_blank(**s) || **s == '\r'))
+        ++*s, --*n;
+    while (*n > 0 && (is_blank((*s)[*n - 1]) || (*s)[*n - 1] == '\r'))
+        --*n;
+}
+
+static int span_equals(const char *s, size_t n, const char *lit)
+{
+    size_t m = strlen(lit);
+    return n == m && memcmp(s, lit, m) == 0;
+}
+
+/* Recognises the header; 0 on success. */
+static int detect_layout(const char *s, size_t n, struct layout *L)
+{
+    static const char *const csv_names[] = {"t_s", "qw", "qx", "qy", "qz", "px", "py", "pz", "gx", "gy", "gz"};
+    static const char *const corb_names[] = {"timestamp", "viewpoint", "w", "x", "y", "z"};
+    memset(L, 0, sizeof *L);
+    if (span_equals(s, n, CORBILLON_HEADER)) {
+        L->format = RPL_TRACE_CORBILLON;
+        L->columns = 6;
+        for (int i = 0; i < 6; ++i)
+            L->names[i] = corb_names[i];
+        return 0;
+    }
+    size_t base = sizeof CSV_HEADER_BASE - 1;
+    if (n < base || memcmp(s, CSV_HEADER_BASE, base) != 0)
+        return -1;
+    const char *rest = s + base;
+    size_t rn = n - base;
+    L->format = RPL_TRACE_HMDLOD_CSV;
+    for (int i = 0; i < 5; ++i)
+        L->names[i] = csv_names[i];
+    L->columns = 5;
+    if (rn >= 9 && memcmp(rest, ",px,py,pz", 9) == 0) {
+        L->has_position = 1;
+        L->pos_col = L->columns;
+        for (int i = 0; i < 3; ++i)
+            L->names[L->columns++] = csv_names[5 + i];
+        rest += 9, rn -= 9;
+    }
+    if (rn >= 9 && memcmp(rest, ",gx,gy,gz", 9) == 0) {
+        L->has_gaze = 1;
+        L->gaze_col = L->columns;
+        for (int i = 0; i < 3; ++i)
+            L->names[L->columns++] = csv_names[8 + i];
+        rest += 9, rn -= 9;
+    }
+    return rn == 0 ? 0 : -1;
+}
+
+/* Copies a short field for a message, replacing anything unprintable. */
+static void quote_field(const char *s, size_t n, char *buf, size_t size)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < n && k + 4 < size; ++i) {
+        unsigned char c = (unsigned char)s[i];
+        buf[k++] = (c >= 0x20 && c < 0x7f) ? (char)c : '?';
+    }
+    if (n > 0 && k + 4 >= size && k < n) {
+        buf[k++] = '.', buf[k++] = '.', buf[k++] = '.';
+    }
+    buf[k] = '\0';
+}
+
+/* Splits a data line (already trimmed, no NUL inside) into fields and converts each to a finite
+ * double. Returns 0, or −1 with the message filled. */
+static int parse_row(const char *name, size_t line_no, const char *s, size_t n, const struct layout *L,
+                     double *v, struct hl_error *err)
+{
+    const char *fs[MAX_COLUMNS + 1];
+    size_t fn[MAX_COLUMNS + 1];
+    int count = 0;
+    size_t i = 0;
+    if (L->format == RPL_TRACE_HMDLOD_CSV) {
+        for (;;) {
+            size_t start = i;
+            while (i < n && s[i] != ',')
+                ++i;
+            if (count <= MAX_COLUMNS) {
+                fs[count] = s + start;
+                fn[count] = i - start;
+            }
+            ++count;
+            if (i >= n)
+                break;
+            ++i; /* the comma */
+        }
+    } else {
+        while (i < n) {
+            while (i < n && is_blank(s[i]))
+                ++i;
+            if (i >= n)
+                break;
+            size_t start = i;
+            while (i < n && !is_blank(s[i]))
+                ++i;
+            if (count <= MAX_COLUMNS) {
+                fs[count] = s + start;
+                fn[count] = i - start;
+            }
+            ++count;
+        }
+    }
+    if (count != L->columns)
+        return hl_fail(err, "%s:%zu: expected %d columns, found %d", name, line_no, L->columns, count);
+
+    for (int c = 0; c < count; ++c) {
+        const char *f = fs[c];
+        size_t m = fn[c];
+        trim(&f, &m);
+        char buf[LINE_MAX_BYTES + 1];
+        char shown[48];
+        quote_field(f, m, shown, sizeof shown);
+        if (m == 0)
+            return hl_fail(err, "%s:%zu: column %s: empty field", name, line_no, L->names[c]);
+        memcpy(buf, f, m); /* m ≤ line length ≤ LINE_MAX_BYTES */
+        buf[m] = '\0';
+        char *end = NULL;
+        errno = 0;
+        double x = strtod(buf, &end);
+        if (end != buf + m || end == buf)
+            return hl_fail(err, "%s:%zu: column %s: not a number: \"%s\"", name, line_no, L->names[c], shown);
+        if (!isfinite(x))
+            return hl_fail(err, "%s:%zu: column %s: not finite: \"%s\"", name, line_no, L->names[c], shown);
+        v[c] = x;
+    }
+    return 0;
+}
+
+int rpl_trace_parse(const char *text, size_t length, const char *name, struct rpl_trace *out,
+                    struct hl_error *err)
+{
+    if (!name)
+        name = "trace";
+    if (!out)
+        return hl_fail(err, "%s: no output trace", name);
+    memset(out, 0, sizeof *out);
+    if (!text && length > 0)
+        return hl_fail(err, "%s:1: no text", name);
+
+    /* Rows ≤ newlines + 1: one pass sizes the arrays so the parse never reallocates. */
+    size_t lines = 1;
+    for (const char *p = text; p && (p = memchr(p, '\n', length - (size_t)(p - text))) != NULL; ++p)
+        ++lines;
+
+    struct layout L;
+    int have_header = 0;
+    size_t header_line = 0;
+    struct trace_builder b;
+    size_t pos = 0, line_no = 0;
+    double prev_t = 0.0;
+
+    while (pos < length) {
+        ++line_no;
+        const char *line = text + pos;
+        const char *nl = memchr(line, '\n', length - pos);
+        size_t n = nl ? (size_t)(nl - line) : length - pos;
+        int terminated = nl != NULL;
+        pos += n + (terminated ? 1 : 0);
+
+        const char *s = line;
+        size_t m = n;
+        trim(&s, &m);
+        if (m == 0 || s[0] == '#')
+            continue; /* blank or comment; content is never read further */
+
+        if (memchr(s, '\0', m))
+            return rpl_trace_free(out), hl_fail(err, "%s:%zu: NUL byte in the line", name, line_no);
+        if (m > LINE_MAX_BYTES)
+            return rpl_trace_free(out),
+                   hl_fail(err, "%s:%zu: line too long (%zu bytes, at most %d)", name, line_no, m, LINE_MAX_BYTES);
+
+        if (!have_header) {
+            if (detect_layout(s, m, &L) != 0)
+                return hl_fail(err, "%s:%zu: unrecognised header (expected %s)", name, line_no, CSV_EXPECTED);
+            have_header = 1;
+            header_line = line_no;
+            if (trace_builder_init(&b, out, L.format, lines, L.has_position, L.has_gaze, err) != 0)
+                return -1;
+            continue;
+        }
+
+        /* A row without its end of line was cut off: its last number may be a prefix of the real
+         * one, so a half row is never taken as data. */
+        if (!terminated) {
+            rpl_trace_free(out);
+            return hl_fail(err, "%s:%zu: truncated last row (no end of line)", name, line_no);
+        }
+
+        double v[MAX_COLUMNS];
+        if (parse_row(name, line_no, s, m, &L, v, err) != 0)
+            return rpl_trace_free(out), -1;
+
+        double t = v[0];
+        const double *qv = L.format == RPL_TRACE_CORBILLON ? v + 2 : v + 1;
+        if (out->count > 0 && t == prev_t)
+            return rpl_trace_free(out),
+                   hl_fail(err, "%s:%zu: time does not increase (%.9g s equals the previous row)", name, line_no, t);
+        if (out->count > 0 && t < prev_t)
+            return rpl_trace_free(out),
+                   hl_fail(err, "%s:%zu: time goes backwards (%.9g s after %.9g s)", name, line_no, t, prev_t);
+
+        hl_quatd q = hl_q(qv[0], qv[1], qv[2], qv[3]);
+        double norm = hl_q_norm(q);
+        if (!(fabs(norm - 1.0) <= RPL_TRACE_UNIT_TOLERANCE))
+            return rpl_trace_free(out),
+                   hl_fail(err, "%s:%zu: quaternion norm %.9g is not 1 (tolerance %g)", name, line_no, norm,
+                           RPL_TRACE_UNIT_TOLERANCE);
+        q = hl_q_normalize(q);
+        if (L.format == RPL_TRACE_CORBILLON)
+            q = hl_q(q.w, -q.y, q.z, -q.x); /* file x fwd / y left / z up → +X right, +Y up, +Z back */
+
+        hl_vec3d p, g;
+        if (L.has_position)
+            p = hl_v3(v[L.pos_col], v[L.pos_col + 1], v[L.pos_col + 2]);
+        if (L.has_gaze) {
+            g = hl_v3(v[L.gaze_col], v[L.gaze_col + 1], v[L.gaze_col + 2]);
+            double len = hl_v3_length(g);
+            if (!(len > 1e-9))
+                return rpl_trace_free(out), hl_fail(err, "%s:%zu: gaze vector has zero length", name, line_no);
+            g = hl_v3_scale(g, 1.0 / len);
+        }
+        trace_builder_push(&b, t, q, L.has_position ? &p : NULL, L.has_gaze ? &g : NULL);
+        prev_t = t;
+    }
+
+    if (!have_header)
+        return hl_fail(err, "%s:%zu: empty input: no header (expected %s)", name, line_no + 1, CSV_EXPECTED);
+    if (out->count == 0) {
+        rpl_trace_free(out);
+        return hl_fail(err, "%s:%zu: no data rows after the header", name, header_line);
+    }
+    return 0;
+}
+
+int rpl_trace_load(const char *path, struct rpl_trace *out, struct hl_error *err)
+{
+    if (out)
+        memset(out, 0, sizeof *out);
+    if (!path)
+        return hl_fail(err, "trace: no path");
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+    size_t cap = 1 << 16, len = 0;
+    char *buf = malloc(cap);
+    if (!buf) {
+        fclose(f);
+        return hl_fail(err, "%s: out of memory", path);
+    }
+    for (;;) {
+        if (len == cap) {
+            char *nb = cap < ((size_t)1 << 40) ? realloc(buf, cap * 2) : NULL;
+            if (!nb) {
+                free(buf);
+                fclose(f);
+                return hl_fail(err, "%s: out of memory reading the file", path);
+            }
+            buf = nb;
+            cap *= 2;
+        }
+        size_t got = fread(buf + len, 1, cap - len, f);
+        len += got;
+        if (got == 0)
+            break;
+    }
+    int read_error = ferror(f);
+    fclose(f);
+    if (read_error) {
+        free(buf);
+        return hl_fail(err, "%s: read error", path);
+    }
+    int rc = rpl_trace_parse(buf, len, path, out, err);
+    free(buf);
+    return rc;
+}

@@ -1,0 +1,17 @@
+/* The hmdlod program: main.c dispatches to one function per subcommand. Each parses its own
+ * arguments, prints one clear message on bad input, and returns the process exit code
+ * (0 success, 1 bad input or failure). argv[0] is the subcommand's name. */
+#ifndef HMDLOD_APP_COMMANDS_H
+#define HMDLOD_APP_COMMANDS_H
+
+int cmd_demo(int argc, char **argv);
+int cmd_display(int argc, char **argv);
+int cmd_acuity(int argc, char **argv);
+int cmd_replay(int argc, char **argv);
+
+/* Shared argument helpers (app/args.c): strict numeric parsing that names the option. */
+int app_parse_double(const char *option, const char *text, double *out);
+int app_parse_long(const char *option, const char *text, long min, long max, long *out);
+int app_wants_help(int argc, char **argv);
+
+#endif

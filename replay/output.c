@@ -1,0 +1,156 @@
+/* Per-frame CSV, summary JSON and the printed table of a replay. Files are written under a
+ * temporary name and renamed when complete: an interrupted run leaves no output posing as done. */
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "replay/run_internal.h"
+
+int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct hl_error *err)
+{
+    memset(o, 0, sizeof *o);
+    snprintf(o->csv_path, sizeof o->csv_path, "%s/frames.csv", dir);
+    snprintf(o->csv_tmp, sizeof o->csv_tmp, "%s/.frames.csv.partial", dir);
+    o->csv = fopen(o->csv_tmp, "w");
+    if (!o->csv)
+        return hl_fail(err, "%s: cannot create: %s", o->csv_tmp, strerror(errno));
+    fputs("frame,time_s,head_speed_degps,visible,acuity_evaluations,triangles_per_eye,triangles_finest", o->csv);
+    for (int k = 0; k < max_lods; ++k)
+        fprintf(o->csv, ",lod%d", k);
+    fputs(",acuity_us,select_us,draw_ms,frame_ms,deadline_met\n", o->csv);
+    return 0;
+}
+
+void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int max_lods)
+{
+    /* The columns before acuity_us are deterministic; the last five are wall-clock timings. */
+    fprintf(o->csv, "%ld,%.6f,%.3f,%u,%llu,%llu,%llu", r->frame, r->time_s, r->head_speed_degps, r->visible,
+            (unsigned long long)r->acuity_evaluations, (unsigned long long)r->triangles_per_eye,
+            (unsigned long long)r->triangles_finest);
+    for (int k = 0; k < max_lods; ++k)
+        fprintf(o->csv, ",%u", r->lod_histogram[k]);
+    fprintf(o->csv, ",%.2f,%.2f,%.3f,%.3f,%d\n", r->acuity_us, r->select_us, r->draw_ms, r->frame_ms,
+            r->deadline_met);
+}
+
+int rpl_output_commit(struct rpl_output *o, struct hl_error *err)
+{
+    int failed = ferror(o->csv);
+    failed |= fclose(o->csv) != 0;
+    o->csv = NULL;
+    if (failed) {
+        unlink(o->csv_tmp);
+        return hl_fail(err, "%s: write failed (disk full?)", o->csv_path);
+    }
+    if (rename(o->csv_tmp, o->csv_path) != 0) {
+        unlink(o->csv_tmp);
+        return hl_fail(err, "%s: cannot rename into place: %s", o->csv_path, strerror(errno));
+    }
+    return 0;
+}
+
+void rpl_output_abort(struct rpl_output *o)
+{
+    if (o->csv) {
+        fclose(o->csv);
+        o->csv = NULL;
+        unlink(o->csv_tmp);
+    }
+}
+
+void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
+{
+    ++a->n;
+    double delta = r->frame_ms - a->frame_mean;
+    a->frame_mean += delta / (double)a->n;
+    a->frame_m2 += delta * (r->frame_ms - a->frame_mean);
+    a->frame_max = fmax(a->frame_max, r->frame_ms);
+    a->draw_sum += r->draw_ms;
+    a->acuity_sum += r->acuity_us;
+    a->select_sum += r->select_us;
+    a->evals_sum += (double)r->acuity_evaluations;
+    a->visible_sum += r->visible;
+    a->triangles_sum += (double)r->triangles_per_eye;
+    a->finest_sum += (double)r->triangles_finest;
+    a->deadlines_met += r->deadline_met;
+}
+
+void rpl_accumulator_finish(const struct rpl_accumulator *a, struct rpl_summary *s)
+{
+    double n = a->n > 0 ? (double)a->n : 1.0;
+    s->frames = a->n;
+    s->frame_ms_mean = a->frame_mean;
+    s->frame_ms_max = a->frame_max;
+    s->frame_ms_stddev = a->n > 1 ? sqrt(a->frame_m2 / (double)(a->n - 1)) : 0.0;
+    s->draw_ms_mean = a->draw_sum / n;
+    s->acuity_us_mean = a->acuity_sum / n;
+    s->select_us_mean = a->select_sum / n;
+    s->acuity_evaluations_mean = a->evals_sum / n;
+    s->visible_mean = a->visible_sum / n;
+    s->triangles_per_eye_mean = a->triangles_sum / n;
+    s->triangles_relative_to_none = a->finest_sum > 0 ? a->triangles_sum / a->finest_sum : 1.0;
+    s->deadline_met_fraction = (double)a->deadlines_met / n;
+}
+
+int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct hl_error *err)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "format", "hmdlod-summary-1");
+    cJSON_AddStringToObject(root, "scene", s->scene);
+    cJSON_AddStringToObject(root, "display", s->display);
+    cJSON_AddStringToObject(root, "selector", s->selector);
+    cJSON_AddStringToObject(root, "renderer", s->renderer);
+    cJSON_AddNumberToObject(root, "frames", (double)s->frames);
+    cJSON_AddNumberToObject(root, "budget_ms", s->budget_ms);
+    cJSON_AddNumberToObject(root, "frame_ms_mean", s->frame_ms_mean);
+    cJSON_AddNumberToObject(root, "frame_ms_max", s->frame_ms_max);
+    cJSON_AddNumberToObject(root, "frame_ms_stddev", s->frame_ms_stddev);
+    cJSON_AddNumberToObject(root, "draw_ms_mean", s->draw_ms_mean);
+    cJSON_AddNumberToObject(root, "acuity_us_mean", s->acuity_us_mean);
+    cJSON_AddNumberToObject(root, "select_us_mean", s->select_us_mean);
+    cJSON_AddNumberToObject(root, "acuity_evaluations_mean", s->acuity_evaluations_mean);
+    cJSON_AddNumberToObject(root, "visible_mean", s->visible_mean);
+    cJSON_AddNumberToObject(root, "triangles_per_eye_mean", s->triangles_per_eye_mean);
+    cJSON_AddNumberToObject(root, "triangles_relative_to_none", s->triangles_relative_to_none);
+    cJSON_AddNumberToObject(root, "deadline_met_fraction", s->deadline_met_fraction);
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    if (!text)
+        return hl_fail(err, "%s/summary.json: out of memory", dir);
+
+    char path[4096], tmp[4096];
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    snprintf(tmp, sizeof tmp, "%s/.summary.json.partial", dir);
+    FILE *f = fopen(tmp, "w");
+    int failed = !f;
+    if (f) {
+        failed |= fputs(text, f) < 0 || fputc('\n', f) == EOF;
+        failed |= fclose(f) != 0;
+    }
+    free(text);
+    if (failed || rename(tmp, path) != 0) {
+        unlink(tmp);
+        return hl_fail(err, "%s: cannot write: %s", path, strerror(errno));
+    }
+    return 0;
+}
+
+void rpl_summary_print(FILE *f, const struct rpl_summary *s)
+{
+    fprintf(f, "\n%s on %s, selector %s, %ld frames (renderer: %s)\n", s->scene, s->display, s->selector,
+            s->frames, s->renderer);
+    fprintf(f, "  %-34s %10.3f ms (display period)\n", "budget", s->budget_ms);
+    fprintf(f, "  %-34s %10.3f / %.3f / %.3f ms\n", "frame time mean / max / stddev", s->frame_ms_mean,
+            s->frame_ms_max, s->frame_ms_stddev);
+    fprintf(f, "  %-34s %10.3f ms\n", "draw time mean (both eyes)", s->draw_ms_mean);
+    fprintf(f, "  %-34s %10.1f us\n", "cull + viewing geometry mean", s->acuity_us_mean);
+    fprintf(f, "  %-34s %10.1f us\n", "selection mean", s->select_us_mean);
+    fprintf(f, "  %-34s %10.1f of %.1f visible\n", "acuity model evaluations / frame", s->acuity_evaluations_mean,
+            s->visible_mean);
+    fprintf(f, "  %-34s %10.0f\n", "triangles per eye mean", s->triangles_per_eye_mean);
+    fprintf(f, "  %-34s %10.3f\n", "triangles relative to none", s->triangles_relative_to_none);
+    fprintf(f, "  %-34s %10.1f %%\n", "frames within the budget", 100.0 * s->deadline_met_fraction);
+}

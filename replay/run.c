@@ -1,0 +1,209 @@
+/* The replay driver: a head-motion trace on a virtual clock at the display's refresh, through a
+ * scene, into per-frame CSV, a summary, and PNG captures. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "replay/run_internal.h"
+
+void rpl_options_defaults(struct rpl_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->scene = "field";
+    o->display = "vive";
+    o->selector = "reddy";
+    o->object_count = 100;
+    o->seed = 1;
+    o->acuity_scale = 1.0;
+    o->render_scale = 1.0;
+}
+
+static int make_dirs(const char *dir, struct hl_error *err)
+{
+    char path[4096];
+    if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path)
+        return hl_fail(err, "%s: path too long", dir);
+    for (char *p = path + 1;; ++p) {
+        if (*p == '/' || *p == '\0') {
+            char c = *p;
+            *p = '\0';
+            if (mkdir(path, 0777) != 0 && errno != EEXIST)
+                return hl_fail(err, "%s: cannot create folder: %s", path, strerror(errno));
+            *p = c;
+            if (c == '\0')
+                break;
+        }
+    }
+    struct stat st;
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+        return hl_fail(err, "%s: not a folder", dir);
+    return 0;
+}
+
+static int check_options(const struct rpl_options *o, enum rpl_selector *selector, struct hl_error *err)
+{
+    if (!strcmp(o->selector, "none"))
+        *selector = RPL_SELECT_NONE;
+    else if (!strcmp(o->selector, "reddy"))
+        *selector = RPL_SELECT_REDDY;
+    else
+        return hl_fail(err, "--selector: unknown selector '%s' (known: none, reddy)", o->selector);
+    if (!o->out_dir || !*o->out_dir)
+        return hl_fail(err, "--out: an output folder is required");
+    if (o->rate_hz < 0.0 || !isfinite(o->rate_hz) || (o->rate_hz > 0.0 && o->rate_hz < 1.0) || o->rate_hz > 10000.0)
+        return hl_fail(err, "--rate: %g Hz is outside [1, 10000]", o->rate_hz);
+    if (!(o->acuity_scale > 0.0 && o->acuity_scale <= 1.0))
+        return hl_fail(err, "--acuity-scale: %g is outside (0, 1]", o->acuity_scale);
+    if (!(o->render_scale > 0.0 && o->render_scale <= 4.0))
+        return hl_fail(err, "--render-scale: %g is outside (0, 4]", o->render_scale);
+    if (o->frames < 0 || o->capture_every < 0)
+        return hl_fail(err, "--frames and --capture must be >= 0");
+    return 0;
+}
+
+static int session_open(struct rpl_session *s, const struct rpl_options *o, struct hl_error *err)
+{
+    if (hmd_profile_load(o->display, &s->display, err) != 0)
+        return -1;
+    s->eyes[0] = hmd_eye_frustum(&s->display, HMD_EYE_LEFT);
+    s->eyes[1] = hmd_eye_frustum(&s->display, HMD_EYE_RIGHT);
+    acu_limits_init(&s->limits, hmd_compute_xi(&s->display).used_cpd, o->acuity_scale);
+    s->near_m = 0.05;
+    s->far_m = 2000.0;
+
+    struct rpl_trace trace;
+    int rc = o->trace_path ? rpl_trace_load(o->trace_path, &trace, err) : rpl_trace_builtin_clip(&trace, err);
+    if (rc != 0 || rpl_trace_source_create(&trace, &s->source, err) != 0)
+        return -1;
+
+    struct rnd_scene_params params = {.object_count = o->object_count, .seed = o->seed};
+    if (rnd_scene_build(o->scene, &params, &s->scene, err) != 0)
+        return -1;
+    uint32_t n = s->scene.instance_count;
+    s->chains = calloc(s->scene.chain_count, sizeof *s->chains);
+    s->arrays.visible = calloc(n ? n : 1, sizeof *s->arrays.visible);
+    s->arrays.eccentricity_deg = calloc(n ? n : 1, sizeof(double));
+    s->arrays.velocity_degps = calloc(n ? n : 1, sizeof(double));
+    s->arrays.diameter_deg = calloc(n ? n : 1, sizeof(double));
+    s->arrays.ceiling_cpd = calloc(n ? n : 1, sizeof(double));
+    s->arrays.lod = calloc(n ? n : 1, 1);
+    if (!s->chains || !s->arrays.visible || !s->arrays.eccentricity_deg || !s->arrays.velocity_degps ||
+        !s->arrays.diameter_deg || !s->arrays.ceiling_cpd || !s->arrays.lod)
+        return hl_fail(err, "scene '%s': out of memory for %u objects", o->scene, n);
+    for (uint32_t c = 0; c < s->scene.chain_count; ++c) {
+        const struct rnd_chain *chain = &s->scene.chains[c];
+        s->chains[c].lod_count = chain->lod_count;
+        for (int k = 0; k < chain->lod_count; ++k)
+            s->chains[c].unique_freq_cpdiam[k] = chain->lods[k].unique_freq_cpdiam;
+        if (chain->lod_count > s->max_lods)
+            s->max_lods = chain->lod_count;
+    }
+
+    int eye_w = (int)lround(s->display.eye_width_px * o->render_scale);
+    int eye_h = (int)lround(s->display.eye_height_px * o->render_scale);
+    if (rnd_renderer_create(eye_w > 0 ? eye_w : 1, eye_h > 0 ? eye_h : 1, &s->renderer, err) != 0)
+        return -1;
+    return rnd_renderer_upload_scene(s->renderer, &s->scene, err);
+}
+
+static void session_close(struct rpl_session *s)
+{
+    if (s->renderer)
+        rnd_renderer_destroy(s->renderer);
+    trk_source_destroy(s->source);
+    rnd_scene_free(&s->scene);
+    free(s->chains);
+    free(s->arrays.visible);
+    free(s->arrays.eccentricity_deg);
+    free(s->arrays.velocity_degps);
+    free(s->arrays.diameter_deg);
+    free(s->arrays.ceiling_cpd);
+    free(s->arrays.lod);
+    memset(s, 0, sizeof *s);
+}
+
+static int capture_frame(struct rpl_session *s, uint8_t *rgba, const char *dir, long frame, struct hl_error *err)
+{
+    int w, h;
+    rnd_renderer_size(s->renderer, &w, &h);
+    if (rnd_renderer_read_rgba(s->renderer, rgba, err) != 0)
+        return -1;
+    char path[4096];
+    snprintf(path, sizeof path, "%s/frame_%06ld.png", dir, frame);
+    return rnd_png_write(path, rgba, w, h, err);
+}
+
+static long frame_count(const struct rpl_options *o, const struct trk_pose_source *src, double rate_hz)
+{
+    long available = (long)floor((src->end_time_s - src->start_time_s) * rate_hz + 1e-9) + 1;
+    if (o->frames == 0)
+        return available;
+    if (o->frames > available)
+        fprintf(stderr, "hmdlod: note: the trace covers %ld frames at %.6g Hz; replaying %ld holds its last pose\n",
+                available, rate_hz, o->frames);
+    return o->frames;
+}
+
+int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_error *err)
+{
+    struct rpl_session s;
+    memset(&s, 0, sizeof s);
+    memset(summary, 0, sizeof *summary);
+    struct rpl_output out;
+    memset(&out, 0, sizeof out);
+    uint8_t *rgba = NULL;
+    int rc = -1;
+
+    if (check_options(o, &s.selector, err) != 0 || make_dirs(o->out_dir, err) != 0 || session_open(&s, o, err) != 0)
+        goto done;
+    double rate_hz = o->rate_hz > 0.0 ? o->rate_hz : s.display.refresh_hz;
+    long frames = frame_count(o, s.source, rate_hz);
+    if (o->capture_every > 0) {
+        int w, h;
+        rnd_renderer_size(s.renderer, &w, &h);
+        rgba = malloc((size_t)w * (size_t)h * 4);
+        if (!rgba) {
+            hl_fail(err, "out of memory for captures");
+            goto done;
+        }
+    }
+    if (rpl_output_open(&out, o->out_dir, s.max_lods, err) != 0)
+        goto done;
+
+    struct rpl_accumulator acc;
+    memset(&acc, 0, sizeof acc);
+    struct hl_progress progress;
+    hl_progress_begin(&progress, "replay", (uint64_t)frames);
+    for (long f = 0; f < frames; ++f) {
+        /* Virtual clock: frame f is displayed at start + f / rate, whatever the wall clock did. */
+        double t_s = s.source->start_time_s + (double)f / rate_hz;
+        struct rpl_frame_record rec;
+        if (rpl_frame_run(&s, f, t_s, &rec, err) != 0)
+            goto done;
+        if (rgba && f % o->capture_every == 0 && capture_frame(&s, rgba, o->out_dir, f, err) != 0)
+            goto done;
+        rpl_output_row(&out, &rec, s.max_lods);
+        rpl_accumulate(&acc, &rec);
+        hl_progress_update(&progress, (uint64_t)f + 1);
+    }
+    hl_progress_end(&progress);
+    if (rpl_output_commit(&out, err) != 0)
+        goto done;
+
+    rpl_accumulator_finish(&acc, summary);
+    summary->budget_ms = 1000.0 / s.display.refresh_hz;
+    snprintf(summary->renderer, sizeof summary->renderer, "%s", rnd_renderer_name(s.renderer));
+    snprintf(summary->selector, sizeof summary->selector, "%s", o->selector);
+    snprintf(summary->scene, sizeof summary->scene, "%s", o->scene);
+    snprintf(summary->display, sizeof summary->display, "%s", s.display.name);
+    rc = rpl_summary_write_json(o->out_dir, summary, err);
+    if (rc == 0 && !o->quiet)
+        rpl_summary_print(stdout, summary);
+done:
+    rpl_output_abort(&out);
+    free(rgba);
+    session_close(&s);
+    return rc;
+}

@@ -1,0 +1,73 @@
+/* Internal to replay/: the state of one replay run and the steps of one frame. */
+#ifndef HMDLOD_REPLAY_RUN_INTERNAL_H
+#define HMDLOD_REPLAY_RUN_INTERNAL_H
+
+#include "acuity/acuity.h"
+#include "hmd/hmd.h"
+#include "render/render.h"
+#include "replay/replay.h"
+
+enum rpl_selector { RPL_SELECT_NONE = 0, RPL_SELECT_REDDY = 1 };
+
+/* Per-frame working arrays, sized once when the scene loads (DESIGN.md: steps 4–7 allocate nothing). */
+struct rpl_frame_arrays {
+    uint32_t *visible;
+    double *eccentricity_deg, *velocity_degps, *diameter_deg, *ceiling_cpd;
+    uint8_t *lod;
+};
+
+/* What one frame did, for its CSV row. */
+struct rpl_frame_record {
+    long frame;
+    double time_s;
+    double head_speed_degps;
+    uint32_t visible;
+    uint64_t acuity_evaluations;
+    uint64_t triangles_per_eye, triangles_finest;
+    uint32_t lod_histogram[RND_MAX_LODS];
+    double acuity_us, select_us, draw_ms, frame_ms;
+    int deadline_met;
+};
+
+struct rpl_session {
+    struct hmd_profile display;
+    struct hmd_eye eyes[2];
+    struct acu_limits limits;
+    struct rnd_scene scene;
+    struct acu_chain *chains;
+    struct trk_pose_source *source;
+    struct rnd_renderer *renderer;
+    struct rpl_frame_arrays arrays;
+    enum rpl_selector selector;
+    int max_lods;
+    double near_m, far_m;
+};
+
+/* Culls, computes viewing geometry, selects and draws one frame at `time_s`. */
+int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_frame_record *rec,
+                  struct hl_error *err);
+
+/* Output files: written beside their final name and renamed when complete, so an interrupted run
+ * never leaves a CSV or summary that looks finished. */
+struct rpl_output {
+    FILE *csv;
+    char csv_path[4096], csv_tmp[4096];
+};
+int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct hl_error *err);
+void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int max_lods);
+int rpl_output_commit(struct rpl_output *o, struct hl_error *err);
+void rpl_output_abort(struct rpl_output *o);
+int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct hl_error *err);
+
+/* Running mean/max/stddev of the frame records (Welford: stable over long runs). */
+struct rpl_accumulator {
+    long n;
+    double frame_mean, frame_m2, frame_max;
+    double draw_sum, acuity_sum, select_sum, evals_sum, visible_sum;
+    double triangles_sum, finest_sum;
+    long deadlines_met;
+};
+void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r);
+void rpl_accumulator_finish(const struct rpl_accumulator *a, struct rpl_summary *s);
+
+#endif

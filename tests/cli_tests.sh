@@ -1,0 +1,85 @@
+#!/usr/bin/env bash
+# The command line as a user meets it: the acceptance figures, --help everywhere, bad arguments and
+# bad files giving one message and exit 1, and a real Corbillon trace through replay when
+# ../shared is present.
+set -u
+bin=${HMDLOD_BIN:?HMDLOD_BIN must point at the hmdlod program}
+shared=${HMDLOD_SHARED:-../shared}
+tmp=$(mktemp -d /tmp/hmdlod-cli-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# expect_ok DESCRIPTION REGEX -- COMMAND...: exit 0 and stdout matches REGEX
+expect_ok() {
+  local what=$1 pattern=$2; shift 3
+  local out; out=$("$@" 2>"$tmp/err"); local rc=$?
+  [ $rc -eq 0 ] || { fail "$what: exit $rc: $(cat "$tmp/err")"; return; }
+  grep -Eq -- "$pattern" <<<"$out" || fail "$what: output does not match /$pattern/: $out"
+}
+
+# expect_error DESCRIPTION REGEX -- COMMAND...: exit 1, one line on stderr matching REGEX, no crash
+expect_error() {
+  local what=$1 pattern=$2; shift 3
+  "$@" >"$tmp/out" 2>"$tmp/err"; local rc=$?
+  [ $rc -eq 1 ] || { fail "$what: exit $rc (want 1): $(cat "$tmp/err")"; return; }
+  grep -Eq -- "$pattern" "$tmp/err" || fail "$what: stderr does not match /$pattern/: $(cat "$tmp/err")"
+}
+
+expect_ok "top-level help" "commands:" -- "$bin" --help
+for c in demo display acuity replay; do
+  expect_ok "$c --help" "usage: hmdlod $c" -- "$bin" $c --help
+done
+expect_error "no command" "usage" -- "$bin"
+expect_error "unknown command" "unknown command 'fly'" -- "$bin" fly
+
+# Reddy §4 acceptance figures.
+expect_ok "i-glasses xi" "4\.79" -- "$bin" display show i-glasses
+expect_ok "i-glasses eccentricity threshold" "28\.9" -- "$bin" display show i-glasses
+expect_ok "i-glasses velocity threshold" "80\.[12]" -- "$bin" display show i-glasses
+expect_ok "display list has vive" "vive" -- "$bin" display list
+expect_ok "acuity at 24 deg/s, 15 deg" "acuity H +4\.8" -- "$bin" acuity --xi 4.8 --velocity 24 --eccentricity 15
+expect_ok "acuity beyond 119.3 deg/s" "acuity H +0\.0000" -- "$bin" acuity --velocity 1e6 --eccentricity 0
+expect_error "acuity NaN" "not a number" -- "$bin" acuity --velocity nan --eccentricity 0
+expect_error "acuity negative" "negative" -- "$bin" acuity --velocity -3
+expect_error "acuity eccentricity range" "outside \[0, 180\]" -- "$bin" acuity --eccentricity 200
+expect_error "acuity junk" "not a number" -- "$bin" acuity --velocity 12abc
+expect_error "acuity missing value" "needs a value" -- "$bin" acuity --velocity
+expect_error "display unknown" "unknown display 'nope'" -- "$bin" display show nope
+
+# Replay: bad arguments and bad traces never leave output that looks complete.
+expect_error "replay without --out" "--out" -- "$bin" replay --scene field
+expect_error "replay bad selector" "selector" -- "$bin" replay --selector fastest --out "$tmp/x"
+expect_error "replay bad frames" "--frames" -- "$bin" replay --frames -4 --out "$tmp/x"
+expect_error "replay missing trace" "no-such.csv" -- "$bin" replay --trace "$tmp/no-such.csv" --out "$tmp/x"
+printf 't_s,qw,qx,qy,qz\n0,1,0,0,0\n0.01,1,0,0,0\n0.02,1,0,' >"$tmp/torn.csv"
+expect_error "replay torn trace" "torn.csv:4" -- "$bin" replay --trace "$tmp/torn.csv" --out "$tmp/torn"
+[ ! -e "$tmp/torn/frames.csv" ] || fail "a failed replay left frames.csv"
+printf 't_s,qw,qx,qy,qz\n0,1,0,0,0\n0.01,nan,0,0,0\n' >"$tmp/nan.csv"
+expect_error "replay NaN trace" "nan.csv:3" -- "$bin" replay --trace "$tmp/nan.csv" --out "$tmp/nan"
+
+# A small replay of a user's own CSV trace writes complete outputs.
+printf 't_s,qw,qx,qy,qz\n0,1,0,0,0\n0.5,0.9238795,0,0.3826834,0\n1.0,0.7071068,0,0.7071068,0\n' >"$tmp/turn.csv"
+expect_ok "replay own trace" "triangles relative to none" -- \
+  "$bin" replay --trace "$tmp/turn.csv" --scene auditorium --display quest3 --selector reddy \
+  --render-scale 0.25 --capture 30 --out "$tmp/turn"
+[ -s "$tmp/turn/frames.csv" ] && [ -s "$tmp/turn/summary.json" ] && [ -s "$tmp/turn/frame_000000.png" ] \
+  || fail "replay outputs missing"
+
+# The real Corbillon trace (issue acceptance), at a reduced render size to keep CI short.
+trace="$shared/data/traces/corbillon-mmsys18/user1_quaternion.txt"
+if [ -r "$trace" ]; then
+  for sel in none reddy; do
+    expect_ok "corbillon $sel" "frames within the budget" -- "$bin" replay --trace "$trace" --scene field \
+      --display vive --selector $sel --frames 600 --render-scale 0.25 --out "$tmp/c-$sel"
+  done
+  tri() { grep -o '"triangles_per_eye_mean":[^,]*' "$1/summary.json" | cut -d: -f2; }
+  awk -v r="$(tri "$tmp/c-reddy")" -v n="$(tri "$tmp/c-none")" 'BEGIN { exit !(r < n) }' \
+    || fail "reddy should draw fewer triangles than none on the Corbillon trace"
+else
+  echo "skip: $trace is absent; the real-trace replay was not run"
+fi
+
+echo "cli tests: $failures failed"
+[ $failures -eq 0 ]

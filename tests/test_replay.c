@@ -1,0 +1,190 @@
+/* End-to-end through the library: the built-in clip through the field scene, headless, with real
+ * EGL rendering. Checks the outputs exist and are complete, that the deterministic columns repeat
+ * byte for byte, and that Reddy's selector draws less than `none` — and less still when the head
+ * turns fast (the velocity term). */
+#include <dlfcn.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "replay/replay.h"
+#include "test_util.h"
+
+/* One frames.csv row's fields we check. */
+struct row {
+    double speed_degps;
+    double triangles, finest;
+};
+
+static char *read_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *buf = malloc((size_t)n + 1);
+    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
+        free(buf);
+        buf = NULL;
+    }
+    fclose(f);
+    if (buf) {
+        buf[n] = '\0';
+        *len = (size_t)n;
+    }
+    return buf;
+}
+
+/* Drops the five wall-clock columns at the end of each line (DESIGN.md: determinism). */
+static void strip_timing_columns(char *csv)
+{
+    char *out = csv;
+    for (char *line = csv; *line;) {
+        char *end = strchr(line, '\n');
+        size_t len = end ? (size_t)(end - line) : strlen(line);
+        size_t keep = len;
+        for (int commas = 0; keep > 0 && commas < 5; --keep)
+            if (line[keep - 1] == ',')
+                ++commas;
+        memmove(out, line, keep);
+        out += keep;
+        *out++ = '\n';
+        line += len + (end ? 1 : 0);
+    }
+    *out = '\0';
+}
+
+static size_t parse_rows(const char *csv, struct row *rows, size_t max)
+{
+    size_t n = 0;
+    const char *line = strchr(csv, '\n');
+    while (line && line[1] && n < max) {
+        ++line;
+        long frame;
+        double t, speed, tri, finest;
+        unsigned visible;
+        unsigned long long evals;
+        if (sscanf(line, "%ld,%lf,%lf,%u,%llu,%lf,%lf", &frame, &t, &speed, &visible, &evals, &tri, &finest) == 7)
+            rows[n++] = (struct row){speed, tri, finest};
+        line = strchr(line, '\n');
+    }
+    return n;
+}
+
+static int run(const char *selector, const char *dir, struct rpl_summary *s)
+{
+    struct rpl_options o;
+    rpl_options_defaults(&o);
+    o.selector = selector;
+    o.out_dir = dir;
+    o.render_scale = 0.25; /* the pixels do not matter here; the selection does */
+    o.capture_every = 200;
+    o.quiet = 1;
+    struct hl_error err;
+    int rc = rpl_run(&o, s, &err);
+    if (rc != 0)
+        fprintf(stderr, "rpl_run(%s): %s\n", selector, err.msg);
+    return rc;
+}
+
+int main(void)
+{
+    /* Keep Mesa's driver loaded until exit so LeakSanitizer can see its globals (PLATFORM.md §4). */
+    dlopen("/usr/lib/x86_64-linux-gnu/dri/swrast_dri.so", RTLD_NOW | RTLD_NODELETE);
+
+    char base[] = "/tmp/hmdlod-test-replay-XXXXXX";
+    if (!mkdtemp(base)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    char dir_none[512], dir_reddy[512], dir_again[512], path[600];
+    snprintf(dir_none, sizeof dir_none, "%s/none", base);
+    snprintf(dir_reddy, sizeof dir_reddy, "%s/reddy", base);
+    snprintf(dir_again, sizeof dir_again, "%s/reddy-again", base);
+
+    struct rpl_summary none, reddy, again;
+    int rc_none = run("none", dir_none, &none);
+    if (rc_none == 0 && strstr(none.renderer, "(none)")) {
+        printf("skip: no EGL renderer\n");
+        return 77;
+    }
+    CHECK(rc_none == 0);
+    CHECK(run("reddy", dir_reddy, &reddy) == 0);
+    CHECK(run("reddy", dir_again, &again) == 0);
+    CHECK(none.frames == 8 * 90 + 1); /* 8 s clip at the Vive's 90 Hz, both ends included */
+    CHECK_NEAR(none.triangles_relative_to_none, 1.0, 1e-12);
+    CHECK(reddy.triangles_per_eye_mean < none.triangles_per_eye_mean);
+    CHECK(reddy.triangles_relative_to_none < 1.0);
+    CHECK(reddy.acuity_evaluations_mean <= reddy.visible_mean);
+
+    /* Outputs are complete and no partial files remain. */
+    snprintf(path, sizeof path, "%s/summary.json", dir_reddy);
+    CHECK(access(path, R_OK) == 0);
+    snprintf(path, sizeof path, "%s/.frames.csv.partial", dir_reddy);
+    CHECK(access(path, F_OK) != 0);
+    snprintf(path, sizeof path, "%s/frame_000200.png", dir_reddy);
+    CHECK(access(path, R_OK) == 0);
+
+    size_t len_a = 0, len_b = 0;
+    snprintf(path, sizeof path, "%s/frames.csv", dir_reddy);
+    char *a = read_file(path, &len_a);
+    snprintf(path, sizeof path, "%s/frames.csv", dir_again);
+    char *b = read_file(path, &len_b);
+    CHECK(a && b);
+    if (a && b) {
+        /* Velocity term: on frames where the head turns fast, Reddy keeps a smaller share of the
+         * finest triangles than on frames where it is still. */
+        static struct row rows[2000];
+        size_t n = parse_rows(a, rows, 2000);
+        CHECK(n == (size_t)reddy.frames);
+        double still_tri = 0, still_fin = 0, fast_tri = 0, fast_fin = 0;
+        for (size_t i = 0; i < n; ++i) {
+            if (rows[i].speed_degps < 5.0) {
+                still_tri += rows[i].triangles;
+                still_fin += rows[i].finest;
+            } else if (rows[i].speed_degps > 100.0) {
+                fast_tri += rows[i].triangles;
+                fast_fin += rows[i].finest;
+            }
+        }
+        CHECK(still_fin > 0 && fast_fin > 0);
+        double still_share = still_tri / still_fin, fast_share = fast_tri / fast_fin;
+        printf("share of finest triangles drawn: still %.3f, fast (>100 deg/s) %.3f\n", still_share, fast_share);
+        CHECK(fast_share < 0.8 * still_share);
+
+        strip_timing_columns(a);
+        strip_timing_columns(b);
+        CHECK(strcmp(a, b) == 0);
+    }
+    free(a);
+    free(b);
+
+    /* Bad input fails cleanly and leaves no frames.csv posing as complete. */
+    struct rpl_options o;
+    rpl_options_defaults(&o);
+    snprintf(path, sizeof path, "%s/bad", base);
+    o.out_dir = path;
+    o.selector = "fastest";
+    struct hl_error err;
+    struct rpl_summary s;
+    CHECK(rpl_run(&o, &s, &err) != 0 && strstr(err.msg, "selector"));
+    o.selector = "reddy";
+    o.display = "no-such-display";
+    CHECK(rpl_run(&o, &s, &err) != 0 && strstr(err.msg, "no-such-display"));
+    o.display = "vive";
+    o.scene = "no-such-scene";
+    CHECK(rpl_run(&o, &s, &err) != 0 && strstr(err.msg, "no-such-scene"));
+    char csv[700];
+    snprintf(csv, sizeof csv, "%s/frames.csv", path);
+    CHECK(access(csv, F_OK) != 0);
+
+    char cmd[700];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", base);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", base);
+    return tu_finish("test_replay");
+}

@@ -56,4 +56,17 @@ struct hmd_eye hmd_eye_frustum(const struct hmd_profile *p, int eye);
 /* Off-axis perspective projection for an eye, column-major 4×4 (OpenGL clip space, depth −1…1). */
 void hmd_eye_projection(const struct hmd_eye *eye, double near_m, double far_m, double out_m4[16]);
 
+/* ---- additions -------------------------------------------------------------------------------- */
+
+/* JSON profile files larger than this are rejected unread (a profile is a few hundred bytes). */
+enum { HMD_PROFILE_MAX_BYTES = 1 << 20 };
+
+/* Resets *p to an empty profile with the defaults a JSON file may omit: IPD 0.063 m, no distortion
+ * (k all 0), no aberration (1, 1, 1), no ξ override. Name, pixels, FOV and refresh are zero. */
+void hmd_profile_defaults(struct hmd_profile *p);
+
+/* Sets a symmetric FOV of h_deg × v_deg (full angles, degrees): every tangent is tan(angle/2).
+ * Does not validate; call hmd_profile_validate afterwards for user-supplied angles. */
+void hmd_set_symmetric_fov_deg(struct hmd_profile *p, double h_deg, double v_deg);
+
 #endif

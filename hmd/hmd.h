@@ -34,7 +34,7 @@ int hmd_builtin_count(void);
 const struct hmd_profile *hmd_builtin_at(int index);
 const struct hmd_profile *hmd_builtin_find(const char *name); /* case-insensitive; NULL if unknown */
 
-/* Loads `name_or_path`: a built-in name, else a JSON profile file (docs/formats.md). On bad input
+/* Loads `name_or_path`: a built-in name, else a JSON profile file (docs/display-profile.md). On bad input
  * returns -1 with "file: field: reason" in err and leaves *out unspecified. */
 int hmd_profile_load(const char *name_or_path, struct hmd_profile *out, struct hl_error *err);
 int hmd_profile_load_json(const char *path, struct hmd_profile *out, struct hl_error *err);

@@ -15,7 +15,7 @@ struct rnd_lod {
     uint32_t first_index, index_count; /* range in scene.indices (3 per triangle) */
     uint32_t triangle_count, vertex_count;
     double geometric_error_m;  /* max distance from the finest level's vertices to this level's surface */
-    double unique_freq_cpdiam; /* see acuity.h; derived from geometric_error_m (docs/formats.md) */
+    double unique_freq_cpdiam; /* see acuity.h; derived from geometric_error_m (docs/scenes.md) */
 };
 
 struct rnd_chain {

@@ -12,7 +12,7 @@
 /* ---- traces --------------------------------------------------------------------------------- */
 enum rpl_trace_format { RPL_TRACE_HMDLOD_CSV = 0, RPL_TRACE_CORBILLON = 1 };
 
-/* What loading found and did (docs/formats.md lists each rule). */
+/* What loading found and did (docs/trace-format.md lists each rule). */
 struct rpl_trace_report {
     size_t rows;              /* data rows read */
     size_t sign_flips;        /* q → −q to stay in the previous sample's hemisphere */

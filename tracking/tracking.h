@@ -46,4 +46,12 @@ static inline void trk_source_destroy(struct trk_pose_source *src)
         src->destroy(src);
 }
 
+/* ==== report parsers (pure functions of the bytes) ==== */
+
+/* ==== end of report parsers ==== */
+
+/* ==== fusion and prediction ==== */
+
+/* ==== end of fusion and prediction ==== */
+
 #endif

@@ -1,0 +1,104 @@
+/* Headless OpenGL through EGL (PLATFORM.md §2): surfaceless Mesa needs no X server or GPU, so tests,
+ * CI and benchmarks render with llvmpipe exactly as a desktop GPU would, only slower. */
+#include "render/render_internal.h"
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <string.h>
+
+/* EGL displays are per process: two renderers share one, and eglTerminate would pull it from under
+ * the other, so terminate only when the last context goes. (Renderers are single-threaded.) */
+static int rnd_egl_users;
+
+static int rnd_egl_has(const char *list, const char *name)
+{
+    size_t n = strlen(name);
+    for (const char *p = list; p && (p = strstr(p, name)) != NULL; p += n)
+        if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0'))
+            return 1;
+    return 0;
+}
+
+static EGLDisplay rnd_egl_open_display(struct hl_error *err)
+{
+    const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    EGLint major = 0, minor = 0;
+    if (rnd_egl_has(client, "EGL_MESA_platform_surfaceless")) {
+        EGLDisplay d = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
+        if (d != EGL_NO_DISPLAY && eglInitialize(d, &major, &minor))
+            return d;
+    }
+    /* Fallback: the first EGL device (e.g. a driver without the surfaceless platform). */
+    PFNEGLQUERYDEVICESEXTPROC query = (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
+    if (query && rnd_egl_has(client, "EGL_EXT_platform_device")) {
+        EGLDeviceEXT dev[4];
+        EGLint n = 0;
+        if (query(4, dev, &n) && n > 0) {
+            for (EGLint i = 0; i < n; ++i) {
+                EGLDisplay d = eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, dev[i], NULL);
+                if (d != EGL_NO_DISPLAY && eglInitialize(d, &major, &minor))
+                    return d;
+            }
+        }
+    }
+    hl_fail(err, "renderer: no headless EGL display (neither EGL_MESA_platform_surfaceless nor "
+                 "EGL_EXT_platform_device worked; EGL error 0x%x; is Mesa installed?)", (unsigned)eglGetError());
+    return EGL_NO_DISPLAY;
+}
+
+int rnd_egl_create(struct rnd_egl *e, struct hl_error *err)
+{
+    e->display = e->context = NULL;
+    EGLDisplay d = rnd_egl_open_display(err);
+    if (d == EGL_NO_DISPLAY)
+        return -1;
+    const char *ext = eglQueryString(d, EGL_EXTENSIONS);
+    if (!rnd_egl_has(ext, "EGL_KHR_no_config_context") || !rnd_egl_has(ext, "EGL_KHR_surfaceless_context")) {
+        hl_fail(err, "renderer: EGL lacks EGL_KHR_no_config_context or EGL_KHR_surfaceless_context");
+        goto fail;
+    }
+    if (!eglBindAPI(EGL_OPENGL_API)) {
+        hl_fail(err, "renderer: eglBindAPI(EGL_OPENGL_API) failed (EGL error 0x%x)", (unsigned)eglGetError());
+        goto fail;
+    }
+    static const EGLint attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                                     EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                     EGL_NONE};
+    EGLContext c = eglCreateContext(d, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
+    if (c == EGL_NO_CONTEXT) {
+        hl_fail(err, "renderer: cannot create an OpenGL 4.5 core context (EGL error 0x%x)", (unsigned)eglGetError());
+        goto fail;
+    }
+    if (!eglMakeCurrent(d, EGL_NO_SURFACE, EGL_NO_SURFACE, c)) {
+        hl_fail(err, "renderer: eglMakeCurrent failed (EGL error 0x%x)", (unsigned)eglGetError());
+        eglDestroyContext(d, c);
+        goto fail;
+    }
+    e->display = d;
+    e->context = c;
+    rnd_egl_users++;
+    return 0;
+fail:
+    if (rnd_egl_users == 0)
+        eglTerminate(d);
+    return -1;
+}
+
+int rnd_egl_make_current(const struct rnd_egl *e)
+{
+    if (eglGetCurrentContext() == (EGLContext)e->context)
+        return 0;
+    return eglMakeCurrent((EGLDisplay)e->display, EGL_NO_SURFACE, EGL_NO_SURFACE, (EGLContext)e->context) ? 0 : -1;
+}
+
+void rnd_egl_destroy(struct rnd_egl *e)
+{
+    if (!e->context)
+        return;
+    if (eglGetCurrentContext() == (EGLContext)e->context)
+        eglMakeCurrent((EGLDisplay)e->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext((EGLDisplay)e->display, (EGLContext)e->context);
+    if (--rnd_egl_users == 0)
+        eglTerminate((EGLDisplay)e->display);
+    e->display = e->context = NULL;
+}

@@ -1,0 +1,327 @@
+/* The stereo pass: one FBO holding both eyes side by side, one vertex and one index buffer for the
+ * whole scene, one shader. Each instance is one glDrawElements of its LOD's index range per eye. */
+#include "render/render_internal.h"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct rnd_renderer {
+    struct rnd_egl egl;
+    int eye_w, eye_h;
+    GLuint fbo, color_rb, depth_rb;
+    GLuint program, vao, vbo, ibo;
+    GLint u_mv, u_proj, u_color, u_light;
+    uint32_t scene_vertices, scene_indices; /* what is uploaded, to catch a mismatched scene */
+    int has_scene;
+    char name[128];
+};
+
+static const char rnd_vs[] =
+    "#version 450 core\n"
+    "layout(location = 0) in vec3 a_position;\n"
+    "layout(location = 1) in vec3 a_normal;\n"
+    "uniform mat4 u_mv;\n"
+    "uniform mat4 u_proj;\n"
+    "out vec3 v_normal;\n"
+    "void main() {\n"
+    "    v_normal = mat3(u_mv) * a_normal; /* rotation × uniform scale: renormalised below */\n"
+    "    gl_Position = u_proj * (u_mv * vec4(a_position, 1.0));\n"
+    "}\n";
+
+static const char rnd_fs[] =
+    "#version 450 core\n"
+    "in vec3 v_normal;\n"
+    "uniform vec3 u_color;\n"
+    "uniform vec3 u_light; /* unit direction towards the light, eye space */\n"
+    "out vec4 o_color;\n"
+    "void main() {\n"
+    "    float lambert = max(dot(normalize(v_normal), u_light), 0.0);\n"
+    "    o_color = vec4(u_color * (0.3 + 0.7 * lambert), 1.0);\n"
+    "}\n";
+
+/* Light from above, a little to the right and behind the default view, fixed in the world so that
+ * shading stays put when the head turns. */
+static const double rnd_light_world[3] = {0.35, 0.85, 0.4};
+
+static GLuint rnd_compile(GLenum type, const char *src, const char *what, struct hl_error *err)
+{
+    GLuint s = glCreateShader(type);
+    glShaderSource(s, 1, &src, NULL);
+    glCompileShader(s);
+    GLint ok = 0;
+    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[400] = "";
+        glGetShaderInfoLog(s, sizeof log, NULL, log);
+        hl_fail(err, "renderer: %s shader does not compile: %s", what, log);
+        glDeleteShader(s);
+        return 0;
+    }
+    return s;
+}
+
+static int rnd_renderer_build_program(struct rnd_renderer *r, struct hl_error *err)
+{
+    GLuint vs = rnd_compile(GL_VERTEX_SHADER, rnd_vs, "vertex", err);
+    if (!vs)
+        return -1;
+    GLuint fs = rnd_compile(GL_FRAGMENT_SHADER, rnd_fs, "fragment", err);
+    if (!fs) {
+        glDeleteShader(vs);
+        return -1;
+    }
+    r->program = glCreateProgram();
+    glAttachShader(r->program, vs);
+    glAttachShader(r->program, fs);
+    glLinkProgram(r->program);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(r->program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[400] = "";
+        glGetProgramInfoLog(r->program, sizeof log, NULL, log);
+        return hl_fail(err, "renderer: shader program does not link: %s", log);
+    }
+    r->u_mv = glGetUniformLocation(r->program, "u_mv");
+    r->u_proj = glGetUniformLocation(r->program, "u_proj");
+    r->u_color = glGetUniformLocation(r->program, "u_color");
+    r->u_light = glGetUniformLocation(r->program, "u_light");
+    return 0;
+}
+
+static int rnd_renderer_build_fbo(struct rnd_renderer *r, struct hl_error *err)
+{
+    glGenFramebuffers(1, &r->fbo);
+    glGenRenderbuffers(1, &r->color_rb);
+    glGenRenderbuffers(1, &r->depth_rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, r->color_rb);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, 2 * r->eye_w, r->eye_h);
+    glBindRenderbuffer(GL_RENDERBUFFER, r->depth_rb);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, 2 * r->eye_w, r->eye_h);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, r->color_rb);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->depth_rb);
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        return hl_fail(err, "renderer: framebuffer %d×%d incomplete (status 0x%x, GL error 0x%x)", 2 * r->eye_w,
+                       r->eye_h, (unsigned)status, (unsigned)glGetError());
+    return 0;
+}
+
+int rnd_renderer_create(int eye_width_px, int eye_height_px, struct rnd_renderer **out, struct hl_error *err)
+{
+    if (!out)
+        return hl_fail(err, "renderer: no output");
+    *out = NULL;
+    if (eye_width_px < 1 || eye_height_px < 1 || eye_width_px > 8192 || eye_height_px > 8192)
+        return hl_fail(err, "renderer: eye size %d×%d out of range (1…8192 each)", eye_width_px, eye_height_px);
+    struct rnd_renderer *r = calloc(1, sizeof *r);
+    if (!r)
+        return hl_fail(err, "renderer: out of memory");
+    r->eye_w = eye_width_px;
+    r->eye_h = eye_height_px;
+    if (rnd_egl_create(&r->egl, err) != 0) {
+        free(r);
+        return -1;
+    }
+    GLint max_rb = 0;
+    glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
+    if (max_rb > 0 && 2 * eye_width_px > max_rb) {
+        hl_fail(err, "renderer: %d px wide exceeds GL_MAX_RENDERBUFFER_SIZE %d", 2 * eye_width_px, max_rb);
+        goto fail;
+    }
+    if (rnd_renderer_build_program(r, err) != 0 || rnd_renderer_build_fbo(r, err) != 0)
+        goto fail;
+    const char *name = (const char *)glGetString(GL_RENDERER);
+    snprintf(r->name, sizeof r->name, "%s", name ? name : "unknown");
+    glGenVertexArrays(1, &r->vao);
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_CULL_FACE); /* meshes are closed and CCW outward */
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+    glClearColor(0.1f, 0.1f, 0.12f, 1.0f);
+    *out = r;
+    return 0;
+fail:
+    rnd_renderer_destroy(r);
+    return -1;
+}
+
+void rnd_renderer_destroy(struct rnd_renderer *r)
+{
+    if (!r)
+        return;
+    if (r->egl.context && rnd_egl_make_current(&r->egl) == 0) {
+        glDeleteBuffers(1, &r->vbo);
+        glDeleteBuffers(1, &r->ibo);
+        glDeleteVertexArrays(1, &r->vao);
+        glDeleteProgram(r->program);
+        glDeleteFramebuffers(1, &r->fbo);
+        glDeleteRenderbuffers(1, &r->color_rb);
+        glDeleteRenderbuffers(1, &r->depth_rb);
+    }
+    rnd_egl_destroy(&r->egl);
+    free(r);
+}
+
+const char *rnd_renderer_name(const struct rnd_renderer *r) { return r ? r->name : ""; }
+
+void rnd_renderer_size(const struct rnd_renderer *r, int *width_px, int *height_px)
+{
+    if (width_px)
+        *width_px = r ? 2 * r->eye_w : 0;
+    if (height_px)
+        *height_px = r ? r->eye_h : 0;
+}
+
+int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct rnd_scene *scene, struct hl_error *err)
+{
+    if (!r || !scene)
+        return hl_fail(err, "renderer: no renderer or scene");
+    if (rnd_egl_make_current(&r->egl) != 0)
+        return hl_fail(err, "renderer: cannot make the context current");
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    if (!r->vbo)
+        glGenBuffers(1, &r->vbo);
+    if (!r->ibo)
+        glGenBuffers(1, &r->ibo);
+    /* One buffer: all positions, then all normals (non-interleaved, so the scene's arrays copy as is). */
+    GLsizeiptr half = (GLsizeiptr)scene->vertex_count * 3 * (GLsizeiptr)sizeof(float);
+    glBindVertexArray(r->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, r->vbo);
+    glBufferData(GL_ARRAY_BUFFER, half * 2 > 0 ? half * 2 : 4, NULL, GL_STATIC_DRAW);
+    if (half > 0) {
+        glBufferSubData(GL_ARRAY_BUFFER, 0, half, scene->positions);
+        glBufferSubData(GL_ARRAY_BUFFER, half, half, scene->normals);
+    }
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, (const void *)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, (const void *)(uintptr_t)half);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo); /* recorded in the VAO */
+    GLsizeiptr isize = (GLsizeiptr)scene->index_count * (GLsizeiptr)sizeof(uint32_t);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, isize > 0 ? isize : 4, isize > 0 ? scene->indices : NULL, GL_STATIC_DRAW);
+    glBindVertexArray(0);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR) {
+        r->has_scene = 0;
+        return hl_fail(err, "renderer: uploading scene %s (%u vertices, %u indices) failed: GL error 0x%x",
+                       scene->name, scene->vertex_count, scene->index_count, (unsigned)e);
+    }
+    r->scene_vertices = scene->vertex_count;
+    r->scene_indices = scene->index_count;
+    r->has_scene = 1;
+    return 0;
+}
+
+/* Column-major 4×4 of the model-to-eye transform, computed in double and only then rounded: the
+ * translation is the instance position minus the eye position, so an object 1e6 m from the origin
+ * but 2 m from the eye keeps millimetre precision (float world matrices would lose ~6 cm there). */
+static void rnd_model_view(const struct rnd_instance *in, const struct rnd_eye_view *v, float out[16])
+{
+    hl_quatd to_eye = hl_q_conj(v->orientation);
+    hl_quatd q = hl_q_mul(to_eye, in->rotation);
+    double w = q.w, x = q.x, y = q.y, z = q.z, s = in->scale;
+    hl_vec3d t = hl_q_rotate(to_eye, hl_v3(in->position_m[0] - v->position_m[0], in->position_m[1] - v->position_m[1],
+                                           in->position_m[2] - v->position_m[2]));
+    double m[16] = {
+        s * (1 - 2 * (y * y + z * z)), s * 2 * (x * y + w * z), s * 2 * (x * z - w * y), 0,
+        s * 2 * (x * y - w * z), s * (1 - 2 * (x * x + z * z)), s * 2 * (y * z + w * x), 0,
+        s * 2 * (x * z + w * y), s * 2 * (y * z - w * x), s * (1 - 2 * (x * x + y * y)), 0,
+        t.x, t.y, t.z, 1,
+    };
+    for (int i = 0; i < 16; ++i)
+        out[i] = (float)m[i];
+}
+
+int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct rnd_scene *scene,
+                             const struct rnd_eye_view views[2], const uint32_t *index, const uint8_t *lod,
+                             size_t count, struct rnd_draw_stats *stats)
+{
+    if (stats)
+        *stats = (struct rnd_draw_stats){{0, 0}, 0};
+    if (!r || !scene || !views || (count > 0 && (!index || !lod)) || !r->has_scene ||
+        scene->vertex_count != r->scene_vertices || scene->index_count != r->scene_indices)
+        return -1;
+    /* Validate the whole list first so a bad entry draws nothing rather than half a frame. */
+    for (size_t k = 0; k < count; ++k) {
+        if (index[k] >= scene->instance_count)
+            return -1;
+        uint32_t c = scene->instances[index[k]].chain;
+        if (c >= scene->chain_count || (lod[k] != 255 && lod[k] >= scene->chains[c].lod_count))
+            return -1;
+    }
+    if (rnd_egl_make_current(&r->egl) != 0)
+        return -1;
+    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    glViewport(0, 0, 2 * r->eye_w, r->eye_h);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glUseProgram(r->program);
+    glBindVertexArray(r->vao);
+    uint32_t calls = 0;
+    for (int eye = 0; eye < 2; ++eye) {
+        const struct rnd_eye_view *v = &views[eye];
+        glViewport(eye * r->eye_w, 0, r->eye_w, r->eye_h);
+        float proj[16], mv[16];
+        for (int i = 0; i < 16; ++i)
+            proj[i] = (float)v->projection[i];
+        glUniformMatrix4fv(r->u_proj, 1, GL_FALSE, proj);
+        hl_vec3d l = hl_q_rotate(hl_q_conj(v->orientation),
+                                 hl_v3_normalize(hl_v3(rnd_light_world[0], rnd_light_world[1], rnd_light_world[2])));
+        glUniform3f(r->u_light, (float)l.x, (float)l.y, (float)l.z);
+        uint64_t tris = 0;
+        for (size_t k = 0; k < count; ++k) {
+            if (lod[k] == 255)
+                continue;
+            const struct rnd_instance *in = &scene->instances[index[k]];
+            const struct rnd_lod *L = &scene->chains[in->chain].lods[lod[k]];
+            if (L->index_count == 0)
+                continue;
+            rnd_model_view(in, v, mv);
+            glUniformMatrix4fv(r->u_mv, 1, GL_FALSE, mv);
+            glUniform3fv(r->u_color, 1, in->color);
+            glDrawElements(GL_TRIANGLES, (GLsizei)L->index_count, GL_UNSIGNED_INT,
+                           (const void *)((uintptr_t)L->first_index * sizeof(uint32_t)));
+            tris += L->triangle_count;
+            calls++;
+        }
+        if (stats)
+            stats->triangles_per_eye[eye] = tris;
+    }
+    glBindVertexArray(0);
+    glFinish(); /* the caller's timer must cover the GPU work, not just the command submission */
+    if (stats)
+        stats->draw_calls = calls;
+    return glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+int rnd_renderer_read_rgba(struct rnd_renderer *r, uint8_t *rgba, struct hl_error *err)
+{
+    if (!r || !rgba)
+        return hl_fail(err, "renderer: no renderer or buffer");
+    if (rnd_egl_make_current(&r->egl) != 0)
+        return hl_fail(err, "renderer: cannot make the context current");
+    int w = 2 * r->eye_w, h = r->eye_h;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, r->fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR)
+        return hl_fail(err, "renderer: glReadPixels failed: GL error 0x%x", (unsigned)e);
+    /* GL's row 0 is the bottom; images want the top first. Swap in place: no allocation. */
+    size_t stride = (size_t)w * 4;
+    for (int y = 0; y < h / 2; ++y) {
+        uint8_t *a = rgba + (size_t)y * stride, *b = rgba + (size_t)(h - 1 - y) * stride;
+        for (size_t i = 0; i < stride; ++i) {
+            uint8_t t = a[i];
+            a[i] = b[i];
+            b[i] = t;
+        }
+    }
+    return 0;
+}

@@ -414,6 +414,20 @@ static void corbillon_figures(const char *file, struct rpl_trace *tr, double *p5
     qsort(up, tr->count, sizeof *up, cmp_double);
     *up_median_deg = up[tr->count / 2];
     free(up);
+    /* Single-sample jumps over 5° (user1 has several of 7–13° around 266–270 s): counted and shown,
+     * whether or not they pass the outlier speed. */
+    size_t jumps = 0, jumps_266_270 = 0;
+    double jump_max_deg = 0;
+    for (size_t i = 1; i < tr->count; ++i) {
+        double step_deg = hl_q_angle_rad(tr->orientation[i - 1], tr->orientation[i]) * HL_DEG_PER_RAD;
+        if (step_deg > 5.0 && tr->time_s[i] - tr->time_s[i - 1] <= 0.05) { /* not across a gap */
+            ++jumps;
+            jump_max_deg = fmax(jump_max_deg, step_deg);
+            jumps_266_270 += tr->time_s[i] >= 266.0 && tr->time_s[i] <= 270.0;
+        }
+    }
+    printf("%s: %zu single-sample jumps over 5 deg within 50 ms (largest %.1f deg), %zu of them in 266-270 s\n",
+           file, jumps, jump_max_deg, jumps_266_270);
     const struct rpl_trace_report *r = &tr->report;
     printf("%s: rows %zu, flips %zu, repeats %zu, gaps>100ms %zu (longest %.0f ms), outliers %zu, "
            "max step %.1f deg/s, |ω|@90Hz p50 %.1f p99 %.1f max %.1f deg/s, up-axis median %.1f deg\n",

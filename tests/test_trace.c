@@ -525,8 +525,37 @@ static void test_clip_and_source(void)
     CHECK(p.orientation.w == 1.0 && p.gaze_dir_head.z == -1.0);
 }
 
+/* The documented example file loads, and a missing file names its path. */
+static void test_load(void)
+{
+    struct rpl_trace tr;
+    struct hl_error err = {{0}};
+    CHECK(rpl_trace_load("/nonexistent/trace.csv", &tr, &err) == -1);
+    CHECK(strstr(err.msg, "/nonexistent/trace.csv: cannot open") == err.msg);
+    const char *src = getenv("HMDLOD_SOURCE");
+    if (!src || !*src) {
+        printf("skip: HMDLOD_SOURCE unset, example trace not loaded\n");
+        return;
+    }
+    char path[4096];
+    snprintf(path, sizeof path, "%s/tests/data/trace_example.csv", src);
+    int rc = rpl_trace_load(path, &tr, &err);
+    CHECK(rc == 0);
+    if (rc != 0) {
+        fprintf(stderr, "%s\n", err.msg);
+        return;
+    }
+    CHECK(tr.count == 4 && tr.position_m && tr.gaze_dir);
+    struct trk_pose p;
+    rpl_trace_sample(&tr, 0.015, &p);
+    CHECK_NEAR(p.angular_velocity_radps.y * HL_DEG_PER_RAD, 100.0, 1e-6);
+    CHECK_NEAR(p.position_m.y, 1.6, 1e-12);
+    rpl_trace_free(&tr);
+}
+
 int main(void)
 {
+    test_load();
     test_small_csv();
     test_malformed();
     test_hemisphere();

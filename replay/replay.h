@@ -23,7 +23,7 @@ struct rpl_trace_report {
     double max_step_speed_degps;
 };
 #define RPL_TRACE_GAP_S 0.1
-#define RPL_TRACE_OUTLIER_DEGPS 1500.0   /* above any physiological head turn (peaks ~600–800 deg/s) */
+#define RPL_TRACE_OUTLIER_DEGPS 1000.0   /* above physiological head turns (traces peak at 600–800 deg/s) */
 #define RPL_TRACE_UNIT_TOLERANCE 1e-3    /* | |q| − 1 | beyond this is an error, not renormalised */
 
 /* A loaded trace: times strictly increasing, orientations unit and hemisphere-continuous,
@@ -47,7 +47,7 @@ int rpl_trace_load(const char *path, struct rpl_trace *out, struct hl_error *err
 void rpl_trace_free(struct rpl_trace *trace);
 
 /* The built-in clip for `hmdlod demo`: 8 s of synthetic head motion (still, slow look-around, a fast
- * 180 deg/s turn, still) at 60 Hz in the project's format. */
+ * 270 deg/s turn, still) at 60 Hz in the project's format. */
 int rpl_trace_builtin_clip(struct rpl_trace *out, struct hl_error *err);
 
 /* Orientation at t (slerp between neighbours, clamped to the ends) and angular velocity (world,

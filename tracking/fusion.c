@@ -1,0 +1,343 @@
+/* 3-DoF IMU fusion and prediction: an error-state Kalman filter (ESKF) over
+ *   δθ   body-frame orientation error, q_true = q ⊗ exp(δθ)       (rad)
+ *   δb_g gyro bias error                                           (rad/s)
+ *   δb_a accel bias error                                          (m/s²)
+ * in double. Why a filter with bias states instead of OpenHMD's / Monado's gated complementary
+ * filter (docs/DEVICES.md §5): neither estimates gyro bias, so yaw drifts like plain integration
+ * (10–29 °/min on the shared streams), and both stop correcting below 0.05 rad (2.9°), which is why
+ * they sit at 1.3–2.8° tilt RMS (data/README.md §5 "figures to beat"). The README also shows that
+ * a perfect gravity observer with the ±20 mg accel bias still errs ~1° RMS, so ≤ 1° needs the accel
+ * bias as a state: it becomes observable as the head turns, because a body-fixed bias rotates in
+ * the world while gravity does not. The Kalman gain is that split, done by the covariance.
+ *
+ * Per sample (no allocation, block-structured 9×9 algebra, about a few hundred flops):
+ *   1. boundary: non-finite input refused; dt ≤ 0 skipped; dt > max_dt_s clamped (all counted);
+ *   2. integrate q ← q ⊗ exp((ω − b_g)·dt), renormalise; propagate P;
+ *   3. rest detector (EMA variance of the raw gyro, ‖a‖ ≈ g) → zero-rate update of b_g, the only
+ *      thing that pins the yaw component of the gyro bias (DEVICES.md §4: "estimate gyro bias
+ *      continuously");
+ *   4. gravity update from accel, no dead zone, measurement variance inflated by |‖a‖ − g| and by
+ *      the lever-arm terms ω²·r and α·r (the shared streams put the IMU 14 cm from the neck pivot,
+ *      adding up to ~1 g in fast turns); the applied tilt correction is bounded per second.
+ * Yaw is unobservable without a magnetometer: the filter does not pretend to correct it. */
+#include <math.h>
+#include <string.h>
+
+#include "tracking/tracking.h"
+
+#define G_MPS2 9.80665 /* data/README.md §5: world gravity −Y, g = 9.80665 */
+
+void trk_fusion_config_default(struct trk_fusion_config *cfg)
+{
+    memset(cfg, 0, sizeof *cfg);
+    /* data/README.md §5 noise model: gyro 0.01 °/s/√Hz, bias walk 0.002 °/s/√s, accel 300 µg/√Hz.
+     * The bias walk is doubled for margin (real parts also drift with temperature, DEVICES.md §4). */
+    cfg->gyro_noise_radps_rthz = 0.01 * HL_RAD_PER_DEG;
+    cfg->gyro_bias_walk_radps_rts = 2.0 * 0.002 * HL_RAD_PER_DEG;
+    cfg->accel_noise_mps2_rthz = 300e-6 * G_MPS2;
+    cfg->accel_bias_walk_mps2_rts = 1e-4;
+    /* Priors: initial gyro bias uniform ±0.5 °/s, accel bias ±20 mg (σ of uniform = half-width/√3,
+     * rounded up). */
+    cfg->init_gyro_bias_sigma_radps = 0.5 * HL_RAD_PER_DEG;
+    cfg->init_accel_bias_sigma_mps2 = 0.02 * G_MPS2 * 0.7;
+    cfg->init_tilt_sigma_rad = 5.0 * HL_RAD_PER_DEG;
+    cfg->lever_arm_m = 0.15;  /* head IMU ~10–15 cm from the neck pivot (README: r = (0, .1, −.1)) */
+    cfg->accel_gate_mps2 = 2.0;
+    cfg->max_tilt_rate_radps = 20.0 * HL_RAD_PER_DEG;
+    cfg->max_dt_s = 0.05;     /* 50 ms: beyond that a gap is a dropout, not a sample period */
+    cfg->rest_window_s = 0.25;
+    cfg->predict_lpf_s = 0.0; /* measured: the raw ω predicts better (tests/test_fusion.c) */
+}
+
+static void set_prior(struct trk_fusion *f, double tilt_sigma_rad)
+{
+    memset(f->P, 0, sizeof f->P);
+    double s2[3] = {tilt_sigma_rad * tilt_sigma_rad,
+                    f->cfg.init_gyro_bias_sigma_radps * f->cfg.init_gyro_bias_sigma_radps,
+                    f->cfg.init_accel_bias_sigma_mps2 * f->cfg.init_accel_bias_sigma_mps2};
+    for (int i = 0; i < 9; ++i)
+        f->P[i][i] = s2[i / 3];
+}
+
+void trk_fusion_init(struct trk_fusion *f, const struct trk_fusion_config *cfg)
+{
+    memset(f, 0, sizeof *f);
+    if (cfg)
+        f->cfg = *cfg;
+    else
+        trk_fusion_config_default(&f->cfg);
+    f->orientation = hl_q_identity();
+    set_prior(f, f->cfg.init_tilt_sigma_rad);
+}
+
+static int finite3(hl_vec3d v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+
+int trk_fusion_set_orientation(struct trk_fusion *f, hl_quatd q, double tilt_sigma_rad)
+{
+    if (!isfinite(q.w) || !isfinite(q.x) || !isfinite(q.y) || !isfinite(q.z) || !isfinite(tilt_sigma_rad) ||
+        hl_q_norm(q) < 1e-6)
+        return -1;
+    f->orientation = hl_q_normalize(q);
+    f->has_orientation = 1;
+    set_prior(f, tilt_sigma_rad > 1e-6 ? tilt_sigma_rad : 1e-6);
+    return 0;
+}
+
+/* Orientation whose body up-axis is the measured specific force, heading 0: the shortest rotation
+ * taking body +Y... expressed as body-to-world: it rotates the measured "up" (a/‖a‖) onto world +Y. */
+static hl_quatd tilt_from_accel(hl_vec3d a)
+{
+    hl_vec3d up = hl_v3_normalize(a);
+    hl_vec3d y = hl_v3(0, 1, 0);
+    hl_vec3d axis = hl_v3_cross(up, y);
+    double angle = hl_v3_angle_rad(up, y);
+    if (hl_v3_length(axis) < 1e-12)
+        return angle < 1.0 ? hl_q_identity() : hl_q(0, 1, 0, 0); /* upside down: 180° about X */
+    return hl_q_from_axis_angle(hl_v3_normalize(axis), angle);
+}
+
+/* 3×3 rotation matrix of a unit quaternion (v' = R v). */
+static void quat_to_mat(hl_quatd q, double R[3][3])
+{
+    double w = q.w, x = q.x, y = q.y, z = q.z;
+    R[0][0] = 1 - 2 * (y * y + z * z); R[0][1] = 2 * (x * y - w * z);     R[0][2] = 2 * (x * z + w * y);
+    R[1][0] = 2 * (x * y + w * z);     R[1][1] = 1 - 2 * (x * x + z * z); R[1][2] = 2 * (y * z - w * x);
+    R[2][0] = 2 * (x * z - w * y);     R[2][1] = 2 * (y * z + w * x);     R[2][2] = 1 - 2 * (x * x + y * y);
+}
+
+/* Covariance propagation for F = [[A, −dt·I, 0], [0, I, 0], [0, 0, I]], A = exp(−[ω]×dt) (the
+ * body-frame error rotates against the step), written block-wise: only the δθ row/column change.
+ *   Ptt' = A Ptt Aᵀ − dt (A Ptg + Pgt Aᵀ) + dt² Pgg,  Ptg' = A Ptg − dt Pgg,  Pta' = A Pta − dt Pga. */
+static void propagate_cov(struct trk_fusion *f, const double A[3][3], double dt)
+{
+    double (*P)[9] = f->P;
+    double APt[3][9]; /* A · P[0:3][0:9] − dt · P[3:6][0:9]: the new δθ rows before the right factor */
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 9; ++j)
+            APt[i][j] = A[i][0] * P[0][j] + A[i][1] * P[1][j] + A[i][2] * P[2][j] - dt * P[3 + i][j];
+    /* Ptt' = APt[:, 0:3] Aᵀ − dt · APt[:, 3:6] */
+    double Ptt[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            Ptt[i][j] = APt[i][0] * A[j][0] + APt[i][1] * A[j][1] + APt[i][2] * A[j][2] - dt * APt[i][3 + j];
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j)
+            P[i][j] = 0.5 * (Ptt[i][j] + Ptt[j][i]);
+        for (int j = 3; j < 9; ++j)
+            P[i][j] = P[j][i] = APt[i][j];
+    }
+    double qt = f->cfg.gyro_noise_radps_rthz * f->cfg.gyro_noise_radps_rthz * dt;
+    double qg = f->cfg.gyro_bias_walk_radps_rts * f->cfg.gyro_bias_walk_radps_rts * dt;
+    double qa = f->cfg.accel_bias_walk_mps2_rts * f->cfg.accel_bias_walk_mps2_rts * dt;
+    for (int i = 0; i < 3; ++i) {
+        P[i][i] += qt;
+        P[3 + i][3 + i] += qg;
+        P[6 + i][6 + i] += qa;
+    }
+    /* Yaw is unobservable, so its variance grows without bound over hours. Cap every diagonal at
+     * (1 rad)² by a congruence D P D (keeps P positive semi-definite, unlike clipping one entry). */
+    for (int i = 0; i < 3; ++i) {
+        if (P[i][i] > 1.0) {
+            double s = 1.0 / sqrt(P[i][i]);
+            for (int j = 0; j < 9; ++j) {
+                P[i][j] *= s;
+                P[j][i] *= s;
+            }
+        }
+    }
+}
+
+/* Sequential scalar Kalman update with measurement row h (9), residual y (already reduced by
+ * h·dx for earlier rows of the same measurement), variance r; accumulates into dx. */
+static void scalar_update(struct trk_fusion *f, const double h[9], double y, double r, double dx[9])
+{
+    double (*P)[9] = f->P;
+    double Ph[9];
+    double s = r;
+    for (int i = 0; i < 9; ++i) {
+        double acc = 0;
+        for (int j = 0; j < 9; ++j)
+            acc += P[i][j] * h[j];
+        Ph[i] = acc;
+    }
+    for (int i = 0; i < 9; ++i)
+        s += h[i] * Ph[i];
+    if (!(s > 0))
+        return;
+    double innov = y;
+    for (int i = 0; i < 9; ++i)
+        innov -= h[i] * dx[i];
+    double inv = 1.0 / s;
+    for (int i = 0; i < 9; ++i) {
+        double k = Ph[i] * inv;
+        dx[i] += k * innov;
+        for (int j = 0; j < 9; ++j)
+            P[i][j] -= k * Ph[j];
+    }
+}
+
+/* Folds the error state into the nominal state (the reset Jacobian I − [δθ/2]× is ≈ I for the
+ * sub-degree corrections here and is left out). The tilt part is bounded per second. */
+static void inject(struct trk_fusion *f, double dx[9], double dt)
+{
+    hl_vec3d dth = hl_v3(dx[0], dx[1], dx[2]);
+    double n = hl_v3_length(dth);
+    double lim = f->cfg.max_tilt_rate_radps * dt;
+    if (f->cfg.max_tilt_rate_radps > 0 && n > lim)
+        dth = hl_v3_scale(dth, lim / n);
+    f->orientation = hl_q_normalize(hl_q_mul(f->orientation, hl_q_exp(dth)));
+    f->gyro_bias_radps = hl_v3_add(f->gyro_bias_radps, hl_v3(dx[3], dx[4], dx[5]));
+    f->accel_bias_mps2 = hl_v3_add(f->accel_bias_mps2, hl_v3(dx[6], dx[7], dx[8]));
+}
+
+static void accel_update(struct trk_fusion *f, hl_vec3d a, hl_vec3d w_raw, double dt)
+{
+    double an = hl_v3_length(a);
+    double dev = fabs(an - G_MPS2);
+    if (dev > f->cfg.accel_gate_mps2) {
+        f->stats.accel_gated++;
+        return;
+    }
+    /* Predicted specific force in the body at rest: u = Rᵀ (0, g, 0). */
+    hl_vec3d u = hl_q_rotate(hl_q_conj(f->orientation), hl_v3(0, G_MPS2, 0));
+    hl_vec3d pred = hl_v3_add(u, f->accel_bias_mps2);
+    hl_vec3d y = hl_v3_sub(a, pred);
+    /* Measurement variance: white noise per sample, plus the non-gravity terms the model leaves
+     * out, each treated as noise of its size: what |‖a‖ − g| shows directly, the centripetal ω²·r
+     * and the tangential α·r of the lever arm (α from the gyro difference, i.e. noisy but only
+     * used as a weight). These are correlated in time (head motion is band-limited to ~8 Hz), so
+     * they are inflated by a further factor: 30 samples of one slow excursion are not 30 looks. */
+    hl_vec3d w = hl_v3_sub(w_raw, f->gyro_bias_radps);
+    double w2 = hl_v3_dot(w, w);
+    double alpha = hl_v3_length(hl_v3_sub(w, f->omega_radps)) / (dt > 1e-4 ? dt : 1e-4);
+    double L = f->cfg.lever_arm_m;
+    double sa = f->cfg.accel_noise_mps2_rthz / sqrt(dt > 1e-4 ? dt : 1e-4);
+    double ext = dev * dev + (w2 * L) * (w2 * L) + 0.05 * (alpha * L) * (alpha * L);
+    double r = sa * sa + 30.0 * ext;
+    /* Rows: y ≈ [u]× δθ + δb_a (since Rᵀ_true g = exp(−δθ)ᵀ... = u − δθ × u = u + u × δθ). */
+    double dx[9] = {0};
+    double h[9];
+    double ux = u.x, uy = u.y, uz = u.z;
+    const double rows[3][3] = {{0, -uz, uy}, {uz, 0, -ux}, {-uy, ux, 0}};
+    const double ys[3] = {y.x, y.y, y.z};
+    for (int i = 0; i < 3; ++i) {
+        memset(h, 0, sizeof h);
+        h[0] = rows[i][0];
+        h[1] = rows[i][1];
+        h[2] = rows[i][2];
+        h[6 + i] = 1.0;
+        scalar_update(f, h, ys[i], r, dx);
+    }
+    inject(f, dx, dt);
+    f->stats.accel_updates++;
+}
+
+static void rest_update(struct trk_fusion *f, hl_vec3d w_raw, hl_vec3d a, int has_accel, double dt)
+{
+    /* EMA (τ = rest_window/2) of the raw gyro and of its per-axis variance. At rest the variance is
+     * the white noise alone (5.5e-3 rad/s per axis per sample at 1 kHz); real "still" heads move a
+     * few °/s, which this threshold refuses. Stillness must also show in the accel. */
+    double tau = 0.5 * f->cfg.rest_window_s;
+    double k = dt / (tau + dt);
+    hl_vec3d d = hl_v3_sub(w_raw, f->rest_mean_radps);
+    f->rest_mean_radps = hl_v3_add(f->rest_mean_radps, hl_v3_scale(d, k));
+    f->rest_var = hl_v3_scale(hl_v3_add(f->rest_var, hl_v3(k * d.x * d.x, k * d.y * d.y, k * d.z * d.z)), 1 - k);
+    double sn2 = f->cfg.gyro_noise_radps_rthz * f->cfg.gyro_noise_radps_rthz / dt; /* per-sample var */
+    double var = f->rest_var.x + f->rest_var.y + f->rest_var.z;
+    hl_vec3d wc = hl_v3_sub(w_raw, f->gyro_bias_radps);
+    int still = var < 3.0 * 2.0 * sn2 && hl_v3_length(hl_v3_sub(f->rest_mean_radps, f->gyro_bias_radps)) < 0.03 &&
+                hl_v3_length(wc) < 0.1 && (!has_accel || fabs(hl_v3_length(a) - G_MPS2) < 0.5);
+    f->rest_time_s = still ? f->rest_time_s + dt : 0.0;
+    if (f->rest_time_s < f->cfg.rest_window_s)
+        return;
+    /* Zero-rate update: true ω = 0, so ω_raw = b_g + noise. Its variance is the white noise plus a
+     * floor for sub-threshold motion (0.2 °/s). */
+    double r = sn2 + (0.2 * HL_RAD_PER_DEG) * (0.2 * HL_RAD_PER_DEG);
+    double dx[9] = {0};
+    double h[9];
+    const double ys[3] = {wc.x, wc.y, wc.z};
+    for (int i = 0; i < 3; ++i) {
+        memset(h, 0, sizeof h);
+        h[3 + i] = 1.0;
+        scalar_update(f, h, ys[i], r, dx);
+    }
+    inject(f, dx, dt);
+    f->stats.rest_updates++;
+}
+
+int trk_fusion_update(struct trk_fusion *f, double t_s, hl_vec3d gyro_radps, hl_vec3d accel_mps2, int has_accel)
+{
+    f->stats.samples++;
+    if (!isfinite(t_s) || !finite3(gyro_radps) || (has_accel && !finite3(accel_mps2))) {
+        f->stats.rejected_nonfinite++; /* DESIGN.md: bad input caught at the boundary, never state */
+        return -1;
+    }
+    if (!f->has_orientation && has_accel && hl_v3_length(accel_mps2) > 0.5 * G_MPS2) {
+        f->orientation = tilt_from_accel(accel_mps2); /* cold start: tilt from gravity, heading 0 */
+        f->has_orientation = 1;
+    }
+    if (!f->has_time) {
+        /* The first sample has no dt (README: sample 0 covers (−1 ms, 0]): take its time only. */
+        f->has_time = 1;
+        f->last_time_s = t_s;
+        f->omega_radps = f->omega_lp_radps = hl_v3_sub(gyro_radps, f->gyro_bias_radps);
+        f->rest_mean_radps = gyro_radps;
+        f->stats.skipped_time++;
+        return 1;
+    }
+    double dt = t_s - f->last_time_s;
+    if (!(dt > 0)) {
+        f->stats.skipped_time++; /* equal or backward timestamp: nothing to integrate */
+        return 1;
+    }
+    f->last_time_s = t_s;
+    if (dt > f->cfg.max_dt_s) {
+        /* A gap: the gyro sample describes at most the last period, not the whole gap. Integrate
+         * max_dt_s of it; the covariance still grows for the full gap (below). */
+        f->stats.clamped_gaps++;
+        double gap = dt;
+        dt = f->cfg.max_dt_s;
+        double extra = gap - dt;
+        double qt = f->cfg.gyro_noise_radps_rthz * f->cfg.gyro_noise_radps_rthz * extra;
+        for (int i = 0; i < 3; ++i)
+            f->P[i][i] += qt + f->P[3 + i][3 + i] * extra * extra;
+        f->rest_time_s = 0;
+    }
+
+    hl_vec3d w = hl_v3_sub(gyro_radps, f->gyro_bias_radps);
+    hl_quatd dq = hl_q_exp(hl_v3_scale(w, dt));
+    f->orientation = hl_q_normalize(hl_q_mul(f->orientation, dq));
+    double R[3][3], A[3][3];
+    quat_to_mat(dq, R);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            A[i][j] = R[j][i];
+    propagate_cov(f, A, dt);
+    f->stats.integrated++;
+
+    rest_update(f, gyro_radps, accel_mps2, has_accel, dt);
+    if (has_accel)
+        accel_update(f, accel_mps2, gyro_radps, dt);
+
+    /* Latest bias-corrected ω (after this sample's bias update) and its optional low-pass. */
+    f->omega_radps = hl_v3_sub(gyro_radps, f->gyro_bias_radps);
+    if (f->cfg.predict_lpf_s > 0) {
+        double k = dt / (f->cfg.predict_lpf_s + dt);
+        f->omega_lp_radps = hl_v3_add(f->omega_lp_radps, hl_v3_scale(hl_v3_sub(f->omega_radps, f->omega_lp_radps), k));
+    } else {
+        f->omega_lp_radps = f->omega_radps;
+    }
+    return 0;
+}
+
+void trk_fusion_predict(const struct trk_fusion *f, double horizon_s, hl_quatd *q_out)
+{
+    if (!(horizon_s > 0)) {
+        *q_out = f->orientation;
+        return;
+    }
+    /* Constant body angular velocity: the axis is fixed in the body, so one exp is exact for it
+     * (Monado's relation-history extrapolation does the same; OpenHMD does not predict, DEVICES.md
+     * §5). Angular acceleration is left out: differentiating the gyro amplifies its noise. */
+    *q_out = hl_q_normalize(hl_q_mul(f->orientation, hl_q_exp(hl_v3_scale(f->omega_lp_radps, horizon_s))));
+}

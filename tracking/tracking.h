@@ -114,7 +114,8 @@ struct trk_rift_parser {
 };
 void trk_rift_parser_init(struct trk_rift_parser *p, int dk2);
 /* DK1 accepts 62 or 64 bytes (some stacks pad input reports), DK2/CV1 exactly 64. Needs
- * max_out ≥ TRK_REPORT_MAX_SAMPLES. N > slots ⇒ N − slots counted lost. */
+ * max_out ≥ the slot count (3 DK1, 2 DK2). N > slots ⇒ N − slots counted lost; the running
+ * sample count and magnetometer fields are not read. */
 int trk_rift_parse(struct trk_rift_parser *p, const uint8_t *report, size_t length,
                    struct trk_imu_sample *out, int max_out, struct hl_error *err);
 

@@ -69,9 +69,11 @@ static void run_stream(const struct trk_imu_csv_row *rows, size_t n, enum mode m
                        const struct trk_fusion_config *cfg, struct result *r)
 {
     memset(r, 0, sizeof *r);
+    if (n < 2)
+        return;
     hl_quatd *est = malloc(n * sizeof *est);
     hl_quatd *pred = malloc(NH * n * sizeof *pred);
-    double *tt = malloc(n * sizeof *tt), *yaw = malloc(n * sizeof *yaw);
+    double *tt = malloc(n * sizeof *tt), *yaw = calloc(n, sizeof *yaw);
     struct trk_fusion f;
     trk_fusion_init(&f, cfg);
     if (mode == MODE_WARM || mode == MODE_PLAIN)
@@ -104,6 +106,16 @@ static void run_stream(const struct trk_imu_csv_row *rows, size_t n, enum mode m
                 y += 2 * HL_PI;
         }
         yaw[k] = y;
+    }
+    if (mode == MODE_COLD) {
+        /* Cold start begins at heading 0, an arbitrary offset from the truth's heading: rotate the
+         * estimates about world +Y by the offset at t = 0 so that "abs" measures error, not origin. */
+        hl_quatd align = hl_q_exp(hl_v3(0, -yaw[0], 0));
+        for (size_t k = 0; k < n; ++k) {
+            est[k] = hl_q_mul(align, est[k]);
+            for (int h = 0; h < NH; ++h)
+                pred[h * n + k] = hl_q_mul(align, pred[h * n + k]);
+        }
     }
     r->tilt_rms_deg = sqrt(tilt2 / n) * HL_DEG_PER_RAD;
     r->tilt_max_deg = tiltmax * HL_DEG_PER_RAD;
@@ -235,8 +247,15 @@ static void test_streams(void)
             CHECK(warm.abs_rms_deg[1] < warm.hold_abs_rms_deg[1]);
         } else {
             /* Rest-detected gyro bias: yaw drift on the desk ≪ plain integration's. */
-            CHECK(fabs(warm.yaw_drift_deg_min) * 20.0 < fabs(plain.yaw_drift_deg_min));
-            CHECK(fabs(cold.yaw_drift_deg_min) * 20.0 < fabs(plain.yaw_drift_deg_min));
+            /* (Plain integration's heading error is only 0.86 °/min here because the desk bias lies
+             * mostly in the horizontal: it shows as 23° RMS of tilt instead.) */
+            CHECK(fabs(warm.yaw_drift_deg_min) * 5.0 < fabs(plain.yaw_drift_deg_min));
+            CHECK(fabs(cold.yaw_drift_deg_min) * 5.0 < fabs(plain.yaw_drift_deg_min));
+            CHECK(fabs(warm.yaw_drift_deg_min) <= 0.1 && fabs(cold.yaw_drift_deg_min) <= 0.1);
+            /* README: the desk's gyro bias at t = 60 s is (+0.488, +0.013, +0.480) °/s. */
+            CHECK_NEAR(warm.gyro_bias_radps.x * HL_DEG_PER_RAD, 0.488, 0.02);
+            CHECK_NEAR(warm.gyro_bias_radps.y * HL_DEG_PER_RAD, 0.013, 0.02);
+            CHECK_NEAR(warm.gyro_bias_radps.z * HL_DEG_PER_RAD, 0.480, 0.02);
         }
         double ns_u = 0, ns_p = 0;
         time_stream(rows, n, &ns_u, &ns_p);

@@ -43,6 +43,7 @@ void trk_fusion_config_default(struct trk_fusion_config *cfg)
     cfg->init_tilt_sigma_rad = 5.0 * HL_RAD_PER_DEG;
     cfg->lever_arm_m = 0.15;  /* head IMU ~10–15 cm from the neck pivot (README: r = (0, .1, −.1)) */
     cfg->accel_gate_mps2 = 2.0;
+    cfg->accel_inflate = 30.0;
     cfg->max_tilt_rate_radps = 20.0 * HL_RAD_PER_DEG;
     cfg->max_dt_s = 0.05;     /* 50 ms: beyond that a gap is a dropout, not a sample period */
     cfg->rest_window_s = 0.25;
@@ -147,33 +148,30 @@ static void propagate_cov(struct trk_fusion *f, const double A[3][3], double dt)
     }
 }
 
-/* Sequential scalar Kalman update with measurement row h (9), residual y (already reduced by
- * h·dx for earlier rows of the same measurement), variance r; accumulates into dx. */
-static void scalar_update(struct trk_fusion *f, const double h[9], double y, double r, double dx[9])
+/* Sequential scalar Kalman update for a measurement row h = [h_θ (3), 0 0 0, e_idx] (accel rows:
+ * h_θ from [u]×, idx an accel-bias state; zero-rate rows: h_θ = 0, idx a gyro-bias state), residual
+ * y (reduced here by h·dx from earlier rows of the same measurement), variance r; accumulates dx.
+ * The sparse h and the symmetric P update (upper triangle, mirrored) keep it ~150 flops. */
+static void scalar_update(struct trk_fusion *f, const double ht[3], int idx, double y, double r, double dx[9])
 {
     double (*P)[9] = f->P;
     double Ph[9];
-    double s = r;
-    for (int i = 0; i < 9; ++i) {
-        double acc = 0;
-        for (int j = 0; j < 9; ++j)
-            acc += P[i][j] * h[j];
-        Ph[i] = acc;
-    }
     for (int i = 0; i < 9; ++i)
-        s += h[i] * Ph[i];
+        Ph[i] = P[i][0] * ht[0] + P[i][1] * ht[1] + P[i][2] * ht[2] + P[i][idx];
+    double s = r + ht[0] * Ph[0] + ht[1] * Ph[1] + ht[2] * Ph[2] + Ph[idx];
     if (!(s > 0))
         return;
-    double innov = y;
-    for (int i = 0; i < 9; ++i)
-        innov -= h[i] * dx[i];
+    double innov = y - (ht[0] * dx[0] + ht[1] * dx[1] + ht[2] * dx[2] + dx[idx]);
     double inv = 1.0 / s;
     for (int i = 0; i < 9; ++i) {
         double k = Ph[i] * inv;
         dx[i] += k * innov;
-        for (int j = 0; j < 9; ++j)
+        for (int j = i; j < 9; ++j)
             P[i][j] -= k * Ph[j];
     }
+    for (int i = 1; i < 9; ++i)
+        for (int j = 0; j < i; ++j)
+            P[i][j] = P[j][i];
 }
 
 /* Folds the error state into the nominal state (the reset Jacobian I − [δθ/2]× is ≈ I for the
@@ -198,35 +196,47 @@ static void accel_update(struct trk_fusion *f, hl_vec3d a, hl_vec3d w_raw, doubl
         f->stats.accel_gated++;
         return;
     }
-    /* Predicted specific force in the body at rest: u = Rᵀ (0, g, 0). */
+    /* Predicted specific force in the body: u = Rᵀ (0, g, 0), plus the lever-arm terms of a known
+     * pivot→IMU offset r when configured: f = Rᵀg + α×r + ω×(ω×r) (data/README.md §5 accel model). */
     hl_vec3d u = hl_q_rotate(hl_q_conj(f->orientation), hl_v3(0, G_MPS2, 0));
-    hl_vec3d pred = hl_v3_add(u, f->accel_bias_mps2);
+    hl_vec3d w = hl_v3_sub(w_raw, f->gyro_bias_radps);
+    hl_vec3d r_off = f->cfg.imu_offset_m;
+    hl_vec3d lever = hl_v3_add(hl_v3_cross(f->alpha_radps2, r_off), hl_v3_cross(w, hl_v3_cross(w, r_off)));
+    hl_vec3d pred = hl_v3_add(hl_v3_add(u, lever), f->accel_bias_mps2);
     hl_vec3d y = hl_v3_sub(a, pred);
     /* Measurement variance: white noise per sample, plus the non-gravity terms the model leaves
-     * out, each treated as noise of its size: what |‖a‖ − g| shows directly, the centripetal ω²·r
-     * and the tangential α·r of the lever arm (α from the gyro difference, i.e. noisy but only
-     * used as a weight). These are correlated in time (head motion is band-limited to ~8 Hz), so
-     * they are inflated by a further factor: 30 samples of one slow excursion are not 30 looks. */
-    hl_vec3d w = hl_v3_sub(w_raw, f->gyro_bias_radps);
+     * out, each treated as noise of its size: what |‖a‖ − g| shows directly, and the centripetal
+     * ω²·L and tangential α·L of an unknown lever arm L (only their residual when r is given).
+     * These errors are correlated in time (head motion is band-limited to ~8 Hz, README step 3),
+     * so they are inflated further: 30 samples of one slow excursion are not 30 independent looks. */
     double w2 = hl_v3_dot(w, w);
-    double alpha = hl_v3_length(hl_v3_sub(w, f->omega_radps)) / (dt > 1e-4 ? dt : 1e-4);
+    double alpha = hl_v3_length(f->alpha_radps2);
     double L = f->cfg.lever_arm_m;
     double sa = f->cfg.accel_noise_mps2_rthz / sqrt(dt > 1e-4 ? dt : 1e-4);
-    double ext = dev * dev + (w2 * L) * (w2 * L) + 0.05 * (alpha * L) * (alpha * L);
-    double r = sa * sa + 30.0 * ext;
+    double ext = dev * dev + (w2 * L) * (w2 * L) + (alpha * L) * (alpha * L);
+    double r = sa * sa + f->cfg.accel_inflate * ext;
     /* Rows: y ≈ [u]× δθ + δb_a (since Rᵀ_true g = exp(−δθ)ᵀ... = u − δθ × u = u + u × δθ). */
-    double dx[9] = {0};
-    double h[9];
     double ux = u.x, uy = u.y, uz = u.z;
     const double rows[3][3] = {{0, -uz, uy}, {uz, 0, -ux}, {-uy, ux, 0}};
     const double ys[3] = {y.x, y.y, y.z};
-    for (int i = 0; i < 3; ++i) {
-        memset(h, 0, sizeof h);
-        h[0] = rows[i][0];
-        h[1] = rows[i][1];
-        h[2] = rows[i][2];
-        h[6 + i] = 1.0;
-        scalar_update(f, h, ys[i], r, dx);
+    /* Bounded correction rate without breaking the filter: if this update would turn the estimate
+     * by more than max_tilt_rate·dt, it is redone with a larger variance (de-weighted) instead of
+     * clamping the state after the fact, which would leave P claiming a correction that was never
+     * applied (the residual would then leak into the bias states). Rare: large errors only. */
+    double lim = f->cfg.max_tilt_rate_radps * dt;
+    double P0[9][9];
+    memcpy(P0, f->P, sizeof P0); /* ~650 bytes: cheap next to the update itself */
+    double dx[9];
+    for (int iter = 0;; ++iter) {
+        memset(dx, 0, sizeof dx);
+        for (int i = 0; i < 3; ++i)
+            scalar_update(f, rows[i], 6 + i, ys[i], r, dx);
+        double turn = sqrt(dx[0] * dx[0] + dx[1] * dx[1] + dx[2] * dx[2]);
+        if (!(f->cfg.max_tilt_rate_radps > 0) || turn <= lim || iter == 6)
+            break; /* after 6 tries inject() clamps what is left (a few % over) */
+        r *= 1.2 * turn / lim; /* converges in a few tries whether P or r dominates */
+        f->stats.accel_deweighted++;
+        memcpy(f->P, P0, sizeof P0);
     }
     inject(f, dx, dt);
     f->stats.accel_updates++;
@@ -245,7 +255,12 @@ static void rest_update(struct trk_fusion *f, hl_vec3d w_raw, hl_vec3d a, int ha
     double sn2 = f->cfg.gyro_noise_radps_rthz * f->cfg.gyro_noise_radps_rthz / dt; /* per-sample var */
     double var = f->rest_var.x + f->rest_var.y + f->rest_var.z;
     hl_vec3d wc = hl_v3_sub(w_raw, f->gyro_bias_radps);
-    int still = var < 3.0 * 2.0 * sn2 && hl_v3_length(hl_v3_sub(f->rest_mean_radps, f->gyro_bias_radps)) < 0.03 &&
+    /* A slow smooth turn has low variance too; what refuses it is the mean rate: it must be within
+     * what the bias is still uncertain by (3σ) plus 0.1 °/s. Once the bias is learnt, a head turning
+     * slower than that is the only thing mistaken for bias (and 0.1 °/s = 6 °/min of yaw). */
+    double bias_sd = sqrt(f->P[3][3] + f->P[4][4] + f->P[5][5]);
+    int still = var < 3.0 * 2.0 * sn2 &&
+                hl_v3_length(hl_v3_sub(f->rest_mean_radps, f->gyro_bias_radps)) < 3.0 * bias_sd + 0.1 * HL_RAD_PER_DEG &&
                 hl_v3_length(wc) < 0.1 && (!has_accel || fabs(hl_v3_length(a) - G_MPS2) < 0.5);
     f->rest_time_s = still ? f->rest_time_s + dt : 0.0;
     if (f->rest_time_s < f->cfg.rest_window_s)
@@ -254,13 +269,10 @@ static void rest_update(struct trk_fusion *f, hl_vec3d w_raw, hl_vec3d a, int ha
      * floor for sub-threshold motion (0.2 °/s). */
     double r = sn2 + (0.2 * HL_RAD_PER_DEG) * (0.2 * HL_RAD_PER_DEG);
     double dx[9] = {0};
-    double h[9];
     const double ys[3] = {wc.x, wc.y, wc.z};
-    for (int i = 0; i < 3; ++i) {
-        memset(h, 0, sizeof h);
-        h[3 + i] = 1.0;
-        scalar_update(f, h, ys[i], r, dx);
-    }
+    static const double zero3[3] = {0, 0, 0};
+    for (int i = 0; i < 3; ++i)
+        scalar_update(f, zero3, 3 + i, ys[i], r, dx);
     inject(f, dx, dt);
     f->stats.rest_updates++;
 }
@@ -315,6 +327,14 @@ int trk_fusion_update(struct trk_fusion *f, double t_s, hl_vec3d gyro_radps, hl_
     propagate_cov(f, A, dt);
     f->stats.integrated++;
 
+    /* Angular acceleration from successive gyro samples, low-passed (τ = 10 ms): the raw
+     * difference has ~8 rad/s² of noise per axis at 1 kHz (gyro σ 5.5e-3 rad/s / 1 ms). */
+    {
+        hl_vec3d wn = hl_v3_sub(gyro_radps, f->gyro_bias_radps);
+        hl_vec3d araw = hl_v3_scale(hl_v3_sub(wn, f->omega_radps), 1.0 / dt);
+        double ka = dt / (0.010 + dt);
+        f->alpha_radps2 = hl_v3_add(f->alpha_radps2, hl_v3_scale(hl_v3_sub(araw, f->alpha_radps2), ka));
+    }
     rest_update(f, gyro_radps, accel_mps2, has_accel, dt);
     if (has_accel)
         accel_update(f, accel_mps2, gyro_radps, dt);

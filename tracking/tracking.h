@@ -288,7 +288,11 @@ struct trk_fusion_config {
     double init_accel_bias_sigma_mps2; /* prior σ of the accel bias per axis */
     double init_tilt_sigma_rad;        /* prior σ of the tilt when started from the first accel sample */
     double lever_arm_m;                /* assumed IMU distance from the rotation pivot (weights turns) */
+    hl_vec3d imu_offset_m;             /* body-frame pivot→IMU vector whose ω×(ω×r) + α×r is removed
+                                        * from the accel before the gravity update; zero = none */
     double accel_gate_mps2;            /* accel samples with |‖a‖ − g| above this are not used */
+    double accel_inflate;              /* weight of the unmodelled-acceleration terms in the accel
+                                        * variance (they are correlated in time, not white) */
     double max_tilt_rate_radps;        /* bound on the gravity correction applied per second */
     double max_dt_s;                   /* a gap longer than this integrates only max_dt_s (counted) */
     double rest_window_s;              /* stillness must last this long before zero-rate updates */
@@ -304,6 +308,7 @@ struct trk_fusion_stats {
     uint64_t rejected_nonfinite;/* NaN/Inf in time, gyro or accel: sample ignored entirely */
     uint64_t accel_updates;     /* gravity updates applied */
     uint64_t accel_gated;       /* accel samples refused by the ‖a‖ gate */
+    uint64_t accel_deweighted;  /* gravity updates redone with more variance (rate bound) */
     uint64_t rest_updates;      /* zero-rate (gyro bias) updates applied at rest */
 };
 
@@ -313,6 +318,7 @@ struct trk_fusion {
     hl_vec3d accel_bias_mps2;    /* body frame */
     hl_vec3d omega_radps;        /* latest bias-corrected angular velocity, body frame */
     hl_vec3d omega_lp_radps;     /* low-passed ω (predict_lpf_s), body frame */
+    hl_vec3d alpha_radps2;       /* angular acceleration from gyro differences, low-passed, body */
     double last_time_s;          /* timestamp of the latest accepted sample */
     double P[9][9];              /* error covariance: [δθ body (rad), δb_g (rad/s), δb_a (m/s²)] */
     hl_vec3d rest_mean_radps, rest_var;  /* EMA of raw gyro and of its variance (rest detector) */

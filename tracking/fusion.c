@@ -109,7 +109,7 @@ static void quat_to_mat(hl_quatd q, double R[3][3])
 /* Covariance propagation for F = [[A, −dt·I, 0], [0, I, 0], [0, 0, I]], A = exp(−[ω]×dt) (the
  * body-frame error rotates against the step), written block-wise: only the δθ row/column change.
  *   Ptt' = A Ptt Aᵀ − dt (A Ptg + Pgt Aᵀ) + dt² Pgg,  Ptg' = A Ptg − dt Pgg,  Pta' = A Pta − dt Pga. */
-static void propagate_cov(struct trk_fusion *f, const double A[3][3], double dt)
+static void propagate_cov(struct trk_fusion *f, double A[3][3], double dt)
 {
     double (*P)[9] = f->P;
     double APt[3][9]; /* A · P[0:3][0:9] − dt · P[3:6][0:9]: the new δθ rows before the right factor */

@@ -366,4 +366,16 @@ void trk_imu_csv_free(struct trk_imu_csv_row *rows);
 
 /* ==== end of fusion and prediction ==== */
 
+/* ==== device streams and raw recordings ==== */
+
+/* ==== end of device streams and raw recordings ==== */
+
+/* ==== HID devices, discovery, hot-plug, live source ==== */
+
+/* ==== end of HID devices, discovery, hot-plug, live source ==== */
+
+/* ==== accuracy evaluation ==== */
+
+/* ==== end of accuracy evaluation ==== */
+
 #endif

@@ -61,8 +61,22 @@ void rpl_output_abort(struct rpl_output *o)
     }
 }
 
+const double rpl_speed_band_lower_degps[RPL_SPEED_BAND_COUNT] = {0.0, 10.0, 30.0, 60.0, 120.0};
+
+static int speed_band(double speed_degps)
+{
+    int band = 0;
+    while (band + 1 < RPL_SPEED_BAND_COUNT && speed_degps >= rpl_speed_band_lower_degps[band + 1])
+        ++band;
+    return band;
+}
+
 void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
 {
+    int band = speed_band(r->head_speed_degps);
+    a->band_frames[band]++;
+    a->band_triangles[band] += (double)r->triangles_per_eye;
+    a->band_finest[band] += (double)r->triangles_finest;
     ++a->n;
     double delta = r->frame_ms - a->frame_mean;
     a->frame_mean += delta / (double)a->n;
@@ -93,6 +107,10 @@ void rpl_accumulator_finish(const struct rpl_accumulator *a, struct rpl_summary 
     s->triangles_per_eye_mean = a->triangles_sum / n;
     s->triangles_relative_to_none = a->finest_sum > 0 ? a->triangles_sum / a->finest_sum : 1.0;
     s->deadline_met_fraction = (double)a->deadlines_met / n;
+    for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
+        s->band_frames[b] = a->band_frames[b];
+        s->band_triangle_share[b] = a->band_finest[b] > 0 ? a->band_triangles[b] / a->band_finest[b] : NAN;
+    }
 }
 
 int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct hl_error *err)
@@ -116,6 +134,17 @@ int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddNumberToObject(root, "triangles_per_eye_mean", s->triangles_per_eye_mean);
     cJSON_AddNumberToObject(root, "triangles_relative_to_none", s->triangles_relative_to_none);
     cJSON_AddNumberToObject(root, "deadline_met_fraction", s->deadline_met_fraction);
+    cJSON *bands = cJSON_AddArrayToObject(root, "head_speed_bands");
+    for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
+        cJSON *band = cJSON_CreateObject();
+        cJSON_AddNumberToObject(band, "from_degps", rpl_speed_band_lower_degps[b]);
+        cJSON_AddNumberToObject(band, "frames", (double)s->band_frames[b]);
+        if (isfinite(s->band_triangle_share[b]))
+            cJSON_AddNumberToObject(band, "triangle_share", s->band_triangle_share[b]);
+        else
+            cJSON_AddNullToObject(band, "triangle_share");
+        cJSON_AddItemToArray(bands, band);
+    }
     char *text = cJSON_Print(root);
     cJSON_Delete(root);
     if (!text)
@@ -153,4 +182,15 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
     fprintf(f, "  %-34s %10.0f\n", "triangles per eye mean", s->triangles_per_eye_mean);
     fprintf(f, "  %-34s %10.3f\n", "triangles relative to none", s->triangles_relative_to_none);
     fprintf(f, "  %-34s %10.1f %%\n", "frames within the budget", 100.0 * s->deadline_met_fraction);
+    fprintf(f, "  share of finest triangles drawn, by head speed:\n");
+    for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
+        if (s->band_frames[b] == 0)
+            continue;
+        char label[64];
+        if (b + 1 < RPL_SPEED_BAND_COUNT)
+            snprintf(label, sizeof label, "%g-%g deg/s", rpl_speed_band_lower_degps[b], rpl_speed_band_lower_degps[b + 1]);
+        else
+            snprintf(label, sizeof label, ">= %g deg/s", rpl_speed_band_lower_degps[b]);
+        fprintf(f, "    %-32s %10.3f  (%ld frames)\n", label, s->band_triangle_share[b], s->band_frames[b]);
+    }
 }

@@ -76,6 +76,10 @@ struct rpl_options {
 };
 void rpl_options_defaults(struct rpl_options *o);
 
+/* Head-speed bands of the summary, deg/s: [0,10) [10,30) [30,60) [60,120) [120,∞). */
+enum { RPL_SPEED_BAND_COUNT = 5 };
+extern const double rpl_speed_band_lower_degps[RPL_SPEED_BAND_COUNT];
+
 struct rpl_summary {
     long frames;
     double frame_ms_mean, frame_ms_max, frame_ms_stddev;
@@ -86,6 +90,8 @@ struct rpl_summary {
     double acuity_evaluations_mean;
     double visible_mean;
     double budget_ms;
+    long band_frames[RPL_SPEED_BAND_COUNT];
+    double band_triangle_share[RPL_SPEED_BAND_COUNT]; /* triangles drawn / finest, per band */
     char renderer[128];
     char selector[16], scene[32], display[64];
 };

@@ -66,6 +66,10 @@ struct rpl_accumulator {
     double draw_sum, acuity_sum, select_sum, evals_sum, visible_sum;
     double triangles_sum, finest_sum;
     long deadlines_met;
+    /* Per head-speed band (RPL_SPEED_BANDS_DEGPS): what share of the finest triangles was drawn,
+     * so the velocity term's effect shows in one run. */
+    long band_frames[RPL_SPEED_BAND_COUNT];
+    double band_triangles[RPL_SPEED_BAND_COUNT], band_finest[RPL_SPEED_BAND_COUNT];
 };
 void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r);
 void rpl_accumulator_finish(const struct rpl_accumulator *a, struct rpl_summary *s);

@@ -376,6 +376,60 @@ void trk_imu_csv_free(struct trk_imu_csv_row *rows);
 
 /* ==== accuracy evaluation ==== */
 
+/* End-to-end tracker accuracy on the shared IMU streams (data/README.md §5): the stream's body-frame
+ * samples are encoded into each device's reports at its native rate (trk_encoder), parsed and fused
+ * (the same path as live data), and the estimate is compared with the ground truth — tilt, yaw drift,
+ * prediction error — and timed. tracking/evaluate.c documents how each device's samples are made. */
+#define TRK_EVAL_HORIZONS 3 /* prediction horizons: 10, 20, 40 ms */
+extern const double trk_eval_horizons_s[TRK_EVAL_HORIZONS];
+
+struct trk_evaluate_options {
+    const struct trk_fusion_config *fusion; /* NULL: defaults */
+    uint32_t drop_report_every;      /* simulate bus losses: every k-th report withheld; 0: none */
+    double counter_wrap_at_s;        /* > 0: start the device counter so it wraps this far into the
+                                      * stream (no effect on the HDK, which has no counter) */
+    double pose_horizon_s;           /* horizon of the timed report → predicted pose; default 0.020 */
+    int timing_repeats;              /* whole-stream parse+fuse timing passes (median); 0: no timing */
+    /* OSVR HDK on-chip error model (an assumption, not a measurement; evaluate.c says why): the
+     * reported orientation = truth rotated by a yaw drift about world +Y and a slowly varying
+     * (first-order Gauss–Markov) error on each world axis; ω = true mean rate + white noise. */
+    double hdk_yaw_drift_deg_per_min;  /* default 0.5 */
+    double hdk_error_sigma_deg;        /* default 0.1 per axis */
+    double hdk_error_tau_s;            /* correlation time, default 1 s */
+    double hdk_gyro_noise_degps_rthz;  /* default 0.01 (the stream's gyro noise density) */
+    uint64_t seed;                     /* HDK error model; default 1 */
+};
+void trk_evaluate_options_default(struct trk_evaluate_options *opt);
+
+struct trk_evaluate_result {
+    enum trk_device_kind kind;
+    double duration_s;               /* stream span evaluated */
+    double device_rate_hz;           /* samples per second produced for the device */
+    uint64_t device_samples;         /* samples encoded (at the native rate) */
+    uint64_t reports_built, reports_dropped; /* by the encoder (drops simulated) */
+    uint64_t reports_fed, reports_rejected;  /* fed to the parser / refused by it */
+    uint64_t samples_parsed, samples_fused, lost, duplicates, backward; /* parser and fusion counters */
+    uint64_t evaluated;              /* instants compared with the truth (one per delivered report) */
+    uint64_t gyro_clipped;           /* samples with a gyro axis beyond the device's range */
+    double tilt_rms_deg, tilt_max_deg;
+    double yaw_drift_deg_per_min;    /* least-squares slope of the heading error */
+    /* Per horizon: body-frame step error est⁻¹⊗pred vs truth(t)⁻¹⊗truth(t+h), RMS, and the hold
+     * baseline (identity step); absolute error angle(pred, truth(t+h)) vs hold angle(est, truth(t+h)). */
+    double step_rms_deg[TRK_EVAL_HORIZONS], hold_step_rms_deg[TRK_EVAL_HORIZONS];
+    double abs_rms_deg[TRK_EVAL_HORIZONS], hold_abs_rms_deg[TRK_EVAL_HORIZONS];
+    double parse_fuse_ns_per_sample;  /* median over repeats of (whole-stream feed time) / samples fused */
+    double report_to_pose_us_median, report_to_pose_us_p99; /* bytes in hand → predicted pose */
+};
+
+/* Short name of a device kind ("Rift DK1", …, "OSVR HDK"). */
+const char *trk_evaluate_device_name(enum trk_device_kind kind);
+
+/* Evaluates one device on rows[0..n) (a 1 kHz shared stream or a slice of one; n ≥ 100). opt NULL:
+ * defaults. Allocates its buffers once per call (none per sample). 0, or −1 with err. */
+int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row *rows, size_t n,
+                        const struct trk_evaluate_options *opt, struct trk_evaluate_result *res,
+                        struct hl_error *err);
+
 /* ==== end of accuracy evaluation ==== */
 
 #endif

@@ -50,6 +50,17 @@ void rpl_trace_free(struct rpl_trace *trace);
  * 270 deg/s turn, still) at 60 Hz in the project's format. */
 int rpl_trace_builtin_clip(struct rpl_trace *out, struct hl_error *err);
 
+/* A raw tracker recording (docs/raw-recording.md) as a trace: every report goes through trk_stream,
+ * the parser and fusion a live session uses; one row per report that fused a sample, at that
+ * report's newest sample time (device clock, first row at 0 s), holding the fused body-to-world
+ * orientation. The report is filled as a parsed file's. A torn tail and reports the parser rejects
+ * are skipped with a note on stderr (a live session skips them too); a corrupt record in the middle
+ * or a bad header is an error naming the file and byte offset. */
+int rpl_trace_from_recording(const char *path, struct rpl_trace *out, struct hl_error *err);
+/* Writes t in the project's CSV (docs/trace-format.md §1; %.9f time, %.17g quaternion, position
+ * and gaze columns when present) to path via a temporary file and rename: never a partial file. */
+int rpl_trace_write_csv(const struct rpl_trace *t, const char *path, struct hl_error *err);
+
 /* Orientation at t (slerp between neighbours, clamped to the ends) and angular velocity (world,
  * rad/s) from a ±RPL_VELOCITY_HALF_WINDOW_S window that skips outliers and bridges gaps. */
 #define RPL_VELOCITY_HALF_WINDOW_S 0.025
@@ -61,6 +72,7 @@ int rpl_trace_source_create(struct rpl_trace *trace, struct trk_pose_source **ou
 /* ---- the frame loop ------------------------------------------------------------------------- */
 struct rpl_options {
     const char *trace_path;  /* NULL → built-in clip */
+    const char *raw_path;    /* raw tracker recording fused into the trace (excludes trace_path) */
     const char *scene;       /* built-in scene name */
     const char *display;     /* built-in name or JSON file */
     const char *selector;    /* "none" | "reddy" */

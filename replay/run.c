@@ -74,7 +74,9 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     s->far_m = 2000.0;
 
     struct rpl_trace trace;
-    int rc = o->trace_path ? rpl_trace_load(o->trace_path, &trace, err) : rpl_trace_builtin_clip(&trace, err);
+    int rc = o->raw_path     ? rpl_trace_from_recording(o->raw_path, &trace, err)
+             : o->trace_path ? rpl_trace_load(o->trace_path, &trace, err)
+                             : rpl_trace_builtin_clip(&trace, err);
     if (rc != 0 || rpl_trace_source_create(&trace, &s->source, err) != 0)
         return -1;
 

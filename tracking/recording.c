@@ -1,0 +1,345 @@
+/* Raw recordings: the reports exactly as received, append-only, each record checksummed, so that a
+ * session can be replayed through the parser and fusion (docs/raw-recording.md has the layout, the
+ * flush policy and what the reader tolerates). */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "tracking/tracking.h"
+
+/* ---- CRC-32 ------------------------------------------------------------------------------------
+ * Nibble-wise table: 16 constants instead of 256, no initialisation at run time (so no race between
+ * threads), and fast enough for ~100-byte records at a few kHz. */
+static const uint32_t crc_nibble[16] = {
+    0x00000000, 0x1DB71064, 0x3B6E20C8, 0x26D930AC, 0x76DC4190, 0x6B6B51F4, 0x4DB26158, 0x5005713C,
+    0xEDB88320, 0xF00F9344, 0xD6D6A3E8, 0xCB61B38C, 0x9B64C2B0, 0x86D3D2D4, 0xA00AE278, 0xBDBDF21C,
+};
+
+uint32_t trk_crc32(uint32_t crc, const void *data, size_t length)
+{
+    const uint8_t *p = data;
+    crc = ~crc;
+    for (size_t i = 0; i < length; ++i) {
+        crc ^= p[i];
+        crc = (crc >> 4) ^ crc_nibble[crc & 15];
+        crc = (crc >> 4) ^ crc_nibble[crc & 15];
+    }
+    return ~crc;
+}
+
+/* ---- little-endian fields ---------------------------------------------------------------------- */
+static void put_u16(uint8_t *p, uint16_t v) { p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8); }
+static void put_u32(uint8_t *p, uint32_t v)
+{
+    for (int i = 0; i < 4; ++i)
+        p[i] = (uint8_t)(v >> (8 * i));
+}
+static void put_i64(uint8_t *p, int64_t v)
+{
+    uint64_t u = (uint64_t)v;
+    for (int i = 0; i < 8; ++i)
+        p[i] = (uint8_t)(u >> (8 * i));
+}
+static uint16_t get_u16(const uint8_t *p) { return (uint16_t)(p[0] | p[1] << 8); }
+static uint32_t get_u32(const uint8_t *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+static int64_t get_i64(const uint8_t *p)
+{
+    uint64_t u = 0;
+    for (int i = 7; i >= 0; --i)
+        u = u << 8 | p[i];
+    return (int64_t)u; /* two's complement: implementation-defined in C11, exact on every target we build */
+}
+
+/* Header layout (offsets), version 1. */
+enum {
+    H_MAGIC = 0, H_VERSION = 8, H_HEADER_SIZE = 10, H_KIND = 12, H_VID = 14, H_PID = 16, H_FLAGS = 18,
+    H_HOST_START = 20, H_WALL_START = 28, H_NAME = 36, H_CRC = 100
+};
+/* Record layout: length, time, report, CRC. */
+enum { R_LENGTH = 0, R_TIME = 4, R_REPORT = 12 };
+
+#define KIND_LAST TRK_DEVICE_HDK
+
+/* ---- writer ------------------------------------------------------------------------------------ */
+struct trk_recording {
+    int fd;
+    int broken;         /* a write failed: the file may end in a torn record; refuse more */
+    uint64_t records;
+    char *path;
+    uint8_t buf[TRK_RECORDING_RECORD_OVERHEAD + TRK_RECORDING_MAX_REPORT]; /* one record, reused */
+};
+
+/* write() until done. A regular file normally takes the whole record in the first call; the loop is
+ * for short writes (disk nearly full) and EINTR. */
+static int write_all(int fd, const uint8_t *p, size_t n)
+{
+    while (n > 0) {
+        ssize_t w = write(fd, p, n);
+        if (w < 0) {
+            if (errno == EINTR)
+                continue;
+            return -1;
+        }
+        p += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+struct trk_recording *trk_recording_create(const char *path, enum trk_device_kind kind, uint16_t vid, uint16_t pid,
+                                           const char *name, struct hl_error *err)
+{
+    if (!path || !*path) {
+        hl_fail(err, "raw recording: no path");
+        return NULL;
+    }
+    if ((int)kind < 0 || kind > KIND_LAST) {
+        hl_fail(err, "%s: unknown device kind %d", path, (int)kind);
+        return NULL;
+    }
+    struct trk_recording *rec = calloc(1, sizeof *rec);
+    size_t path_len = strlen(path);
+    if (!rec || !(rec->path = malloc(path_len + 1))) {
+        free(rec);
+        hl_fail(err, "%s: out of memory", path);
+        return NULL;
+    }
+    memcpy(rec->path, path, path_len + 1);
+
+    uint8_t h[TRK_RECORDING_HEADER_SIZE];
+    memset(h, 0, sizeof h);
+    memcpy(h + H_MAGIC, TRK_RECORDING_MAGIC, 8);
+    put_u16(h + H_VERSION, TRK_RECORDING_VERSION);
+    put_u16(h + H_HEADER_SIZE, TRK_RECORDING_HEADER_SIZE);
+    put_u16(h + H_KIND, (uint16_t)kind);
+    put_u16(h + H_VID, vid);
+    put_u16(h + H_PID, pid);
+    put_u16(h + H_FLAGS, 0);
+    put_i64(h + H_HOST_START, hl_clock_now_ns());
+    struct timespec wall;
+    clock_gettime(CLOCK_REALTIME, &wall);
+    put_i64(h + H_WALL_START, (int64_t)wall.tv_sec * 1000000000 + wall.tv_nsec);
+    if (name) {
+        size_t n = strlen(name);
+        memcpy(h + H_NAME, name, n < TRK_RECORDING_NAME_SIZE ? n : TRK_RECORDING_NAME_SIZE);
+    }
+    put_u32(h + H_CRC, trk_crc32(0, h, H_CRC));
+
+    rec->fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (rec->fd < 0) {
+        hl_fail(err, "%s: cannot create: %s", path, strerror(errno));
+        free(rec->path);
+        free(rec);
+        return NULL;
+    }
+    if (write_all(rec->fd, h, sizeof h) != 0) {
+        hl_fail(err, "%s: byte 0: cannot write the header: %s", path, strerror(errno));
+        close(rec->fd);
+        unlink(path); /* a file without a complete header is no recording: leave none */
+        free(rec->path);
+        free(rec);
+        return NULL;
+    }
+    return rec;
+}
+
+int trk_recording_append(struct trk_recording *rec, int64_t host_time_ns, const uint8_t *report, size_t length,
+                         struct hl_error *err)
+{
+    if (rec->broken)
+        return hl_fail(err, "%s: an earlier write failed; the recording is closed to appends", rec->path);
+    if (!report || length == 0 || length > TRK_RECORDING_MAX_REPORT)
+        return hl_fail(err, "%s: report of %zu bytes (must be 1..%d)", rec->path, length, TRK_RECORDING_MAX_REPORT);
+    /* The whole record is built first and handed to the kernel in one write(): a process killed at
+     * any moment leaves either the whole record or (on a short write) a prefix of it — and only of
+     * the last one. No stdio buffer, so nothing appended is lost when the process dies. */
+    uint8_t *b = rec->buf;
+    put_u32(b + R_LENGTH, (uint32_t)length);
+    put_i64(b + R_TIME, host_time_ns);
+    memcpy(b + R_REPORT, report, length);
+    put_u32(b + R_REPORT + length, trk_crc32(0, b, R_REPORT + length));
+    if (write_all(rec->fd, b, TRK_RECORDING_RECORD_OVERHEAD + length) != 0) {
+        rec->broken = 1;
+        return hl_fail(err, "%s: record %llu: write failed: %s", rec->path, (unsigned long long)rec->records,
+                       strerror(errno));
+    }
+    ++rec->records;
+    return 0;
+}
+
+uint64_t trk_recording_records(const struct trk_recording *rec) { return rec ? rec->records : 0; }
+
+int trk_recording_close(struct trk_recording *rec, int sync_to_disk, struct hl_error *err)
+{
+    if (!rec)
+        return 0;
+    int rc = rec->broken ? hl_fail(err, "%s: a write failed; the last record may be torn", rec->path) : 0;
+    if (sync_to_disk && fsync(rec->fd) != 0 && rc == 0)
+        rc = hl_fail(err, "%s: fsync: %s", rec->path, strerror(errno));
+    if (close(rec->fd) != 0 && rc == 0)
+        rc = hl_fail(err, "%s: close: %s", rec->path, strerror(errno));
+    free(rec->path);
+    free(rec);
+    return rc;
+}
+
+/* ---- reader ------------------------------------------------------------------------------------ */
+void trk_recording_reader_close(struct trk_recording_reader *r)
+{
+    if (!r)
+        return;
+    if (r->file)
+        fclose(r->file);
+    free(r->path);
+    free(r);
+}
+
+static int read_at(struct trk_recording_reader *r, uint64_t offset, uint8_t *p, size_t n)
+{
+    if (fseeko(r->file, (off_t)offset, SEEK_SET) != 0)
+        return -1;
+    return fread(p, 1, n, r->file) == n ? 0 : -1;
+}
+
+struct trk_recording_reader *trk_recording_open(const char *path, struct hl_error *err)
+{
+    struct trk_recording_reader *r = calloc(1, sizeof *r);
+    size_t path_len = path ? strlen(path) : 0;
+    if (!path || !r || !(r->path = malloc(path_len + 1))) {
+        free(r);
+        hl_fail(err, "%s: %s", path ? path : "raw recording", path ? "out of memory" : "no path");
+        return NULL;
+    }
+    memcpy(r->path, path, path_len + 1);
+    struct stat st;
+    r->file = fopen(path, "rb");
+    if (!r->file || fstat(fileno(r->file), &st) != 0) {
+        hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+        goto fail;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        hl_fail(err, "%s: not a regular file", path);
+        goto fail;
+    }
+    r->file_size = (uint64_t)st.st_size;
+
+    uint8_t h[TRK_RECORDING_HEADER_SIZE];
+    size_t got = fread(h, 1, sizeof h, r->file);
+    size_t magic_n = got < 8 ? got : 8;
+    if (memcmp(h, TRK_RECORDING_MAGIC, magic_n) != 0 || got == 0) {
+        hl_fail(err, "%s: byte 0: not an hmdlod raw recording (no \"%s\" magic)", path, TRK_RECORDING_MAGIC);
+        goto fail;
+    }
+    if (got >= H_VERSION + 2 && get_u16(h + H_VERSION) != TRK_RECORDING_VERSION) {
+        hl_fail(err, "%s: byte %d: format version %u is not supported (this reader knows %d)", path, H_VERSION,
+                get_u16(h + H_VERSION), TRK_RECORDING_VERSION);
+        goto fail;
+    }
+    if (got < sizeof h) {
+        hl_fail(err, "%s: byte %zu: file ends inside the %d-byte header", path, got, TRK_RECORDING_HEADER_SIZE);
+        goto fail;
+    }
+    if (get_u16(h + H_HEADER_SIZE) != TRK_RECORDING_HEADER_SIZE) {
+        hl_fail(err, "%s: byte %d: header size %u, version 1 has %d", path, H_HEADER_SIZE, get_u16(h + H_HEADER_SIZE),
+                TRK_RECORDING_HEADER_SIZE);
+        goto fail;
+    }
+    if (get_u32(h + H_CRC) != trk_crc32(0, h, H_CRC)) {
+        hl_fail(err, "%s: byte %d: header CRC mismatch (the header is corrupt)", path, H_CRC);
+        goto fail;
+    }
+    unsigned kind = get_u16(h + H_KIND);
+    if (kind > KIND_LAST) {
+        hl_fail(err, "%s: byte %d: unknown device kind %u", path, H_KIND, kind);
+        goto fail;
+    }
+    r->info.version = get_u16(h + H_VERSION);
+    r->info.kind = (enum trk_device_kind)kind;
+    r->info.vid = get_u16(h + H_VID);
+    r->info.pid = get_u16(h + H_PID);
+    memcpy(r->info.name, h + H_NAME, TRK_RECORDING_NAME_SIZE);
+    r->info.name[TRK_RECORDING_NAME_SIZE] = '\0';
+    r->info.host_start_ns = get_i64(h + H_HOST_START);
+    r->info.wall_start_unix_ns = get_i64(h + H_WALL_START);
+    r->offset = TRK_RECORDING_HEADER_SIZE;
+    return r;
+fail:
+    trk_recording_reader_close(r);
+    return NULL;
+}
+
+/* Whether every byte from offset to the end of the file is zero: what a file system leaves after a
+ * power loss when the size was extended but the data never reached the disk. */
+static int rest_is_zero(struct trk_recording_reader *r, uint64_t offset)
+{
+    uint8_t chunk[4096];
+    if (fseeko(r->file, (off_t)offset, SEEK_SET) != 0)
+        return 0;
+    for (uint64_t left = r->file_size - offset; left > 0;) {
+        size_t n = left < sizeof chunk ? (size_t)left : sizeof chunk;
+        if (fread(chunk, 1, n, r->file) != n)
+            return 0;
+        for (size_t i = 0; i < n; ++i)
+            if (chunk[i])
+                return 0;
+        left -= n;
+    }
+    return 1;
+}
+
+static int end_torn(struct trk_recording_reader *r)
+{
+    r->torn_tail = 1;
+    r->torn_bytes = r->file_size - r->offset;
+    r->offset = r->file_size;
+    return 0;
+}
+
+int trk_recording_next(struct trk_recording_reader *r, int64_t *host_time_ns, uint8_t *buf, size_t cap,
+                       size_t *length, struct hl_error *err)
+{
+    if (r->offset >= r->file_size)
+        return 0;
+    uint64_t at = r->offset, left = r->file_size - at;
+    if (left < 4)
+        return end_torn(r); /* not even a length field: a write cut short */
+    if (read_at(r, at, r->buf, 4) != 0)
+        return hl_fail(err, "%s: byte %llu: read failed", r->path, (unsigned long long)at);
+    uint32_t n = get_u32(r->buf + R_LENGTH);
+    /* Checked before anything else is read: a corrupt length never sizes a read or an allocation. */
+    if (n == 0 || n > TRK_RECORDING_MAX_REPORT) {
+        if (rest_is_zero(r, at))
+            return end_torn(r);
+        return hl_fail(err, "%s: byte %llu: record length %u outside 1..%d (corrupt record)", r->path,
+                       (unsigned long long)at, n, TRK_RECORDING_MAX_REPORT);
+    }
+    uint64_t size = TRK_RECORDING_RECORD_OVERHEAD + (uint64_t)n;
+    if (size > left)
+        return end_torn(r); /* the last record is incomplete: the writer died during its write */
+    if (read_at(r, at, r->buf, (size_t)size) != 0)
+        return hl_fail(err, "%s: byte %llu: read failed", r->path, (unsigned long long)at);
+    if (get_u32(r->buf + R_REPORT + n) != trk_crc32(0, r->buf, R_REPORT + n)) {
+        /* A bad last record (it reaches the end of the file), or a bad record followed only by
+         * zeros, is what an interrupted write leaves; anywhere else it is damage to report. */
+        if (size == left || rest_is_zero(r, at))
+            return end_torn(r);
+        return hl_fail(err, "%s: byte %llu: record CRC mismatch (corrupt record of %u bytes)", r->path,
+                       (unsigned long long)at, n);
+    }
+    if (n > cap)
+        return hl_fail(err, "%s: byte %llu: record of %u bytes does not fit a %zu-byte buffer", r->path,
+                       (unsigned long long)at, n, cap);
+    memcpy(buf, r->buf + R_REPORT, n);
+    *length = n;
+    *host_time_ns = get_i64(r->buf + R_TIME);
+    r->offset = at + size;
+    ++r->records;
+    return 1;
+}

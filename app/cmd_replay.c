@@ -6,12 +6,13 @@
 #include "replay/replay.h"
 
 static const char replay_usage[] =
-    "usage: hmdlod replay --trace FILE --scene NAME --display NAME|FILE --selector NAME --out DIR\n"
+    "usage: hmdlod replay --trace FILE|--raw FILE --scene NAME --display NAME|FILE --selector NAME --out DIR\n"
     "                     [--rate HZ] [--frames N] [--capture EVERY] [--objects N] [--seed S]\n"
     "                     [--acuity-scale S] [--render-scale F] [--quiet]\n"
     "  Replays a head-motion trace on a virtual clock through a scene, rendering both eyes headless.\n"
     "  --trace FILE       hmdlod CSV (t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]) or a Corbillon MMSys'18\n"
     "                     quaternion file; omitted: the built-in 8 s clip\n"
+    "  --raw FILE         a raw tracker recording (hmdlod record), fused as live (not with --trace)\n"
     "  --scene NAME       built-in scene: field (Reddy's test field) or auditorium (default field)\n"
     "  --display NAME     built-in display (hmdlod display list) or a JSON profile (default vive)\n"
     "  --selector NAME    none (finest LOD) or reddy (acuity-driven, default)\n"
@@ -44,6 +45,8 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
         ++i;
         if (!strcmp(opt, "--trace"))
             o->trace_path = val;
+        else if (!strcmp(opt, "--raw"))
+            o->raw_path = val;
         else if (!strcmp(opt, "--scene"))
             o->scene = val;
         else if (!strcmp(opt, "--display"))
@@ -81,6 +84,10 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
             fprintf(stderr, "hmdlod: unknown option '%s'\n%s", opt, usage);
             return 1;
         }
+    }
+    if (o->trace_path && o->raw_path) {
+        fprintf(stderr, "hmdlod: --trace and --raw exclude each other: give one head-motion input\n");
+        return 1;
     }
     return 0;
 }

@@ -8,6 +8,8 @@ int cmd_demo(int argc, char **argv);
 int cmd_display(int argc, char **argv);
 int cmd_acuity(int argc, char **argv);
 int cmd_replay(int argc, char **argv);
+int cmd_record(int argc, char **argv);  /* app/cmd_record.c: tracker → raw recording */
+int cmd_convert(int argc, char **argv); /* app/cmd_convert.c: raw recording → trace CSV */
 
 /* Shared argument helpers (app/args.c): strict numeric parsing that names the option. */
 int app_parse_double(const char *option, const char *text, double *out);

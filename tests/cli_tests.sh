@@ -81,5 +81,24 @@ else
   echo "skip: $trace is absent; the real-trace replay was not run"
 fi
 
+# Raw recordings (record, convert, replay --raw): help, and bad input giving one message, exit 1
+# and no output. The recording → CSV → replay path itself is run by tests/test_recording.c.
+for c in record convert; do
+  expect_ok "$c --help" "usage: hmdlod $c" -- "$bin" $c --help
+done
+expect_error "record without --out" "--out" -- "$bin" record --device auto
+expect_error "record bad seconds" "--seconds" -- "$bin" record --out "$tmp/r.raw" --seconds -1
+expect_error "convert without --to" "--to" -- "$bin" convert "$tmp/turn.csv"
+expect_error "convert a CSV" "turn.csv: byte 0: not an hmdlod raw recording" -- \
+  "$bin" convert "$tmp/turn.csv" --to "$tmp/conv.csv"
+[ ! -e "$tmp/conv.csv" ] || fail "a failed convert left its output"
+printf 'HMDLRAW1\x01\x00' >"$tmp/short.raw"
+expect_error "convert a cut header" "short.raw: byte 10: file ends inside the 104-byte header" -- \
+  "$bin" convert "$tmp/short.raw" --to "$tmp/conv.csv"
+expect_error "replay --raw and --trace" "exclude each other" -- \
+  "$bin" replay --raw "$tmp/short.raw" --trace "$tmp/turn.csv" --out "$tmp/both"
+expect_error "replay bad --raw" "short.raw: byte 10" -- "$bin" replay --raw "$tmp/short.raw" --out "$tmp/rawbad"
+[ ! -e "$tmp/rawbad/frames.csv" ] || fail "a failed replay --raw left frames.csv"
+
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

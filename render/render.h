@@ -50,7 +50,7 @@ struct rnd_scene {
 };
 
 struct rnd_scene_params {
-    int object_count; /* field: 10…1000 (default 100) */
+    int object_count; /* field: 1…100000, 0 = default 100 (auditorium ignores it) */
     uint64_t seed;    /* placement seed (default 1) */
 };
 

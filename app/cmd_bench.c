@@ -75,7 +75,9 @@ static void exe_dir(char *out, size_t size)
     if (!slash)
         return;
     *slash = '\0';
-    snprintf(out, size, "%s", path);
+    size_t dir_len = (size_t)(slash - path);
+    if (dir_len + 1 <= size) /* a longer folder is treated as unknown, not cut */
+        memcpy(out, path, dir_len + 1);
 }
 
 /* Runs git with fixed arguments (no shell, stderr discarded) in dir and reads the first line of its

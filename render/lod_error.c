@@ -69,15 +69,17 @@ double rnd_lod_geometric_error(const struct rnd_mesh *fine, const struct rnd_mes
 
 double rnd_lod_unique_freq(double eps_m, double bound_radius_m)
 {
-    /* The detail a level drops is modelled as a bump of height ε on a chord of the bounding sphere
-     * (radius R): its base is the chord at sagitta ε, L = 2·sqrt(ε(2R − ε)). Reddy (1998 §3.2)
-     * takes a feature of size L as half a cycle, so the frequency is f = 2R / (2L) = R / L cycles
-     * per object diameter. ε = R (the whole object) gives 0.5: one half-cycle across the diameter. */
+    /* What a level loses is a thin sliver between the two surfaces: ε across, a chord long.
+     * Reddy (1998 §3.2) measures each lost feature's extent at several orientations and keeps the
+     * HIGHEST frequency, i.e. the narrowest extent, ε. That extent is half a cycle, so the
+     * frequency is f = 2R / (2ε) = R / ε cycles per object diameter (docs/scenes.md compares the
+     * conservative reading, the sliver's length). ε ≥ R (the whole object lost) gives 1 cycle per
+     * diameter at most; never below one half-cycle across the object. */
     double r = bound_radius_m;
     if (!(eps_m > 0))
         return INFINITY;
     if (!(r > 0))
         return 0.5;
-    double eps = eps_m > r ? r : eps_m;
-    return r / (2.0 * sqrt(eps * (2.0 * r - eps)));
+    double f = r / eps_m;
+    return f > 0.5 ? f : 0.5;
 }

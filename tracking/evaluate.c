@@ -1,6 +1,7 @@
 /* End-to-end tracker accuracy: shared IMU stream → device reports at the native rate → parser →
  * fusion → comparison with the ground truth, and the time this path takes.
  *
+ * The path is the driver's: trk_stream_feed (parser + fusion) and trk_stream_pose (prediction).
  * Why through the reports and not straight into the fusion (tests/test_fusion.c does that): the
  * reports add what a real tracker adds — LSB quantization and range clipping per device, 16/24/32-bit
  * counters that wrap, batching (PSVR 2 samples a report), the Vive's repeating ring, lost reports —
@@ -74,24 +75,9 @@ const char *trk_evaluate_device_name(enum trk_device_kind kind)
 
 /* ---- parse + fuse for one device ------------------------------------------------------------- */
 
-/* The report path a driver runs: parser by kind, then the fusion (HDK: the on-device orientation as
- * is, with its ω for prediction). Plain data, no allocation. */
-struct ev_stream {
-    enum trk_device_kind kind;
-    union {
-        struct trk_rift_parser rift;
-        struct trk_psvr_parser psvr;
-        struct trk_vive_parser vive;
-        struct trk_hdk_parser hdk;
-    } parser;
-    struct trk_fusion fusion;
-    hl_quatd hdk_q;          /* latest on-device orientation */
-    hl_vec3d hdk_omega_radps; /* its body-frame angular velocity */
-    int hdk_has;
-    uint64_t reports, rejected, samples, fused;
-};
-
-static const struct trk_report_counters *ev_counters(const struct ev_stream *s)
+/* The report path is the driver's own: trk_stream (parser by kind → fusion; HDK: the on-device
+ * orientation taken as is, with its ω for prediction), so the figures are those of live use. */
+static const struct trk_report_counters *ev_counters(const struct trk_stream *s)
 {
     switch (s->kind) {
     case TRK_DEVICE_PSVR: return &s->parser.psvr.n;
@@ -102,73 +88,19 @@ static const struct trk_report_counters *ev_counters(const struct ev_stream *s)
     }
 }
 
-static void ev_init(struct ev_stream *s, enum trk_device_kind kind, const struct trk_fusion_config *cfg,
+static void ev_init(struct trk_stream *s, enum trk_device_kind kind, const struct trk_fusion_config *cfg,
                     hl_quatd warm_q)
 {
-    memset(s, 0, sizeof *s);
-    s->kind = kind;
-    switch (kind) {
-    case TRK_DEVICE_RIFT_DK1: trk_rift_parser_init(&s->parser.rift, 0); break;
-    case TRK_DEVICE_RIFT_DK2:
-    case TRK_DEVICE_RIFT_CV1: trk_rift_parser_init(&s->parser.rift, 1); break;
-    case TRK_DEVICE_PSVR: trk_psvr_parser_init(&s->parser.psvr); break;
-    case TRK_DEVICE_VIVE: trk_vive_parser_init(&s->parser.vive, TRK_VIVE_MODEL_VIVE); break;
-    case TRK_DEVICE_VIVE_PRO_INDEX: trk_vive_parser_init(&s->parser.vive, TRK_VIVE_MODEL_PRO); break;
-    case TRK_DEVICE_HDK: trk_hdk_parser_init(&s->parser.hdk); break;
-    }
-    trk_fusion_init(&s->fusion, cfg);
+    trk_stream_init(s, kind, cfg);
     trk_fusion_set_orientation(&s->fusion, warm_q, 0.1 * HL_RAD_PER_DEG);
-    s->hdk_q = warm_q;
 }
 
-/* Samples fused, or −1 for a rejected report. */
-static int ev_feed(struct ev_stream *s, const uint8_t *report, size_t length, int64_t host_time_ns,
-                   struct hl_error *err)
+/* Orientation predicted horizon_s past the newest sample (0: the estimate itself). */
+static hl_quatd ev_predict(const struct trk_stream *s, double horizon_s)
 {
-    struct trk_imu_sample smp[TRK_REPORT_MAX_SAMPLES];
-    int got;
-    switch (s->kind) {
-    case TRK_DEVICE_PSVR: got = trk_psvr_parse(&s->parser.psvr, report, length, smp, TRK_REPORT_MAX_SAMPLES, err); break;
-    case TRK_DEVICE_VIVE:
-    case TRK_DEVICE_VIVE_PRO_INDEX:
-        got = trk_vive_parse(&s->parser.vive, report, length, smp, TRK_REPORT_MAX_SAMPLES, err);
-        break;
-    case TRK_DEVICE_HDK:
-        got = trk_hdk_parse(&s->parser.hdk, report, length, host_time_ns, smp, TRK_REPORT_MAX_SAMPLES, err);
-        break;
-    default: got = trk_rift_parse(&s->parser.rift, report, length, smp, TRK_REPORT_MAX_SAMPLES, err); break;
-    }
-    ++s->reports;
-    if (got < 0) {
-        ++s->rejected;
-        return -1;
-    }
-    s->samples += (uint64_t)got;
-    int fused = 0;
-    for (int i = 0; i < got; ++i) {
-        if (s->kind == TRK_DEVICE_HDK) {
-            if (!smp[i].has_orientation)
-                continue;
-            s->hdk_q = smp[i].orientation;
-            s->hdk_omega_radps = smp[i].has_gyro ? smp[i].gyro_radps : hl_v3(0, 0, 0);
-            s->hdk_has = 1;
-            ++fused;
-        } else if (trk_fusion_update(&s->fusion, (double)smp[i].device_time_ns * 1e-9, smp[i].gyro_radps,
-                                     smp[i].accel_mps2, smp[i].has_accel) >= 0) {
-            ++fused;
-        }
-    }
-    s->fused += (uint64_t)fused;
-    return fused;
-}
-
-static void ev_predict(const struct ev_stream *s, double horizon_s, hl_quatd *q)
-{
-    if (s->kind == TRK_DEVICE_HDK)
-        *q = horizon_s > 0 ? hl_q_normalize(hl_q_mul(s->hdk_q, hl_q_exp(hl_v3_scale(s->hdk_omega_radps, horizon_s))))
-                           : s->hdk_q;
-    else
-        trk_fusion_predict(&s->fusion, horizon_s, q);
+    struct trk_pose pose;
+    trk_stream_pose(s, horizon_s, &pose);
+    return pose.orientation;
 }
 
 /* ---- sample generation ----------------------------------------------------------------------- */
@@ -440,7 +372,7 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
     hl_quatd warm = truth_at(&tr, t_first_s);
 
     /* Pass 1: accuracy, and per-report latency (bytes in hand → predicted pose). */
-    struct ev_stream st; /* ~1 KB: parser + 9-state filter, plain data */
+    struct trk_stream st; /* ~1 KB: parser + 9-state filter, plain data */
     ev_init(&st, kind, opt.fusion, warm);
     double tilt2 = 0, tilt_max = 0;
     double yaw_prev = 0, sum_t = 0, sum_y = 0, sum_tt = 0, sum_ty = 0;
@@ -451,17 +383,16 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
     double sink = 0;
     for (size_t i = 0; i < gen.count; ++i) {
         const struct ev_record *r = &gen.rec[i];
-        hl_quatd q_pose;
+        struct trk_pose pose;
         int64_t t0 = hl_clock_now_ns();
-        int got = ev_feed(&st, r->bytes, r->length, r->host_ns, err);
-        ev_predict(&st, opt.pose_horizon_s, &q_pose);
+        int got = trk_stream_feed(&st, r->bytes, r->length, r->host_ns, err);
+        trk_stream_pose(&st, opt.pose_horizon_s, &pose);
         int64_t t1 = hl_clock_now_ns();
         lat_us[i] = (double)(t1 - t0) * 1e-3;
-        sink += q_pose.w;
+        sink += pose.orientation.w;
         if (got < 0)
             continue; /* counted; the estimate did not change */
-        hl_quatd est, truth = truth_at(&tr, r->t_s);
-        ev_predict(&st, 0.0, &est);
+        hl_quatd est = ev_predict(&st, 0.0), truth = truth_at(&tr, r->t_s);
         double te = tilt_err_rad(est, truth);
         tilt2 += te * te;
         if (te > tilt_max)
@@ -483,8 +414,7 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
             double t_h = r->t_s + trk_eval_horizons_s[h];
             if (t_h > res->duration_s + 1e-9)
                 continue;
-            hl_quatd pred, truth_h = truth_at(&tr, t_h);
-            ev_predict(&st, trk_eval_horizons_s[h], &pred);
+            hl_quatd pred = ev_predict(&st, trk_eval_horizons_s[h]), truth_h = truth_at(&tr, t_h);
             hl_quatd true_step = hl_q_mul(hl_q_conj(truth), truth_h);
             double e = hl_q_angle_rad(hl_q_mul(hl_q_conj(est), pred), true_step);
             double he = hl_q_angle_rad(hl_q_identity(), true_step);
@@ -534,11 +464,9 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
         ev_init(&st, kind, opt.fusion, warm);
         int64_t t0 = hl_clock_now_ns();
         for (size_t i = 0; i < gen.count; ++i)
-            ev_feed(&st, gen.rec[i].bytes, gen.rec[i].length, gen.rec[i].host_ns, NULL);
+            trk_stream_feed(&st, gen.rec[i].bytes, gen.rec[i].length, gen.rec[i].host_ns, NULL);
         int64_t t1 = hl_clock_now_ns();
-        hl_quatd q;
-        ev_predict(&st, 0.0, &q);
-        sink += q.w;
+        sink += ev_predict(&st, 0.0).w;
         lat_us[k] = st.fused ? (double)(t1 - t0) / (double)st.fused : 0.0; /* ns per sample */
     }
     if (repeats > 0) {

@@ -21,7 +21,7 @@ int cmd_acuity(int argc, char **argv)
         return 0;
     }
     double v = 0.0, e = 0.0, xi = NAN;
-    for (int i = 1; i < argc; ++i) {
+    for (int i = 1; i < argc; i += 2) { /* every option takes one value */
         const char *value = i + 1 < argc ? argv[i + 1] : NULL;
         double *target = !strcmp(argv[i], "--velocity")       ? &v
                          : !strcmp(argv[i], "--eccentricity") ? &e
@@ -33,7 +33,6 @@ int cmd_acuity(int argc, char **argv)
         }
         if (app_parse_double(argv[i], value, target) != 0)
             return 1;
-        ++i;
     }
     struct hl_error err;
     if (acu_check_inputs(v, e, &err) != 0) {

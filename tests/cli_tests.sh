@@ -67,6 +67,18 @@ expect_ok "replay own trace" "triangles relative to none" -- \
 [ -s "$tmp/turn/frames.csv" ] && [ -s "$tmp/turn/summary.json" ] && [ -s "$tmp/turn/frame_000000.png" ] \
   || fail "replay outputs missing"
 
+# Gaze from the trace: the same still head, once looking straight ahead and once with the eyes
+# turned 40° to the side, must draw fewer triangles (the objects ahead are now peripheral).
+printf 't_s,qw,qx,qy,qz,gx,gy,gz\n0,1,0,0,0,0,0,-1\n2,1,0,0,0,0,0,-1\n' >"$tmp/gaze-ahead.csv"
+printf 't_s,qw,qx,qy,qz,gx,gy,gz\n0,1,0,0,0,0.6427876,0,-0.7660444\n2,1,0,0,0,0.6427876,0,-0.7660444\n' >"$tmp/gaze-side.csv"
+for g in ahead side; do
+  "$bin" replay --trace "$tmp/gaze-$g.csv" --scene field --objects 300 --display vive --selector reddy \
+    --render-scale 0.25 --quiet --out "$tmp/gaze-$g" 2>"$tmp/err" || fail "gaze $g replay: $(cat "$tmp/err")"
+done
+tri_of() { grep -o '"triangles_per_eye_mean":[^,]*' "$1/summary.json" | cut -d: -f2; }
+awk -v s="$(tri_of "$tmp/gaze-side")" -v a="$(tri_of "$tmp/gaze-ahead")" 'BEGIN { exit !(s < a) }' \
+  || fail "eyes turned aside should draw fewer triangles than eyes ahead"
+
 # The real Corbillon trace (issue acceptance), at a reduced render size to keep CI short.
 trace="$shared/data/traces/corbillon-mmsys18/user1_quaternion.txt"
 if [ -r "$trace" ]; then

@@ -33,19 +33,6 @@ struct result {
     hl_vec3d gyro_bias_radps, accel_bias_mps2;
 };
 
-static double tilt_err_rad(hl_quatd est, hl_quatd truth)
-{
-    hl_vec3d y = hl_v3(0, 1, 0);
-    return hl_v3_angle_rad(hl_q_rotate(hl_q_conj(est), y), hl_q_rotate(hl_q_conj(truth), y));
-}
-
-/* Heading of q_est relative to q_true about world +Y (twist of the world-frame error). */
-static double yaw_err_rad(hl_quatd est, hl_quatd truth)
-{
-    hl_quatd d = hl_q_mul(est, hl_q_conj(truth));
-    return 2.0 * atan2(d.y, d.w);
-}
-
 static double ls_slope(const double *t, const double *v, size_t n)
 {
     double st = 0, sv = 0;
@@ -93,12 +80,12 @@ static void run_stream(const struct trk_imu_csv_row *rows, size_t n, enum mode m
             for (int h = 0; h < NH; ++h)
                 trk_fusion_predict(&f, horizons_ms[h] * 1e-3, &pred[h * n + k]);
         }
-        double te = tilt_err_rad(est[k], rows[k].truth);
+        double te = trk_tilt_error_rad(est[k], rows[k].truth);
         tilt2 += te * te;
         if (te > tiltmax)
             tiltmax = te;
         tt[k] = rows[k].t_s;
-        double y = yaw_err_rad(est[k], rows[k].truth);
+        double y = trk_yaw_error_rad(est[k], rows[k].truth);
         if (k > 0) { /* unwrap */
             while (y - yaw[k - 1] > HL_PI)
                 y -= 2 * HL_PI;
@@ -339,7 +326,7 @@ static void test_boundary(void)
     CHECK(finite);
     for (int k = 1; k <= 2000; ++k)
         trk_fusion_update(&f, 11.002 + k * 1e-3, hl_v3(0, 0, 0), a, 1);
-    CHECK(tilt_err_rad(f.orientation, hl_q_identity()) < 2.0 * HL_RAD_PER_DEG); /* recovers to upright */
+    CHECK(trk_tilt_error_rad(f.orientation, hl_q_identity()) < 2.0 * HL_RAD_PER_DEG); /* recovers to upright */
     CHECK(isfinite(f.gyro_bias_radps.x) && isfinite(f.accel_bias_mps2.y));
 }
 

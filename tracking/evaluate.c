@@ -278,13 +278,13 @@ static int generate(enum trk_device_kind kind, const struct ev_truth *tr, const 
 
 /* ---- evaluation ------------------------------------------------------------------------------ */
 
-static double tilt_err_rad(hl_quatd est, hl_quatd truth)
+double trk_tilt_error_rad(hl_quatd est, hl_quatd truth)
 {
     hl_vec3d y = hl_v3(0, 1, 0);
     return hl_v3_angle_rad(hl_q_rotate(hl_q_conj(est), y), hl_q_rotate(hl_q_conj(truth), y));
 }
 
-static double yaw_err_rad(hl_quatd est, hl_quatd truth)
+double trk_yaw_error_rad(hl_quatd est, hl_quatd truth)
 {
     hl_quatd d = hl_q_mul(est, hl_q_conj(truth));
     return 2.0 * atan2(d.y, d.w);
@@ -393,11 +393,11 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
         if (got < 0)
             continue; /* counted; the estimate did not change */
         hl_quatd est = ev_predict(&st, 0.0), truth = truth_at(&tr, r->t_s);
-        double te = tilt_err_rad(est, truth);
+        double te = trk_tilt_error_rad(est, truth);
         tilt2 += te * te;
         if (te > tilt_max)
             tilt_max = te;
-        double y = yaw_err_rad(est, truth);
+        double y = trk_yaw_error_rad(est, truth);
         if (evaluated > 0) { /* unwrap against the previous instant */
             while (y - yaw_prev > HL_PI)
                 y -= 2.0 * HL_PI;

@@ -479,6 +479,12 @@ void trk_recording_reader_close(struct trk_recording_reader *r);
  * (the same path as live data), and the estimate is compared with the ground truth — tilt, yaw drift,
  * prediction error — and timed. tracking/evaluate.c documents how each device's samples are made. */
 #define TRK_EVAL_HORIZONS 3 /* prediction horizons: 10, 20, 40 ms */
+
+/* Tilt error, rad: the angle between the true and the estimated world up (+Y) seen in the body
+ * frame — heading plays no part. Both orientations body-to-world, unit. */
+double trk_tilt_error_rad(hl_quatd estimate, hl_quatd truth);
+/* Heading error, rad in (−π, π]: the twist about world +Y of estimate ⊗ truth*. */
+double trk_yaw_error_rad(hl_quatd estimate, hl_quatd truth);
 extern const double trk_eval_horizons_s[TRK_EVAL_HORIZONS];
 
 struct trk_evaluate_options {

@@ -93,20 +93,6 @@ static struct read_result read_all(const char *path)
     return r;
 }
 
-static uint8_t *slurp(const char *path, size_t *size)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    uint8_t *b = malloc((size_t)n + 1);
-    *size = fread(b, 1, (size_t)n, f);
-    fclose(f);
-    return b;
-}
-
 static void spit(const char *path, const uint8_t *b, size_t n)
 {
     FILE *f = fopen(path, "wb");
@@ -174,7 +160,7 @@ static void test_truncation(void)
     const char *p = tmp_path("trunc-src.raw"), *q = tmp_path("trunc.raw");
     CHECK(write_gen(p, 12) == 0);
     size_t size;
-    uint8_t *all = slurp(p, &size);
+    uint8_t *all = (uint8_t *)tu_read_file(p, &size);
     /* record boundaries */
     size_t ends[13], nb = 0, off = TRK_RECORDING_HEADER_SIZE;
     ends[nb++] = off;
@@ -208,7 +194,7 @@ static void test_corruption(void)
     const char *p = tmp_path("corr-src.raw"), *q = tmp_path("corr.raw");
     CHECK(write_gen(p, 12) == 0);
     size_t size;
-    uint8_t *all = slurp(p, &size);
+    uint8_t *all = (uint8_t *)tu_read_file(p, &size);
     const uint8_t masks[3] = {0x01, 0x80, 0xFF};
     int bad = 0, errors = 0, torn = 0;
     for (size_t at = 0; at < size; ++at) {
@@ -534,7 +520,7 @@ static void test_end_to_end(void)
 
     /* A torn recording converts all its complete records, with the same result. */
     size_t size;
-    uint8_t *all = slurp(raw, &size);
+    uint8_t *all = (uint8_t *)tu_read_file(raw, &size);
     const char *torn = tmp_path("torn.raw");
     spit(torn, all, size - 30);
     free(all);

@@ -18,27 +18,6 @@ struct row {
     double triangles, finest;
 };
 
-static char *read_file(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *buf = malloc((size_t)n + 1);
-    if (buf && fread(buf, 1, (size_t)n, f) != (size_t)n) {
-        free(buf);
-        buf = NULL;
-    }
-    fclose(f);
-    if (buf) {
-        buf[n] = '\0';
-        *len = (size_t)n;
-    }
-    return buf;
-}
-
 /* Drops the five wall-clock columns at the end of each line (DESIGN.md: determinism). */
 static void strip_timing_columns(char *csv)
 {
@@ -131,9 +110,9 @@ int main(void)
 
     size_t len_a = 0, len_b = 0;
     snprintf(path, sizeof path, "%s/frames.csv", dir_reddy);
-    char *a = read_file(path, &len_a);
+    char *a = tu_read_file(path, &len_a);
     snprintf(path, sizeof path, "%s/frames.csv", dir_again);
-    char *b = read_file(path, &len_b);
+    char *b = tu_read_file(path, &len_b);
     CHECK(a && b);
     if (a && b) {
         /* Velocity term: on frames where the head turns fast, Reddy keeps a smaller share of the

@@ -3,6 +3,7 @@
 #ifndef HMDLOD_TEST_UTIL_H
 #define HMDLOD_TEST_UTIL_H
 
+#include <stddef.h>
 #include <stdio.h>
 
 extern int tu_failures;
@@ -24,6 +25,10 @@ void tu_check_near(double actual, double expected, double tol, const char *what,
 /* Path of a file under the shared data folder (HMDLOD_SHARED, else ../shared); NULL if absent,
  * after printing "skip: <why>". The returned buffer is static (one at a time). */
 const char *tu_shared_path(const char *relative);
+
+/* Reads a whole file into a new NUL-terminated buffer (caller frees); NULL if it cannot.
+ * *size gets the byte count (the NUL is not counted). */
+char *tu_read_file(const char *path, size_t *size);
 
 /* Prints the summary and returns the process exit code (0 pass, 1 fail). */
 int tu_finish(const char *suite);

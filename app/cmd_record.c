@@ -10,13 +10,6 @@
 #include "app/commands.h"
 #include "tracking/tracking.h"
 
-/* The live HID layer (trk_hid_*, tracking.h "HID devices" section) is declared but its
- * implementation was not in the tree when this command was written: set to 1 once it links. Only
- * record_device_* below touch it. */
-#ifndef RECORD_HAS_HID
-#define RECORD_HAS_HID 0
-#endif
-
 static const char record_usage[] =
     "usage: hmdlod record --device auto|PATH --out FILE [--seconds S]\n"
     "  Records a head tracker's raw HID reports, each with its host receive time and a CRC, into an\n"
@@ -32,9 +25,7 @@ static void on_signal(int sig) { stop_requested = sig; }
 
 /* ---- the device part: open, read one report, close ----------------------------------------- */
 struct record_device {
-#if RECORD_HAS_HID
     struct trk_hid_device *hid;
-#endif
     enum trk_device_kind kind;
     uint16_t vid, pid;
     char name[128];
@@ -44,7 +35,6 @@ struct record_device {
 static int record_device_open(const char *path_or_auto, struct record_device *d, struct hl_error *err)
 {
     memset(d, 0, sizeof *d);
-#if RECORD_HAS_HID
     if (trk_hid_open(path_or_auto, &d->hid, err) != 0)
         return -1;
     const struct trk_device_info *info = trk_hid_info(d->hid);
@@ -60,34 +50,21 @@ static int record_device_open(const char *path_or_auto, struct record_device *d,
         return -1;
     }
     return 0;
-#else
-    return hl_fail(err, "%s: live tracker input (trk_hid) is not built into this program yet",
-                   path_or_auto ? path_or_auto : "auto");
-#endif
 }
 
 /* One report: its length, 0 on timeout, −1 with err when the device is gone. Sends keep-alives. */
 static int record_device_read(struct record_device *d, uint8_t *buf, size_t cap, int64_t *host_ns,
                               struct hl_error *err)
 {
-#if RECORD_HAS_HID
     if (trk_hid_keepalive(d->hid, hl_clock_now_ns(), err) < 0)
         return -1;
     return trk_hid_read(d->hid, buf, cap < d->report_size ? cap : d->report_size, 100, host_ns, err);
-#else
-    (void)d, (void)buf, (void)cap, (void)host_ns;
-    return hl_fail(err, "no device");
-#endif
 }
 
 static void record_device_close(struct record_device *d)
 {
-#if RECORD_HAS_HID
     trk_hid_close(d->hid);
     d->hid = NULL;
-#else
-    (void)d;
-#endif
 }
 
 /* ---- the command ----------------------------------------------------------------------------- */

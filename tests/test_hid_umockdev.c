@@ -4,7 +4,8 @@
  * node answers no ioctl (hidraw2). Reports come from the existing encoder at a constant 90 deg/s yaw,
  * so the fused heading is known. Covered: discovery with strings, interface and an unopenable node
  * explained; the live source streaming and predicting; unplug → LOST with a reason and a frozen
- * pose; replug under a new node name → reopened, OK, poses resume; clean stop. */
+ * pose; replug under a new node name → reopened, OK, poses resume; clean stop; and `hmdlod record`
+ * on the replugged node, stopped by SIGINT, writing every report it was sent. */
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -12,6 +13,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -196,6 +199,68 @@ static void test_enumerate(void)
     printf("open /dev/hidraw9: %s\n", err.msg);
 }
 
+/* `hmdlod record` as a user runs it (program from HMDLOD_BIN; the umockdev preload and testbed
+ * reach the child through the environment): it opens the node, drains what was queued, records
+ * every report until SIGINT, and leaves a complete recording with the device's identity. */
+static void test_record_command(int master)
+{
+    const char *bin = getenv("HMDLOD_BIN");
+    if (!bin || master < 0) {
+        printf("skip: HMDLOD_BIN unset; the record command was not run\n");
+        return;
+    }
+    char dir[] = "/tmp/hmdlod-record-XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(!"mkdtemp");
+        return;
+    }
+    char path[256];
+    snprintf(path, sizeof path, "%s/session.raw", dir);
+    pid_t child = fork();
+    if (child == 0) {
+        execl(bin, bin, "record", "--device", "/dev/hidraw1", "--out", path, "--seconds", "20", (char *)NULL);
+        _exit(127);
+    }
+    CHECK(child > 0);
+    /* The recording exists once the device is open and drained; only then are reports sent. */
+    double t0 = hl_clock_now_s();
+    while (access(path, F_OK) != 0 && hl_clock_now_s() < t0 + WAIT_S)
+        sleep_ms(5);
+    sleep_ms(50);
+    struct trk_encoder enc;
+    trk_encoder_init(&enc, TRK_DEVICE_RIFT_DK2, NULL);
+    int64_t device_ns = 5000000;
+    const int sent = 250;
+    CHECK(feed(master, &enc, &device_ns, sent) == 0);
+    sleep_ms(300);
+    kill(child, SIGINT);
+    int status = 0;
+    CHECK(waitpid(child, &status, 0) == child);
+    CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+
+    struct hl_error err;
+    struct trk_recording_reader *rd = trk_recording_open(path, &err);
+    CHECK(rd != NULL);
+    if (rd) {
+        CHECK(rd->info.vid == 0x2833 && rd->info.pid == 0x0021 && rd->info.kind == TRK_DEVICE_RIFT_DK2);
+        uint8_t report[1024];
+        size_t len = 0;
+        int64_t host_ns = 0;
+        int records = 0, bad = 0, rc;
+        while ((rc = trk_recording_next(rd, &host_ns, report, sizeof report, &len, &err)) == 1) {
+            ++records;
+            bad += len != 64 || report[0] != 0x0B;
+        }
+        CHECK(rc == 0 && !rd->torn_tail);
+        CHECK(records == sent && bad == 0);
+        printf("record: %d of %d reports recorded, stopped by SIGINT, exit %d\n", records, sent,
+               WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+        trk_recording_reader_close(rd);
+    }
+    unlink(path);
+    rmdir(dir);
+}
+
 int main(void)
 {
     /* umockdev_in_mock_environment() says no until a testbed exists; the preload is what matters. */
@@ -358,6 +423,7 @@ int main(void)
     CHECK(src->health(src, reason, sizeof reason) == TRK_HEALTH_LOST);
     CHECK(src->pose_at(src, hl_clock_now_s(), &p1, &err) == 0);
     trk_source_destroy(src);
+    test_record_command(master1);
     g_object_unref(tb);
     return tu_finish("test_hid_umockdev");
 }

@@ -71,8 +71,47 @@ static int speed_band(double speed_degps)
     return band;
 }
 
+int rpl_accumulator_init(struct rpl_accumulator *a, long frames, struct hl_error *err)
+{
+    memset(a, 0, sizeof *a);
+    a->capacity = frames > 0 ? frames : 1;
+    a->frame_ms = malloc((size_t)a->capacity * sizeof(double));
+    a->draw_ms = malloc((size_t)a->capacity * sizeof(double));
+    if (!a->frame_ms || !a->draw_ms) {
+        rpl_accumulator_free(a);
+        return hl_fail(err, "out of memory for %ld frame times", frames);
+    }
+    return 0;
+}
+
+void rpl_accumulator_free(struct rpl_accumulator *a)
+{
+    free(a->frame_ms);
+    free(a->draw_ms);
+    a->frame_ms = a->draw_ms = NULL;
+}
+
+static int compare_double(const void *x, const void *y)
+{
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+/* Nearest-rank percentile of a sorted array: the smallest value with at least p of them at or below. */
+static double percentile(const double *sorted, long n, double p)
+{
+    if (n <= 0)
+        return 0.0;
+    long rank = (long)ceil(p * (double)n);
+    return sorted[rank < 1 ? 0 : rank > n ? n - 1 : rank - 1];
+}
+
 void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
 {
+    if (a->n < a->capacity) {
+        a->frame_ms[a->n] = r->frame_ms;
+        a->draw_ms[a->n] = r->draw_ms;
+    }
     int band = speed_band(r->head_speed_degps);
     a->band_frames[band]++;
     a->band_triangles[band] += (double)r->triangles_per_eye;
@@ -92,9 +131,16 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
     a->deadlines_met += r->deadline_met;
 }
 
-void rpl_accumulator_finish(const struct rpl_accumulator *a, struct rpl_summary *s)
+void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
 {
     double n = a->n > 0 ? (double)a->n : 1.0;
+    long stored = a->n < a->capacity ? a->n : a->capacity;
+    qsort(a->frame_ms, (size_t)stored, sizeof(double), compare_double);
+    qsort(a->draw_ms, (size_t)stored, sizeof(double), compare_double);
+    s->frame_ms_median = percentile(a->frame_ms, stored, 0.5);
+    s->frame_ms_p95 = percentile(a->frame_ms, stored, 0.95);
+    s->frame_ms_p99 = percentile(a->frame_ms, stored, 0.99);
+    s->draw_ms_median = percentile(a->draw_ms, stored, 0.5);
     s->frames = a->n;
     s->frame_ms_mean = a->frame_mean;
     s->frame_ms_max = a->frame_max;
@@ -126,6 +172,10 @@ int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddNumberToObject(root, "frame_ms_mean", s->frame_ms_mean);
     cJSON_AddNumberToObject(root, "frame_ms_max", s->frame_ms_max);
     cJSON_AddNumberToObject(root, "frame_ms_stddev", s->frame_ms_stddev);
+    cJSON_AddNumberToObject(root, "frame_ms_median", s->frame_ms_median);
+    cJSON_AddNumberToObject(root, "frame_ms_p95", s->frame_ms_p95);
+    cJSON_AddNumberToObject(root, "frame_ms_p99", s->frame_ms_p99);
+    cJSON_AddNumberToObject(root, "draw_ms_median", s->draw_ms_median);
     cJSON_AddNumberToObject(root, "draw_ms_mean", s->draw_ms_mean);
     cJSON_AddNumberToObject(root, "acuity_us_mean", s->acuity_us_mean);
     cJSON_AddNumberToObject(root, "select_us_mean", s->select_us_mean);
@@ -174,7 +224,10 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
     fprintf(f, "  %-34s %10.3f ms (display period)\n", "budget", s->budget_ms);
     fprintf(f, "  %-34s %10.3f / %.3f / %.3f ms\n", "frame time mean / max / stddev", s->frame_ms_mean,
             s->frame_ms_max, s->frame_ms_stddev);
-    fprintf(f, "  %-34s %10.3f ms\n", "draw time mean (both eyes)", s->draw_ms_mean);
+    fprintf(f, "  %-34s %10.3f / %.3f / %.3f ms\n", "frame time median / p95 / p99", s->frame_ms_median,
+            s->frame_ms_p95, s->frame_ms_p99);
+    fprintf(f, "  %-34s %10.3f / %.3f ms\n", "draw time mean / median (both eyes)", s->draw_ms_mean,
+            s->draw_ms_median);
     fprintf(f, "  %-34s %10.1f us\n", "cull + viewing geometry mean", s->acuity_us_mean);
     fprintf(f, "  %-34s %10.1f us\n", "selection mean", s->select_us_mean);
     fprintf(f, "  %-34s %10.1f of %.1f visible\n", "acuity model evaluations / frame", s->acuity_evaluations_mean,

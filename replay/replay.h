@@ -95,7 +95,8 @@ extern const double rpl_speed_band_lower_degps[RPL_SPEED_BAND_COUNT];
 struct rpl_summary {
     long frames;
     double frame_ms_mean, frame_ms_max, frame_ms_stddev;
-    double draw_ms_mean, acuity_us_mean, select_us_mean;
+    double frame_ms_median, frame_ms_p95, frame_ms_p99; /* nearest-rank percentiles */
+    double draw_ms_mean, draw_ms_median, acuity_us_mean, select_us_mean;
     double triangles_per_eye_mean;
     double triangles_relative_to_none; /* mean triangles / mean finest-LOD triangles of the same frames */
     double deadline_met_fraction;

@@ -155,6 +155,8 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     memset(summary, 0, sizeof *summary);
     struct rpl_output out;
     memset(&out, 0, sizeof out);
+    struct rpl_accumulator acc;
+    memset(&acc, 0, sizeof acc);
     uint8_t *rgba = NULL;
     int rc = -1;
 
@@ -174,8 +176,8 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     if (rpl_output_open(&out, o->out_dir, s.max_lods, err) != 0)
         goto done;
 
-    struct rpl_accumulator acc;
-    memset(&acc, 0, sizeof acc);
+    if (rpl_accumulator_init(&acc, frames, err) != 0)
+        goto done;
     struct hl_progress progress;
     hl_progress_begin(&progress, "replay", (uint64_t)frames);
     for (long f = 0; f < frames; ++f) {
@@ -204,6 +206,7 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     if (rc == 0 && !o->quiet)
         rpl_summary_print(stdout, summary);
 done:
+    rpl_accumulator_free(&acc);
     rpl_output_abort(&out);
     free(rgba);
     session_close(&s);

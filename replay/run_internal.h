@@ -66,12 +66,18 @@ struct rpl_accumulator {
     double draw_sum, acuity_sum, select_sum, evals_sum, visible_sum;
     double triangles_sum, finest_sum;
     long deadlines_met;
-    /* Per head-speed band (RPL_SPEED_BANDS_DEGPS): what share of the finest triangles was drawn,
+    /* Per head-speed band (rpl_speed_band_lower_degps): what share of the finest triangles was drawn,
      * so the velocity term's effect shows in one run. */
     long band_frames[RPL_SPEED_BAND_COUNT];
     double band_triangles[RPL_SPEED_BAND_COUNT], band_finest[RPL_SPEED_BAND_COUNT];
+    /* Every frame's time and draw time, for percentiles; sized once for the run (capacity). */
+    double *frame_ms, *draw_ms;
+    long capacity;
 };
+int rpl_accumulator_init(struct rpl_accumulator *a, long frames, struct hl_error *err);
 void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r);
-void rpl_accumulator_finish(const struct rpl_accumulator *a, struct rpl_summary *s);
+/* Fills the summary; sorts the stored times in place (call once, at the end). */
+void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s);
+void rpl_accumulator_free(struct rpl_accumulator *a);
 
 #endif

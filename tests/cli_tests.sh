@@ -112,5 +112,10 @@ expect_error "replay --raw and --trace" "exclude each other" -- \
 expect_error "replay bad --raw" "short.raw: byte 10" -- "$bin" replay --raw "$tmp/short.raw" --out "$tmp/rawbad"
 [ ! -e "$tmp/rawbad/frames.csv" ] || fail "a failed replay --raw left frames.csv"
 
+# bench replay: a short run of both selectors prints the none/reddy ratio row; a bad count is refused.
+expect_ok "bench replay --quick" "\| \*\*none/reddy\*\* \| \| \*\*×[0-9.]+\*\*" -- \
+  "$bin" bench replay --quick --frames 20 --render-scale 0.25
+expect_error "bench replay bad --frames" "--frames: 'x' is not a whole number" -- "$bin" bench replay --frames x
+
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

@@ -1,0 +1,36 @@
+/* Internal to app/: what every `hmdlod bench` sub-bench shares (app/bench_context.c). A bench prints
+ * Markdown through bench_emit so that --results can store exactly what the terminal showed. */
+#ifndef HMDLOD_APP_BENCH_H
+#define HMDLOD_APP_BENCH_H
+
+#include <stddef.h>
+
+/* One sub-bench: argv[0] is its name; full_argc/full_argv start at "bench" (for the context). */
+int bench_tracking(int argc, char **argv, int full_argc, char **full_argv); /* app/bench_tracking.c */
+int bench_replay(int argc, char **argv, int full_argc, char **full_argv);   /* app/bench_replay.c */
+
+/* printf to stdout, and to the results copy while one is open. */
+void bench_emit(const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+
+/* Starts keeping a copy of what bench_emit prints; 0, or −1 when out of memory. */
+int bench_copy_begin(void);
+/* Ends the copy. When rc is 0, stores it as the section `heading` of the file `results` and says so
+ * on stderr prefixed by `who` ("hmdlod bench tracking"). Returns rc, or 1 when writing failed. */
+int bench_copy_finish(const char *results, const char *heading, const char *who, int rc);
+
+/* The context lines: command, machine (CPU, cores), commit, date, and the GL renderer when the
+ * bench renders (renderer NULL: no such line). */
+void bench_print_context(int full_argc, char **full_argv, const char *renderer);
+
+/* The shared data folder: $HMDLOD_SHARED, else ../shared, else next to the executable's checkout.
+ * 0 and its path, or −1 (out holds the path that was looked for). */
+int bench_find_shared(char *out, size_t size);
+
+/* Replaces (or appends) the section starting at `heading` in the Markdown file at path. */
+int bench_write_results_section(const char *path, const char *heading, const char *body);
+
+#endif

@@ -137,6 +137,9 @@ static void test_rift_hand(void)
     memcpy(r + 24, b, 8);     /* slot 1 accel */
     memcpy(r + 32, a, 8);     /* slot 1 gyro */
     memcpy(r + 40, a, 8);     /* slot 2: not valid with N = 2 */
+    /* Magnetometer [56..61], little-endian i16: −1234, 2500, −32768 → −0.1234, 0.25, −3.2768 gauss. */
+    static const uint8_t mag1[6] = {0x2E, 0xFB, 0xC4, 0x09, 0x00, 0x80};
+    memcpy(r + 56, mag1, 6);
     struct trk_rift_parser p;
     trk_rift_parser_init(&p, 0);
     struct trk_imu_sample s[TRK_REPORT_MAX_SAMPLES];
@@ -147,6 +150,9 @@ static void test_rift_hand(void)
     CHECK_VEC(s[1].accel_mps2, hl_v3(9.8066, -1.2345, 0), 1e-12);
     CHECK_VEC(s[1].gyro_radps, hl_v3(-1e-4, 1e-4, -104.8576), 1e-12);
     CHECK(s[0].has_gyro && s[0].has_accel && !s[0].has_orientation);
+    /* One reading per report, on the newest sample only. */
+    CHECK(!s[0].has_mag && s[1].has_mag);
+    CHECK_VEC(s[1].mag_gauss, hl_v3(-0.1234, 0.25, -3.2768), 1e-12);
     /* Padded 64-byte variant is accepted; the same timestamp again is a duplicate. */
     uint8_t r64[64];
     memset(r64, 0, sizeof r64);
@@ -166,6 +172,15 @@ static void test_rift_hand(void)
     trk_rift_parser_init(&q, 1);
     CHECK(trk_rift_parse(&q, d, sizeof d, s, 3, &err) == 1);
     CHECK(s[0].device_time_ns == 0x12345678ll * 1000);
+    CHECK(!s[0].has_mag); /* [44..49] all zero: no reading */
+    /* DK2 magnetometer [44..49]: −4800, 1, −1 → −0.48, 0.0001, −0.0001 gauss. */
+    static const uint8_t mag2[6] = {0x40, 0xED, 0x01, 0x00, 0xFF, 0xFF};
+    memcpy(d + 44, mag2, 6);
+    d[8] = 0x79; /* 1 µs later: a new sample */
+    CHECK(trk_rift_parse(&q, d, sizeof d, s, 3, &err) == 1);
+    CHECK(s[0].has_mag);
+    CHECK_VEC(s[0].mag_gauss, hl_v3(-0.48, 1e-4, -1e-4), 1e-12);
+    d[8] = 0x78;
     CHECK_VEC(s[0].accel_mps2, hl_v3(9.8066, -1.2345, 0), 1e-12);
     CHECK_VEC(s[0].gyro_radps, hl_v3(-1e-4, 1e-4, -104.8576), 1e-12);
     /* N = 5 on a DK2: 3 lost, two slots delivered 1 ms apart. */
@@ -388,6 +403,11 @@ static struct trk_imu_sample random_sample(const struct dev *d, int64_t t_ns)
         s.has_accel = 0;
         s.has_orientation = 1;
     }
+    if (d->kind == TRK_DEVICE_RIFT_DK1 || d->kind == TRK_DEVICE_RIFT_DK2 || d->kind == TRK_DEVICE_RIFT_CV1) {
+        /* ±3 gauss of the ±3.2767 range; 0.5 gauss on x keeps the triple off all-zero ("none"). */
+        s.mag_gauss = hl_v3(0.5 + rng_uniform(-2.5, 2.5), rng_uniform(-3, 3), rng_uniform(-3, 3));
+        s.has_mag = 1;
+    }
     return s;
 }
 
@@ -435,6 +455,12 @@ static void round_trip(const struct dev *d, const struct trk_encoder_options *op
                            fabs(out[k].accel_mps2.z - e->accel_mps2.z) > at) {
                     ++bad_values;
                 }
+                /* Rift magnetometer: one per report, on its newest sample, within half an LSB. */
+                if (e->has_mag != out[k].has_mag ||
+                    (e->has_mag && (fabs(out[k].mag_gauss.x - e->mag_gauss.x) > 0.5000001e-4 ||
+                                    fabs(out[k].mag_gauss.y - e->mag_gauss.y) > 0.5000001e-4 ||
+                                    fabs(out[k].mag_gauss.z - e->mag_gauss.z) > 0.5000001e-4)))
+                    ++bad_values;
                 if (got > 0 && d->kind != TRK_DEVICE_HDK) {
                     int64_t dt = out[k].device_time_ns - prev_parsed;
                     int64_t tick = (d->period_num + d->period_den - 1) / d->period_den;

@@ -104,6 +104,16 @@ int trk_rift_parse(struct trk_rift_parser *p, const uint8_t *report, size_t leng
         p->last_time_ns = t;
         p->has_last = 1;
     }
+    /* One magnetometer reading per report (§2b), taken with the newest slot: attach it there. */
+    if (emitted > 0) {
+        const uint8_t *mag = report + (p->dk2 ? 44 : 56);
+        int16_t mx = trk_rd_i16(mag), my = trk_rd_i16(mag + 2), mz = trk_rd_i16(mag + 4);
+        if (mx || my || mz) {
+            struct trk_imu_sample *s = &out[emitted - 1];
+            s->mag_gauss = hl_v3(mx * TRK_RIFT_MAG_LSB_GAUSS, my * TRK_RIFT_MAG_LSB_GAUSS, mz * TRK_RIFT_MAG_LSB_GAUSS);
+            s->has_mag = 1;
+        }
+    }
     p->n.samples += (uint64_t)emitted;
     return emitted;
 }
@@ -181,6 +191,13 @@ int trk_rift_encode(int dk2, const struct trk_imu_sample *samples, int count, in
                         trk_quantize(s->gyro_radps.z, TRK_RIFT_LSB, -0x100000, 0xFFFFF)};
         trk_pack_21bit_triple(a, slot0 + 16 * k);
         trk_pack_21bit_triple(g, slot0 + 16 * k + 8);
+    }
+    if (count > 0 && samples[count - 1].has_mag) {
+        const hl_vec3d m = samples[count - 1].mag_gauss;
+        uint8_t *mag = out + (dk2 ? 44 : 56);
+        trk_wr_u16(mag, (uint16_t)(int16_t)trk_quantize(m.x, TRK_RIFT_MAG_LSB_GAUSS, -32768, 32767));
+        trk_wr_u16(mag + 2, (uint16_t)(int16_t)trk_quantize(m.y, TRK_RIFT_MAG_LSB_GAUSS, -32768, 32767));
+        trk_wr_u16(mag + 4, (uint16_t)(int16_t)trk_quantize(m.z, TRK_RIFT_MAG_LSB_GAUSS, -32768, 32767));
     }
     return (int)size;
 }

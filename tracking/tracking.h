@@ -63,7 +63,12 @@ struct trk_imu_sample {
     hl_vec3d gyro_radps;   /* body-frame angular velocity */
     hl_vec3d accel_mps2;   /* body-frame specific force (reads +9.81 on +Y when upright and still) */
     hl_quatd orientation;  /* on-device fused body-to-world orientation (HDK only), w x y z */
-    int has_gyro, has_accel, has_orientation;
+    /* Magnetometer (Rift DK1/DK2/CV1 only, DEVICES.md §2b): the field in gauss (i16 × 1e-4, the
+     * LibOVR convention), body frame with the gyro's axes (+X right, +Y up, +Z back), raw: the
+     * hard-iron offset is still in it. One reading per report, attached to the report's newest
+     * sample; the other samples of the report have has_mag = 0. */
+    hl_vec3d mag_gauss;
+    int has_gyro, has_accel, has_orientation, has_mag;
 };
 
 /* Counters every parser keeps. reports + rejected = parse calls; samples = sum of returns. `lost`:
@@ -115,7 +120,10 @@ struct trk_rift_parser {
 void trk_rift_parser_init(struct trk_rift_parser *p, int dk2);
 /* DK1 accepts 62 or 64 bytes (some stacks pad input reports), DK2/CV1 exactly 64. Needs
  * max_out ≥ the slot count (3 DK1, 2 DK2). N > slots ⇒ N − slots counted lost; the running
- * sample count and magnetometer fields are not read. */
+ * sample count is not read. The magnetometer (DK1 [56..61], DK2/CV1 [44..49], i16 × 1e-4 gauss)
+ * goes to the newest sample emitted (none emitted: the reading is dropped); an all-zero triple is
+ * taken as "no reading" (has_mag = 0): the Earth's field never reads exactly zero on all axes. */
+#define TRK_RIFT_MAG_LSB_GAUSS 1e-4
 int trk_rift_parse(struct trk_rift_parser *p, const uint8_t *report, size_t length,
                    struct trk_imu_sample *out, int max_out, struct hl_error *err);
 
@@ -227,7 +235,8 @@ const struct trk_device_info *trk_device_find(uint16_t vid, uint16_t pid, int in
  * Inputs are body-frame samples with device_time_ns; values round to the nearest LSB and clamp to
  * the device range; the counter is time/tick mod 2^bits. Each returns the report length or −1. */
 /* Rift: samples[0..count) chronological, count ≤ 3 (DK1) or 2 (DK2); n_field is written as N
- * (≥ count; more simulates lost samples). The timestamp is the newest sample's. */
+ * (≥ count; more simulates lost samples). The timestamp is the newest sample's, and so is the
+ * magnetometer (zeros when the newest sample has none; ±3.2767 gauss range). */
 int trk_rift_encode(int dk2, const struct trk_imu_sample *samples, int count, int n_field,
                     uint8_t *out, size_t out_size, struct hl_error *err);
 int trk_psvr_encode(const struct trk_imu_sample samples[2], uint8_t sequence, uint8_t *out, size_t out_size,

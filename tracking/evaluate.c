@@ -57,6 +57,12 @@ void trk_evaluate_options_default(struct trk_evaluate_options *opt)
     opt->hdk_error_tau_s = 1.0;
     opt->hdk_gyro_noise_degps_rthz = 0.01;
     opt->seed = 1;
+    opt->rift_magnetometer = 1;
+    opt->mag_field_gauss = 0.48;
+    opt->mag_dip_deg = 60.0;
+    opt->mag_noise_gauss = 0.002;
+    opt->mag_hard_iron_max_gauss = 0.25;
+    opt->yaw_skip_s = 5.0;
 }
 
 const char *trk_evaluate_device_name(enum trk_device_kind kind)
@@ -132,6 +138,10 @@ static uint64_t ev_rand_u64(uint64_t *state)
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return z ^ (z >> 31);
 }
+static double ev_uniform(uint64_t *state) /* [0, 1) */
+{
+    return (double)(ev_rand_u64(state) >> 11) / 9007199254740992.0;
+}
 static double ev_randn(uint64_t *state)
 {
     double u1 = ((double)(ev_rand_u64(state) >> 11) + 0.5) / 9007199254740992.0;
@@ -179,6 +189,8 @@ struct ev_gen {
     size_t count, cap;
     uint64_t samples, clipped;
     double range_radps;
+    int has_mag;                /* Rift reports carry a synthesized magnetometer */
+    hl_vec3d hard_iron_gauss;   /* its true offset */
 };
 
 static int gen_push(struct ev_gen *g, const struct trk_imu_sample *s, struct hl_error *err)
@@ -267,11 +279,33 @@ static int generate(enum trk_device_kind kind, const struct ev_truth *tr, const 
                       a * e.z + drive * ev_randn(&rng));
         }
     } else {
+        int rift = kind == TRK_DEVICE_RIFT_DK1 || kind == TRK_DEVICE_RIFT_DK2 || kind == TRK_DEVICE_RIFT_CV1;
+        int mag = rift && opt->rift_magnetometer;
+        uint64_t rng = (opt->seed ? opt->seed : 1) ^ 0x6D61676E6574ull; /* independent of the HDK draws */
+        hl_vec3d field = hl_v3(0, 0, 0);
+        if (mag) {
+            /* World field: ‖B‖ with the dip below the horizon, heading drawn (no meaning: the
+             * fusion's reference is relative). Offset: each axis uniform in ±max. */
+            double dip = opt->mag_dip_deg * HL_RAD_PER_DEG, head = 2.0 * HL_PI * ev_uniform(&rng);
+            field = hl_v3_scale(hl_v3(cos(dip) * cos(head), -sin(dip), -cos(dip) * sin(head)), opt->mag_field_gauss);
+            g->hard_iron_gauss = hl_v3(opt->mag_hard_iron_max_gauss * (2.0 * ev_uniform(&rng) - 1.0),
+                                       opt->mag_hard_iron_max_gauss * (2.0 * ev_uniform(&rng) - 1.0),
+                                       opt->mag_hard_iron_max_gauss * (2.0 * ev_uniform(&rng) - 1.0));
+        }
         for (size_t k = 0; k < n; ++k) {
             sample_imu(&s, (int64_t)k * dt_ns, rows[k].gyro_radps, rows[k].accel_mps2);
+            if (mag) {
+                /* Body reading R(q)ᵀB + b + noise; one per report at the native 1 sample a report. */
+                hl_vec3d mb = hl_q_rotate(hl_q_conj(rows[k].truth), field);
+                s.mag_gauss = hl_v3(mb.x + g->hard_iron_gauss.x + opt->mag_noise_gauss * ev_randn(&rng),
+                                    mb.y + g->hard_iron_gauss.y + opt->mag_noise_gauss * ev_randn(&rng),
+                                    mb.z + g->hard_iron_gauss.z + opt->mag_noise_gauss * ev_randn(&rng));
+                s.has_mag = 1;
+            }
             if (gen_push(g, &s, err) < 0)
                 return -1;
         }
+        g->has_mag = mag;
     }
     return 0;
 }
@@ -303,6 +337,57 @@ static double quantile_sorted(const double *v, size_t n, double p)
         return 0.0;
     size_t i = (size_t)ceil(p * (double)n);
     return v[i > 0 ? (i <= n ? i - 1 : n - 1) : 0];
+}
+
+/* The same reports with the fusion ignoring the magnetometer (today's figures, for comparison):
+ * tilt RMS, yaw drift slope, yaw RMS/max after yaw_skip_s. */
+static void nomag_pass(enum trk_device_kind kind, const struct trk_evaluate_options *opt, const struct ev_gen *gen,
+                       const struct ev_truth *tr, hl_quatd warm, struct trk_evaluate_result *res)
+{
+    struct trk_fusion_config cfg;
+    if (opt->fusion)
+        cfg = *opt->fusion;
+    else
+        trk_fusion_config_default(&cfg);
+    cfg.use_magnetometer = 0;
+    struct trk_stream st;
+    ev_init(&st, kind, &cfg, warm);
+    double tilt2 = 0, prev = 0, st_ = 0, sy = 0, stt = 0, sty = 0, y2 = 0, ymax = 0;
+    uint64_t n = 0, ny = 0;
+    for (size_t i = 0; i < gen->count; ++i) {
+        const struct ev_record *r = &gen->rec[i];
+        if (trk_stream_feed(&st, r->bytes, r->length, r->host_ns, NULL) < 0)
+            continue;
+        hl_quatd est = st.fusion.orientation, truth = truth_at(tr, r->t_s);
+        double te = trk_tilt_error_rad(est, truth), y = trk_yaw_error_rad(est, truth);
+        if (n > 0) {
+            while (y - prev > HL_PI)
+                y -= 2.0 * HL_PI;
+            while (y - prev < -HL_PI)
+                y += 2.0 * HL_PI;
+        }
+        prev = y;
+        tilt2 += te * te;
+        st_ += r->t_s;
+        sy += y;
+        stt += r->t_s * r->t_s;
+        sty += r->t_s * y;
+        ++n;
+        if (r->t_s >= opt->yaw_skip_s) {
+            y2 += y * y;
+            ymax = fabs(y) > ymax ? fabs(y) : ymax;
+            ++ny;
+        }
+    }
+    if (n == 0)
+        return;
+    double N = (double)n, den = stt - st_ * st_ / N;
+    res->nomag_tilt_rms_deg = sqrt(tilt2 / N) * HL_DEG_PER_RAD;
+    res->nomag_yaw_drift_deg_per_min = den > 0 ? (sty - st_ * sy / N) / den * HL_DEG_PER_RAD * 60.0 : 0.0;
+    if (ny > 0) {
+        res->nomag_yaw_rms_deg = sqrt(y2 / (double)ny) * HL_DEG_PER_RAD;
+        res->nomag_yaw_max_deg = ymax * HL_DEG_PER_RAD;
+    }
 }
 
 int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row *rows, size_t n,
@@ -371,11 +456,24 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
     double t_first_s = kind == TRK_DEVICE_PSVR ? 0.5 * tr.dt_s : 0.0;
     hl_quatd warm = truth_at(&tr, t_first_s);
 
+    /* A calibrated headset: the fusion is told the true hard-iron offset. */
+    struct trk_fusion_config cal_cfg;
+    if (gen.has_mag && opt.mag_hard_iron_known) {
+        if (opt.fusion)
+            cal_cfg = *opt.fusion;
+        else
+            trk_fusion_config_default(&cal_cfg);
+        cal_cfg.mag_hard_iron_gauss = gen.hard_iron_gauss;
+        cal_cfg.mag_estimate_hard_iron = 0;
+        opt.fusion = &cal_cfg;
+    }
+
     /* Pass 1: accuracy, and per-report latency (bytes in hand → predicted pose). */
     struct trk_stream st; /* ~1 KB: parser + 9-state filter, plain data */
     ev_init(&st, kind, opt.fusion, warm);
     double tilt2 = 0, tilt_max = 0;
-    double yaw_prev = 0, sum_t = 0, sum_y = 0, sum_tt = 0, sum_ty = 0;
+    double yaw_prev = 0, sum_t = 0, sum_y = 0, sum_tt = 0, sum_ty = 0, yaw2 = 0, yaw_max = 0;
+    uint64_t yaw_n = 0;
     double s2[TRK_EVAL_HORIZONS] = {0}, hs2[TRK_EVAL_HORIZONS] = {0}, a2[TRK_EVAL_HORIZONS] = {0},
            ha2[TRK_EVAL_HORIZONS] = {0};
     uint64_t m[TRK_EVAL_HORIZONS] = {0};
@@ -405,6 +503,11 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
                 y += 2.0 * HL_PI;
         }
         yaw_prev = y;
+        if (r->t_s >= opt.yaw_skip_s) {
+            yaw2 += y * y;
+            yaw_max = fabs(y) > yaw_max ? fabs(y) : yaw_max;
+            ++yaw_n;
+        }
         sum_t += r->t_s;
         sum_y += y;
         sum_tt += r->t_s * r->t_s;
@@ -434,6 +537,23 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
         double den = sum_tt - sum_t * sum_t / N;
         res->yaw_drift_deg_per_min = den > 0 ? (sum_ty - sum_t * sum_y / N) / den * HL_DEG_PER_RAD * 60.0 : 0.0;
     }
+    if (yaw_n > 0) {
+        res->yaw_rms_deg = sqrt(yaw2 / (double)yaw_n) * HL_DEG_PER_RAD;
+        res->yaw_max_deg = yaw_max * HL_DEG_PER_RAD;
+    }
+    res->has_mag = gen.has_mag;
+    res->mag_updates = st.fusion.stats.mag_updates;
+    res->mag_gated = st.fusion.stats.mag_gated_norm + st.fusion.stats.mag_gated_dip +
+                     st.fusion.stats.mag_gated_horizontal;
+    res->hard_iron_error_gauss = -1.0;
+    if (gen.has_mag && st.fusion.mag.hard_iron_ok)
+        res->hard_iron_error_gauss = hl_v3_length(hl_v3_sub(st.fusion.mag.hard_iron_gauss, gen.hard_iron_gauss));
+    res->nomag_tilt_rms_deg = res->tilt_rms_deg;
+    res->nomag_yaw_drift_deg_per_min = res->yaw_drift_deg_per_min;
+    res->nomag_yaw_rms_deg = res->yaw_rms_deg;
+    res->nomag_yaw_max_deg = res->yaw_max_deg;
+    if (gen.has_mag)
+        nomag_pass(kind, &opt, &gen, &tr, warm, res);
     for (int h = 0; h < TRK_EVAL_HORIZONS; ++h) {
         if (m[h] == 0)
             continue;

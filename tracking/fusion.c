@@ -19,7 +19,9 @@
  *   4. gravity update from accel, no dead zone, measurement variance inflated by |‖a‖ − g| and by
  *      the lever-arm terms ω²·r and α·r (the shared streams put the IMU 14 cm from the neck pivot,
  *      adding up to ~1 g in fast turns); the applied tilt correction is bounded per second.
- * Yaw is unobservable without a magnetometer: the filter does not pretend to correct it. */
+ * Yaw is unobservable without a magnetometer: the filter does not pretend to correct it. With one
+ * (Rift DK1/DK2/CV1, DEVICES.md §2b; LibOVR 0.2.3 corrected yaw drift this way, OpenHMD and Monado
+ * do not, §5), trk_fusion_update_mag adds a heading-only measurement, described above it. */
 #include <math.h>
 #include <string.h>
 
@@ -48,6 +50,21 @@ void trk_fusion_config_default(struct trk_fusion_config *cfg)
     cfg->max_dt_s = 0.05;     /* 50 ms: beyond that a gap is a dropout, not a sample period */
     cfg->rest_window_s = 0.25;
     cfg->predict_lpf_s = 0.0; /* measured: the raw ω predicts better (tests/test_fusion.c) */
+    /* Magnetometer: on; it acts only where samples carry readings (Rift). Noise: ≈ 2 mgauss per
+     * axis, the HMC5983 class of the DK2 (its datasheet: ~2 mG at the ±0.88 G range, an assumption
+     * for the DK1/CV1 parts); the 1e-4 gauss LSB adds 0.03 mgauss. Gates: the Earth's field is
+     * 0.25–0.65 gauss, so 0.05 gauss (≈ 10 %) and 5° of dip catch a nearby magnet or steel while
+     * passing noise and tilt-estimate errors (≤ 1°). */
+    cfg->use_magnetometer = 1;
+    cfg->mag_noise_gauss = 0.002;
+    cfg->mag_inflate = 100.0;
+    cfg->mag_max_yaw_rate_radps = 1.0 * HL_RAD_PER_DEG;
+    cfg->mag_norm_gate_gauss = 0.05;
+    cfg->mag_dip_gate_rad = 5.0 * HL_RAD_PER_DEG;
+    cfg->mag_min_horizontal_gauss = 0.05;
+    cfg->mag_reference_window_s = 0.5;
+    cfg->mag_estimate_hard_iron = 1;
+    cfg->mag_fit_sigma_gauss = 0.002;
 }
 
 static void set_prior(struct trk_fusion *f, double tilt_sigma_rad)
@@ -69,6 +86,8 @@ void trk_fusion_init(struct trk_fusion *f, const struct trk_fusion_config *cfg)
         trk_fusion_config_default(&f->cfg);
     f->orientation = hl_q_identity();
     set_prior(f, f->cfg.init_tilt_sigma_rad);
+    f->mag.hard_iron_gauss = f->cfg.mag_hard_iron_gauss;
+    f->mag.hard_iron_ok = !f->cfg.mag_estimate_hard_iron;
 }
 
 static int finite3(hl_vec3d v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
@@ -360,4 +379,283 @@ void trk_fusion_predict(const struct trk_fusion *f, double horizon_s, hl_quatd *
      * (Monado's relation-history extrapolation does the same; OpenHMD does not predict, DEVICES.md
      * §5). Angular acceleration is left out: differentiating the gyro amplifies its noise. */
     *q_out = hl_q_normalize(hl_q_mul(f->orientation, hl_q_exp(hl_v3_scale(f->omega_lp_radps, horizon_s))));
+}
+
+/* ---- magnetometer heading correction ------------------------------------------------------------
+ *
+ * Model: m_body = Rᵀ B + b + noise, B the (unknown, constant) world field, b the hard-iron offset of
+ * the headset (body-fixed: speaker magnets, screws). There is no absolute north, so the reference is
+ * the heading B had at start: B_ref = mean of R(m − b) over the first mag_reference_window_s of
+ * readings. Its sums Σ R m and Σ R are kept, so B_ref is recomputed exactly whenever b improves
+ * (no drift of the reference through refits).
+ *
+ * Hard iron (mag_estimate_hard_iron): an algebraic sphere fit ‖m − b‖² = ρ², linear in (b, ρ² − ‖b‖²),
+ * over a growing set of readings at least 0.01 gauss apart (a still head adds no points), as 4×4
+ * normal equations (no storage per point), with a weak prior (σ 0.5 gauss) at the configured offset.
+ * Solved every 25 new points; used once the offset's σ in the current horizontal plane is below
+ * mag_fit_sigma_gauss (the vertical σ counted at sin²(10°), a typical head tilt). Limits: a head that only turns about one axis leaves b along that axis
+ * undetermined (it then barely matters, until the head tilts, which then determines it); soft iron
+ * (a scaled, skewed ellipsoid) is not modelled; readings disturbed before the fit is in use enter it;
+ * the offset is assumed constant for the session.
+ *
+ * Update: w = R(m − b) in the world; its heading ψ = atan2(−w_z, w_x) (rotation by α about +Y adds
+ * α). Gates: |‖w‖ − ‖B_ref‖| > mag_norm_gate, |dip − dip_ref| > mag_dip_gate (a disturbance), or
+ * horizontal field < mag_min_horizontal. Innovation ψ_ref − ψ(w). Its linearisation in the world
+ * rotation error φ = R δθ is (−w_x w_y/h², 1, −w_y w_z/h²) · φ: heading one-for-one, plus tilt
+ * leaking in through the dip (tan dip ≈ 1.7 at 60°), so the innovation variance accounts for the
+ * tilt uncertainty. The gain is then restricted to the heading (δθ along the body-frame vertical u)
+ * and to the vertical gyro bias (u·δb_g, the component only heading observes), zero on the accel
+ * bias, and scaled down if the heading step would exceed mag_max_yaw_rate·dt. P is updated with the
+ * form valid for any gain, P − K hᵀP − P h Kᵀ + s K Kᵀ, so it stays consistent with what was applied.
+ * Per reading: ~200 flops, plus a 4×4 solve every 25 fit points. */
+
+#define MAG_FIT_SPACING_GAUSS 0.01
+#define MAG_FIT_EVERY 25
+#define MAG_FIT_MIN_POINTS 200
+#define MAG_FIT_PRIOR_GAUSS 0.5
+
+static double wrap_pi(double a)
+{
+    while (a > HL_PI)
+        a -= 2.0 * HL_PI;
+    while (a <= -HL_PI)
+        a += 2.0 * HL_PI;
+    return a;
+}
+
+/* Recomputes the reference field from the window sums and the offset in use. */
+static void mag_make_reference(struct trk_fusion_mag *m)
+{
+    hl_vec3d b = m->hard_iron_gauss;
+    const double (*S)[3] = m->ref_sum_R;
+    hl_vec3d Sb = hl_v3(S[0][0] * b.x + S[0][1] * b.y + S[0][2] * b.z, S[1][0] * b.x + S[1][1] * b.y + S[1][2] * b.z,
+                        S[2][0] * b.x + S[2][1] * b.y + S[2][2] * b.z);
+    hl_vec3d B = hl_v3_scale(hl_v3_sub(m->ref_sum_Rm, Sb), 1.0 / m->ref_n);
+    double h = sqrt(B.x * B.x + B.z * B.z);
+    m->ref_norm_gauss = hl_v3_length(B);
+    m->ref_heading_rad = atan2(-B.z, B.x);
+    m->ref_dip_rad = atan2(-B.y, h); /* positive: field points below the horizon (north hemisphere) */
+    m->has_ref = 1;
+}
+
+/* Solves the sphere fit; returns 1 when the offset changed. Gauss–Jordan on the 4×4 system with the
+ * inverse alongside (for the offset's covariance). */
+static int mag_fit_solve(struct trk_fusion *f, hl_vec3d up_body)
+{
+    struct trk_fusion_mag *m = &f->mag;
+    double A[4][8];
+    hl_vec3d prior = hl_v3_sub(f->cfg.mag_hard_iron_gauss, m->fit_origin);
+    const double pr[3] = {prior.x, prior.y, prior.z};
+    /* Rows are (2d, 1) with σ_y ≈ 2ρσ_m on d·d: the prior's weight in the same units. */
+    double sy = 2.0 * 0.5 * (f->cfg.mag_noise_gauss > 1e-4 ? f->cfg.mag_noise_gauss : 1e-4);
+    double lambda = (sy / MAG_FIT_PRIOR_GAUSS) * (sy / MAG_FIT_PRIOR_GAUSS);
+    double rhs[4];
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j) {
+            A[i][j] = m->fit_ata[i][j];
+            A[i][4 + j] = i == j ? 1.0 : 0.0;
+        }
+        rhs[i] = m->fit_aty[i];
+        if (i < 3) {
+            A[i][i] += lambda;
+            rhs[i] += lambda * pr[i];
+        }
+    }
+    for (int c = 0; c < 4; ++c) {
+        int piv = c;
+        for (int r = c + 1; r < 4; ++r)
+            if (fabs(A[r][c]) > fabs(A[piv][c]))
+                piv = r;
+        if (!(fabs(A[piv][c]) > 1e-300))
+            return 0;
+        if (piv != c)
+            for (int j = 0; j < 8; ++j) {
+                double t = A[c][j];
+                A[c][j] = A[piv][j];
+                A[piv][j] = t;
+            }
+        double inv = 1.0 / A[c][c];
+        for (int j = 0; j < 8; ++j)
+            A[c][j] *= inv;
+        for (int r = 0; r < 4; ++r) {
+            if (r == c)
+                continue;
+            double k = A[r][c];
+            for (int j = 0; j < 8; ++j)
+                A[r][j] -= k * A[c][j];
+        }
+    }
+    double x[4];
+    for (int i = 0; i < 4; ++i)
+        x[i] = A[i][4] * rhs[0] + A[i][5] * rhs[1] + A[i][6] * rhs[2] + A[i][7] * rhs[3];
+    hl_vec3d e = hl_v3(x[0], x[1], x[2]);
+    double rho2 = x[3] + hl_v3_dot(e, e);
+    if (!(rho2 > 0) || !finite3(e))
+        return 0;
+    f->stats.mag_fits++;
+    m->fit_radius_gauss = sqrt(rho2);
+    /* Offset covariance σ_y²·(AᵀA)⁻¹ (σ_y inflated ×3 for unmodelled soft iron and disturbances);
+     * its horizontal part: trace − uᵀCu. */
+    double s2 = (2.0 * m->fit_radius_gauss * f->cfg.mag_noise_gauss * 3.0);
+    s2 *= s2;
+    const double u[3] = {up_body.x, up_body.y, up_body.z};
+    double tr = 0, uCu = 0;
+    for (int i = 0; i < 3; ++i) {
+        tr += A[i][4 + i];
+        for (int j = 0; j < 3; ++j)
+            uCu += u[i] * A[i][4 + j] * u[j];
+    }
+    /* The vertical part matters too once the head tilts (it leaks into the horizontal by sin tilt):
+     * counted with a typical 10° of head tilt. */
+    double var_h = s2 * ((tr - uCu) + 0.03 * uCu);
+    m->fit_sigma_gauss = sqrt(var_h > 0 ? var_h : 0);
+    if (m->fit_points < MAG_FIT_MIN_POINTS || m->fit_sigma_gauss > f->cfg.mag_fit_sigma_gauss)
+        return 0;
+    m->hard_iron_gauss = hl_v3_add(m->fit_origin, e);
+    m->hard_iron_ok = 1;
+    return 1;
+}
+
+static void mag_fit_add(struct trk_fusion_mag *m, hl_vec3d mag)
+{
+    if (m->fit_points == 0) {
+        m->fit_origin = mag;
+    } else {
+        hl_vec3d step = hl_v3_sub(mag, m->fit_last);
+        if (hl_v3_dot(step, step) < MAG_FIT_SPACING_GAUSS * MAG_FIT_SPACING_GAUSS)
+            return;
+    }
+    m->fit_last = mag;
+    hl_vec3d d = hl_v3_sub(mag, m->fit_origin);
+    const double a[4] = {2.0 * d.x, 2.0 * d.y, 2.0 * d.z, 1.0};
+    double y = hl_v3_dot(d, d);
+    for (int i = 0; i < 4; ++i) {
+        for (int j = 0; j < 4; ++j)
+            m->fit_ata[i][j] += a[i] * a[j];
+        m->fit_aty[i] += a[i] * y;
+    }
+    m->fit_points++;
+}
+
+int trk_fusion_update_mag(struct trk_fusion *f, double t_s, hl_vec3d mag_gauss)
+{
+    struct trk_fusion_mag *m = &f->mag;
+    f->stats.mag_readings++;
+    if (!isfinite(t_s) || !finite3(mag_gauss) || !(hl_v3_length(mag_gauss) > 1e-6) || !f->has_orientation) {
+        f->stats.mag_rejected_nonfinite++; /* never reaches the state, the fit or the reference */
+        return -1;
+    }
+    if (!f->cfg.use_magnetometer) {
+        f->stats.mag_waiting++;
+        return 1;
+    }
+    double dt = m->has_time ? t_s - m->last_time_s : 0.0;
+    if (m->has_time && !(dt > 0))
+        dt = 0.0;
+    if (dt > f->cfg.max_dt_s)
+        dt = f->cfg.max_dt_s;
+    m->last_time_s = t_s;
+    m->has_time = 1;
+
+    double R[3][3];
+    quat_to_mat(f->orientation, R);
+    hl_vec3d up_b = hl_v3(R[1][0], R[1][1], R[1][2]); /* world +Y in the body: row 1 of R */
+
+    /* Reference window: sums of R m and R (usable with any later offset). */
+    if (!m->ref_started) {
+        m->ref_started = 1;
+        m->ref_start_s = t_s;
+    }
+    int in_window = t_s - m->ref_start_s <= f->cfg.mag_reference_window_s;
+    if (in_window) {
+        hl_vec3d Rm = hl_q_rotate(f->orientation, mag_gauss);
+        m->ref_sum_Rm = hl_v3_add(m->ref_sum_Rm, Rm);
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                m->ref_sum_R[i][j] += R[i][j];
+        m->ref_n += 1.0;
+    }
+
+    /* Hard-iron fit: every reading until the reference exists, then only those passing the norm
+     * gate (a disturbance must not move the offset). */
+    if (f->cfg.mag_estimate_hard_iron) {
+        int take = 1;
+        if (m->has_ref) {
+            double nrm = hl_v3_length(hl_v3_sub(mag_gauss, m->hard_iron_gauss));
+            take = fabs(nrm - m->ref_norm_gauss) <= f->cfg.mag_norm_gate_gauss;
+        }
+        if (take) {
+            mag_fit_add(m, mag_gauss);
+            if (m->fit_points >= m->fit_points_solved + MAG_FIT_EVERY) {
+                m->fit_points_solved = m->fit_points;
+                if (mag_fit_solve(f, up_b) && !in_window && m->ref_n > 0)
+                    mag_make_reference(m);
+            }
+        }
+    }
+    if (in_window || !m->hard_iron_ok || m->ref_n <= 0) {
+        f->stats.mag_waiting++;
+        return 1;
+    }
+    if (!m->has_ref)
+        mag_make_reference(m);
+
+    /* Reading in the world frame, and the gates. */
+    hl_vec3d w = hl_q_rotate(f->orientation, hl_v3_sub(mag_gauss, m->hard_iron_gauss));
+    double h2 = w.x * w.x + w.z * w.z, h = sqrt(h2);
+    if (h < f->cfg.mag_min_horizontal_gauss) {
+        f->stats.mag_gated_horizontal++;
+        return 1;
+    }
+    if (fabs(hl_v3_length(w) - m->ref_norm_gauss) > f->cfg.mag_norm_gate_gauss) {
+        f->stats.mag_gated_norm++;
+        return 1;
+    }
+    if (fabs(atan2(-w.y, h) - m->ref_dip_rad) > f->cfg.mag_dip_gate_rad) {
+        f->stats.mag_gated_dip++;
+        return 1;
+    }
+    double innov = wrap_pi(m->ref_heading_rad - atan2(-w.z, w.x));
+
+    /* h in the world (heading + tilt through the dip), then in the body: h_b = Rᵀ h_w. */
+    hl_vec3d hw = hl_v3(-w.x * w.y / h2, 1.0, -w.y * w.z / h2);
+    double ht[3];
+    for (int i = 0; i < 3; ++i)
+        ht[i] = R[0][i] * hw.x + R[1][i] * hw.y + R[2][i] * hw.z;
+    double (*P)[9] = f->P;
+    double Ph[9];
+    for (int i = 0; i < 9; ++i)
+        Ph[i] = P[i][0] * ht[0] + P[i][1] * ht[1] + P[i][2] * ht[2];
+    /* White noise per reading, plus the correlated errors (offset fit, quantization) inflated as the
+     * accel's are: they do not average out over consecutive readings. */
+    double fit_s = f->cfg.mag_estimate_hard_iron ? m->fit_sigma_gauss : 0.0;
+    double r = (f->cfg.mag_noise_gauss * f->cfg.mag_noise_gauss +
+                f->cfg.mag_inflate * (fit_s * fit_s + 1e-8 / 12.0)) / h2;
+    double S = r + ht[0] * Ph[0] + ht[1] * Ph[1] + ht[2] * Ph[2];
+    if (!(S > 0) || !isfinite(innov))
+        return 1;
+    /* Gain restricted to heading (δθ ∥ u) and the vertical gyro bias (δb_g ∥ u); none on δb_a. */
+    const double u[3] = {up_b.x, up_b.y, up_b.z};
+    double kt = (u[0] * Ph[0] + u[1] * Ph[1] + u[2] * Ph[2]) / S;
+    double kg = (u[0] * Ph[3] + u[1] * Ph[4] + u[2] * Ph[5]) / S;
+    double scale = 1.0;
+    double lim = f->cfg.mag_max_yaw_rate_radps * dt;
+    if (f->cfg.mag_max_yaw_rate_radps > 0 && fabs(kt * innov) > lim) {
+        scale = fabs(kt * innov) > 0 ? lim / fabs(kt * innov) : 0.0;
+        f->stats.mag_rate_limited++;
+    }
+    double K[9] = {scale * kt * u[0], scale * kt * u[1], scale * kt * u[2],
+                   scale * kg * u[0], scale * kg * u[1], scale * kg * u[2], 0, 0, 0};
+    for (int i = 0; i < 9; ++i)
+        for (int j = i; j < 9; ++j) {
+            P[i][j] += -K[i] * Ph[j] - Ph[i] * K[j] + S * K[i] * K[j];
+            P[j][i] = P[i][j];
+        }
+    double dx[9];
+    for (int i = 0; i < 9; ++i)
+        dx[i] = K[i] * innov;
+    f->orientation = hl_q_normalize(hl_q_mul(f->orientation, hl_q_exp(hl_v3(dx[0], dx[1], dx[2]))));
+    f->gyro_bias_radps = hl_v3_add(f->gyro_bias_radps, hl_v3(dx[3], dx[4], dx[5]));
+    f->stats.mag_updates++;
+    return 0;
 }

@@ -119,6 +119,9 @@ int trk_stream_feed(struct trk_stream *s, const uint8_t *report, size_t length, 
             ++s->fusion_refused;
             continue;
         }
+        /* Rift: the report's magnetometer reading, after the sample it was taken with. */
+        if (x->has_mag && s->fusion.cfg.use_magnetometer)
+            trk_fusion_update_mag(&s->fusion, (double)x->device_time_ns * 1e-9, x->mag_gauss);
         ++s->fused;
         ++fused;
         s->newest_time_ns = x->device_time_ns;

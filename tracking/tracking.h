@@ -281,7 +281,9 @@ int trk_encoder_push(struct trk_encoder *enc, const struct trk_imu_sample *sampl
 /* 3-DoF IMU fusion: an error-state Kalman filter (9 states: body-frame orientation error, gyro
  * bias, accel bias) in double, with gyro integration q ← q ⊗ exp((ω − b_g)·dt), an accelerometer
  * gravity update weighted by how far ‖a‖ is from g and by ‖ω‖ (lever arm), and a zero-rate update
- * at detected rest. No magnetometer: yaw is unobservable and drifts with the residual gyro bias.
+ * at detected rest. Without a magnetometer yaw is unobservable and drifts with the residual gyro
+ * bias; with one (Rift, trk_fusion_update_mag) a heading-only measurement holds it to the heading
+ * the field had at start (there is no absolute north).
  * Frames: body +X right, +Y up, +Z toward the wearer; world +Y up, gravity −Y, so an upright still
  * device reads accel ≈ (0, +9.81, 0). Quaternions are scalar first (w x y z), body-to-world.
  * The struct is plain data (no allocation anywhere, per sample included); fields are read-only. */
@@ -306,6 +308,21 @@ struct trk_fusion_config {
     double max_dt_s;                   /* a gap longer than this integrates only max_dt_s (counted) */
     double rest_window_s;              /* stillness must last this long before zero-rate updates */
     double predict_lpf_s;              /* time constant of the ω low-pass used by predict; 0 = raw */
+    /* Magnetometer heading correction (trk_fusion_update_mag; fusion.c says how and its limits). */
+    int use_magnetometer;              /* 1 (default): readings correct heading; 0: ignored */
+    double mag_noise_gauss;            /* white noise σ per axis per reading; default 0.002 */
+    double mag_inflate;                /* weight of the correlated errors (hard-iron fit, tilt) in
+                                        * the heading variance, as accel_inflate; default 100 */
+    double mag_max_yaw_rate_radps;     /* bound on the heading correction per second; default 1 °/s */
+    double mag_norm_gate_gauss;        /* reading refused when |‖m − b‖ − reference| exceeds it; 0.05 */
+    double mag_dip_gate_rad;           /* refused when its dip differs from the reference's; 5° */
+    double mag_min_horizontal_gauss;   /* refused when the horizontal field is weaker; 0.05 */
+    double mag_reference_window_s;     /* the reference heading is the field's over the first this
+                                        * long of readings; default 0.5 s */
+    hl_vec3d mag_hard_iron_gauss;      /* body-frame hard-iron offset: exact when not estimated, the
+                                        * fit's prior otherwise; default 0 */
+    int mag_estimate_hard_iron;        /* 1 (default): online sphere fit; 0: use the offset above */
+    double mag_fit_sigma_gauss;        /* fit used once its horizontal σ is below this; 0.002 */
 };
 
 /* Counters for what the boundary refused or clamped, and what the filter did. */
@@ -319,6 +336,31 @@ struct trk_fusion_stats {
     uint64_t accel_gated;       /* accel samples refused by the ‖a‖ gate */
     uint64_t accel_deweighted;  /* gravity updates redone with more variance (rate bound) */
     uint64_t rest_updates;      /* zero-rate (gyro bias) updates applied at rest */
+    uint64_t mag_readings;      /* calls to trk_fusion_update_mag */
+    uint64_t mag_rejected_nonfinite; /* NaN/Inf or zero reading, or no orientation yet: ignored */
+    uint64_t mag_waiting;       /* taken for the reference / hard-iron fit only (not yet usable) */
+    uint64_t mag_gated_norm, mag_gated_dip, mag_gated_horizontal; /* disturbance / weak-field gates */
+    uint64_t mag_updates;       /* heading updates applied */
+    uint64_t mag_rate_limited;  /* of those, scaled down to the heading-rate bound */
+    uint64_t mag_fits;          /* hard-iron sphere-fit solves */
+};
+
+/* Magnetometer state: the reference field and the online hard-iron fit (fusion.c). */
+struct trk_fusion_mag {
+    hl_vec3d hard_iron_gauss;    /* body-frame offset in use */
+    int hard_iron_ok;            /* configured, or the fit is well enough determined */
+    double fit_ata[4][4], fit_aty[4]; /* sphere-fit normal equations, points relative to fit_origin */
+    hl_vec3d fit_origin, fit_last;    /* first point; last point taken (spacing) */
+    uint64_t fit_points, fit_points_solved;
+    double fit_sigma_gauss;      /* horizontal σ of the offset at the last solve */
+    double fit_radius_gauss;     /* field magnitude from the last solve */
+    hl_vec3d ref_sum_Rm;         /* Σ R·m over the reference window (world frame) */
+    double ref_sum_R[3][3];      /* Σ R over the window: B_ref = (Σ R m − (Σ R) b) / n */
+    double ref_n, ref_start_s;
+    int ref_started, has_ref;
+    double ref_heading_rad, ref_norm_gauss, ref_dip_rad; /* of B_ref; heading atan2(−z, x) */
+    double last_time_s;
+    int has_time;
 };
 
 struct trk_fusion {
@@ -332,6 +374,7 @@ struct trk_fusion {
     double P[9][9];              /* error covariance: [δθ body (rad), δb_g (rad/s), δb_a (m/s²)] */
     hl_vec3d rest_mean_radps, rest_var;  /* EMA of raw gyro and of its variance (rest detector) */
     double rest_time_s;          /* how long the detector has seen stillness */
+    struct trk_fusion_mag mag;
     int has_time, has_orientation;
     struct trk_fusion_config cfg;
     struct trk_fusion_stats stats;
@@ -353,6 +396,15 @@ int trk_fusion_set_orientation(struct trk_fusion *f, hl_quatd q_body_to_world, d
  * which has no dt), −1 when refused (non-finite input; the state is untouched). All counted. */
 int trk_fusion_update(struct trk_fusion *f, double t_s, hl_vec3d gyro_radps, hl_vec3d accel_mps2,
                       int has_accel);
+
+/* One magnetometer reading (body frame, gauss, hard iron included) taken at t_s, after the update
+ * of the sample it came with. Corrects heading only (rotation about world +Y) and the gyro bias
+ * along the vertical, as a Kalman measurement whose applied heading change is bounded per second;
+ * tilt and accel bias are never touched. Returns 0 when applied, 1 when only collected (reference
+ * window, hard-iron fit not ready) or gated (disturbance, weak horizontal field, disabled), −1 when
+ * refused (non-finite or zero reading, no orientation yet). All counted; the state is untouched
+ * by a refused or gated reading except the fit and reference sums. */
+int trk_fusion_update_mag(struct trk_fusion *f, double t_s, hl_vec3d mag_gauss);
 
 /* Orientation horizon_s after the latest sample, by constant body angular velocity (the latest
  * bias-corrected ω; low-passed if predict_lpf_s > 0, which measured worse). Measured on the shared
@@ -403,7 +455,8 @@ struct trk_stream {
 void trk_stream_init(struct trk_stream *s, enum trk_device_kind kind, const struct trk_fusion_config *cfg_or_null);
 
 /* Parses one report (dispatch on kind) and feeds each new sample to the fusion at its device time
- * (seconds of the unwrapped device clock; HDK has no clock, host_time_ns stands in). HDK gives an
+ * (seconds of the unwrapped device clock; HDK has no clock, host_time_ns stands in), then its
+ * magnetometer reading, if any, to trk_fusion_update_mag (when cfg.use_magnetometer). HDK gives an
  * on-device fused orientation: it is taken as is (no integration) with its angular velocity, or ω
  * from consecutive orientations for version-1 reports. Returns the number of samples fused, or −1
  * for a rejected report (counted in `rejected`; nothing else changes) with err. */
@@ -577,7 +630,7 @@ void trk_hotplug_destroy(struct trk_hotplug *h);
  * then pose_at returns the last pose with zero angular velocity (no prediction). The thread watches
  * hot-plug and reopens a matching device when one is added (any node name; same serial when known),
  * re-sends the start reports, re-initialises the stream (timestamp unwrapping, fusion start-up;
- * heading restarts at 0: no magnetometer), drains stale reports and returns to OK on the first new
+ * heading restarts at 0: the magnetometer reference is relative, captured anew), drains stale reports and returns to OK on the first new
  * report. Before the first report pose_at gives a still pose (health says why). stop joins the
  * thread and closes the device; destroy stops first. */
 int trk_tracker_source_create(const char *path_or_auto, double max_prediction_s, struct trk_pose_source **out,
@@ -628,7 +681,17 @@ struct trk_evaluate_options {
     double hdk_error_sigma_deg;        /* default 0.1 per axis */
     double hdk_error_tau_s;            /* correlation time, default 1 s */
     double hdk_gyro_noise_degps_rthz;  /* default 0.01 (the stream's gyro noise density) */
-    uint64_t seed;                     /* HDK error model; default 1 */
+    uint64_t seed;                     /* HDK error model and Rift magnetometer draws; default 1 */
+    /* Rift magnetometer synthesis (evaluate.c): body reading = R(q_true)ᵀ·B + hard iron + white
+     * noise, quantized by the encoder to 1e-4 gauss, one per report. */
+    int rift_magnetometer;             /* 1 (default): synthesize; 0: reports carry none */
+    double mag_field_gauss;            /* ‖B‖, default 0.48 (mid-latitude Europe) */
+    double mag_dip_deg;                /* inclination below the horizon, default 60 */
+    double mag_noise_gauss;            /* per axis per reading, default 0.002 */
+    double mag_hard_iron_max_gauss;    /* each axis of the offset uniform in ±this, default 0.25 */
+    int mag_hard_iron_known;           /* 1: the fusion is given the true offset (a calibrated headset,
+                                        * as LibOVR's calibration step); 0 (default): it fits it online */
+    double yaw_skip_s;                 /* yaw RMS/max ignore the first this long; default 5 */
 };
 void trk_evaluate_options_default(struct trk_evaluate_options *opt);
 
@@ -644,6 +707,14 @@ struct trk_evaluate_result {
     uint64_t gyro_clipped;           /* samples with a gyro axis beyond the device's range */
     double tilt_rms_deg, tilt_max_deg;
     double yaw_drift_deg_per_min;    /* least-squares slope of the heading error */
+    double yaw_rms_deg, yaw_max_deg; /* heading error after yaw_skip_s (warm start: truth heading) */
+    /* Rift with a synthesized magnetometer: the same figures with the fusion ignoring it (today's
+     * behaviour), the offset the fit found, and the fusion's magnetometer counters. has_mag = 0:
+     * no magnetometer, the nomag_ fields equal the ones above. */
+    int has_mag;
+    double nomag_tilt_rms_deg, nomag_yaw_drift_deg_per_min, nomag_yaw_rms_deg, nomag_yaw_max_deg;
+    double hard_iron_error_gauss;    /* ‖fitted − true offset‖ at the end; −1 if never fitted */
+    uint64_t mag_updates, mag_gated; /* heading updates applied / readings refused by the gates */
     /* Per horizon: body-frame step error est⁻¹⊗pred vs truth(t)⁻¹⊗truth(t+h), RMS, and the hold
      * baseline (identity step); absolute error angle(pred, truth(t+h)) vs hold angle(est, truth(t+h)). */
     double step_rms_deg[TRK_EVAL_HORIZONS], hold_step_rms_deg[TRK_EVAL_HORIZONS];

@@ -110,7 +110,7 @@ static void print_tracking_notes(void)
          "Gauss–Markov, τ 1 s, 0.5 °/min yaw drift), not from hmdlod's fusion; its prediction columns are real.\n"
          "ᵇ Rift: the streams have no magnetometer, so one is synthesized from the true orientation (an assumption, "
          "not a measurement): world field 0.48 gauss, 60° dip; reading = R(q)ᵀB + a hard-iron offset (each axis "
-         "uniform ±0.25 gauss, drawn from the seed, estimated online by the fusion's sphere fit) + 2 mgauss white "
+         "uniform ±0.25 gauss, drawn from the seed, estimated online by the fusion's gyro-aided fit) + 2 mgauss white "
          "noise per axis (HMC5983 class), quantized to 1e-4 gauss, one per report. Figures in parentheses: the "
          "same reports with the fusion ignoring the magnetometer (yaw unobservable). yaw RMS/max: heading error "
          "after the first 5 s (warm start at the true heading). Other devices have no magnetometer.\n");

@@ -193,9 +193,9 @@ static void test_bad_input(void)
  * hard iron ±0.25 gauss per axis) on 30 s of corbillon_user1_t30. Calibrated offset: heading held to
  * the start heading — measured RMS 0.36 deg, max 0.66 deg after 5 s, against 2.1/4.1 without. The
  * least-squares slope of a bounded error is not a drift (measured −2.1 deg/min on this slice from a
- * ±0.7 deg wander, vs −6.9 without), so it is bounded loosely and the RMS/max carry the claim. The
- * online hard-iron fit is only checked to be sane: on these head motions it determines the offset to
- * ~0.01 gauss at best (heading error ~2 deg), measured in docs/RESULTS.md. */
+ * ±0.7 deg wander, vs −6.9 without), so it is bounded loosely and the RMS/max carry the claim. With
+ * the offset fitted online (gyro-aided, fusion.c) it is found to 0.003 gauss here, but only ~10 s in:
+ * the drift before that dominates (measured RMS 1.8 vs 2.1 deg), so only sanity is checked. */
 static void test_magnetometer(void)
 {
     struct trk_imu_csv_row *rows = NULL;
@@ -225,7 +225,8 @@ static void test_magnetometer(void)
     printf("Rift DK2 + magnetometer (online hard iron): yaw RMS/max %.2f/%.2f (%.2f/%.2f) deg, offset error %.4f gauss\n",
            r.yaw_rms_deg, r.yaw_max_deg, r.nomag_yaw_rms_deg, r.nomag_yaw_max_deg, r.hard_iron_error_gauss);
     CHECK(r.tilt_rms_deg <= 1.0 && isfinite(r.yaw_rms_deg));
-    CHECK(r.yaw_rms_deg <= r.nomag_yaw_rms_deg * 1.2);
+    CHECK(r.yaw_rms_deg <= r.nomag_yaw_rms_deg);
+    CHECK(r.hard_iron_error_gauss >= 0 && r.hard_iron_error_gauss < 0.01);
     /* Devices without a magnetometer: nothing changes, both figures are the same run's. */
     CHECK(trk_evaluate_device(TRK_DEVICE_VIVE, rows, SLICE_ROWS, &opt, &r, &err) == 0);
     CHECK(!r.has_mag && r.mag_updates == 0 && r.nomag_yaw_rms_deg == r.yaw_rms_deg);

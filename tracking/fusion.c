@@ -64,7 +64,7 @@ void trk_fusion_config_default(struct trk_fusion_config *cfg)
     cfg->mag_min_horizontal_gauss = 0.05;
     cfg->mag_reference_window_s = 0.5;
     cfg->mag_estimate_hard_iron = 1;
-    cfg->mag_fit_sigma_gauss = 0.002;
+    cfg->mag_fit_sigma_gauss = 0.01; /* its σ is conservative: measured errors are ~3× smaller */
 }
 
 static void set_prior(struct trk_fusion *f, double tilt_sigma_rad)
@@ -338,6 +338,8 @@ int trk_fusion_update(struct trk_fusion *f, double t_s, hl_vec3d gyro_radps, hl_
     hl_vec3d w = hl_v3_sub(gyro_radps, f->gyro_bias_radps);
     hl_quatd dq = hl_q_exp(hl_v3_scale(w, dt));
     f->orientation = hl_q_normalize(hl_q_mul(f->orientation, dq));
+    if (f->mag.has_anchor) /* magnetometer devices only: the hard-iron fit's gyro-only rotation */
+        f->mag.anchor_dq = hl_q_normalize(hl_q_mul(f->mag.anchor_dq, dq));
     double R[3][3], A[3][3];
     quat_to_mat(dq, R);
     for (int i = 0; i < 3; ++i)
@@ -389,14 +391,20 @@ void trk_fusion_predict(const struct trk_fusion *f, double horizon_s, hl_quatd *
  * readings. Its sums Σ R m and Σ R are kept, so B_ref is recomputed exactly whenever b improves
  * (no drift of the reference through refits).
  *
- * Hard iron (mag_estimate_hard_iron): an algebraic sphere fit ‖m − b‖² = ρ², linear in (b, ρ² − ‖b‖²),
- * over a growing set of readings at least 0.01 gauss apart (a still head adds no points), as 4×4
- * normal equations (no storage per point), with a weak prior (σ 0.5 gauss) at the configured offset.
- * Solved every 25 new points; used once the offset's σ in the current horizontal plane is below
- * mag_fit_sigma_gauss (the vertical σ counted at sin²(10°), a typical head tilt). Limits: a head that only turns about one axis leaves b along that axis
- * undetermined (it then barely matters, until the head tilts, which then determines it); soft iron
- * (a scaled, skewed ellipsoid) is not modelled; readings disturbed before the fit is in use enter it;
- * the offset is assumed constant for the session.
+ * Hard iron (mag_estimate_hard_iron): gyro-aided least squares (mag_fit_add below): each reading
+ * and an anchor reading up to 0.5 s older, with the gyro's rotation Q between them, give
+ * (I − Q) b = m_a − Q m, linear in b alone; 3×3 normal equations (no storage per reading), a weak
+ * prior (σ 0.5 gauss) at the configured offset, solved every 100 readings, used once the offset's σ
+ * (horizontal part, plus the vertical part at sin²(10°), a typical head tilt) is below
+ * mag_fit_sigma_gauss. Why not a sphere fit ‖m − b‖ = ρ (tried first): head motion keeps the
+ * readings on a band of the sphere, leaving b along the vertical confounded with ρ — 0.02–0.08 gauss
+ * off on the shared streams whenever the head tilts across the field's heading; the gyro sees b to
+ * first order in any rotation. Measured (evaluate.c's synthetic field): offset within 0.002–0.013
+ * gauss after 60 s, used from ~10–15 s in. Limits: the heading drifts uncorrected until then (the
+ * reference stays the start's, so the error is then pulled back at ≤ 1 °/s); a head that only turns
+ * about one axis leaves b along it undetermined (harmless until it tilts, which determines it); soft
+ * iron (a scaled, skewed ellipsoid) is not modelled; readings disturbed before the reference exists
+ * enter the fit; the offset is assumed constant for the session.
  *
  * Update: w = R(m − b) in the world; its heading ψ = atan2(−w_z, w_x) (rotation by α about +Y adds
  * α). Gates: |‖w‖ − ‖B_ref‖| > mag_norm_gate, |dip − dip_ref| > mag_dip_gate (a disturbance), or
@@ -407,11 +415,11 @@ void trk_fusion_predict(const struct trk_fusion *f, double horizon_s, hl_quatd *
  * and to the vertical gyro bias (u·δb_g, the component only heading observes), zero on the accel
  * bias, and scaled down if the heading step would exceed mag_max_yaw_rate·dt. P is updated with the
  * form valid for any gain, P − K hᵀP − P h Kᵀ + s K Kᵀ, so it stays consistent with what was applied.
- * Per reading: ~200 flops, plus a 4×4 solve every 25 fit points. */
+ * Per reading: ~300 flops, plus a 3×3 solve every 100 readings. */
 
-#define MAG_FIT_SPACING_GAUSS 0.01
-#define MAG_FIT_EVERY 25
-#define MAG_FIT_MIN_POINTS 200
+#define MAG_FIT_ANCHOR_S 0.5   /* rows pair each reading with the anchor up to this old */
+#define MAG_FIT_EVERY 100      /* rows between solves */
+#define MAG_FIT_MIN_ANCHORS 10
 #define MAG_FIT_PRIOR_GAUSS 0.5
 
 static double wrap_pi(double a)
@@ -438,101 +446,107 @@ static void mag_make_reference(struct trk_fusion_mag *m)
     m->has_ref = 1;
 }
 
-/* Solves the sphere fit; returns 1 when the offset changed. Gauss–Jordan on the 4×4 system with the
- * inverse alongside (for the offset's covariance). */
+/* Solves the 3×3 normal equations (with the prior) by Gauss–Jordan, the inverse alongside for the
+ * offset's covariance; returns 1 when the offset is taken. */
 static int mag_fit_solve(struct trk_fusion *f, hl_vec3d up_body)
 {
     struct trk_fusion_mag *m = &f->mag;
-    double A[4][8];
-    hl_vec3d prior = hl_v3_sub(f->cfg.mag_hard_iron_gauss, m->fit_origin);
-    const double pr[3] = {prior.x, prior.y, prior.z};
-    /* Rows are (2d, 1) with σ_y ≈ 2ρσ_m on d·d: the prior's weight in the same units. */
-    double sy = 2.0 * 0.5 * (f->cfg.mag_noise_gauss > 1e-4 ? f->cfg.mag_noise_gauss : 1e-4);
+    /* One pair's residual has σ ≈ √2·σ_m (two readings), ×2 for unmodelled soft iron and
+     * orientation error: the prior's weight in the same units. */
+    double sy = 2.0 * sqrt(2.0) * (f->cfg.mag_noise_gauss > 1e-4 ? f->cfg.mag_noise_gauss : 1e-4);
     double lambda = (sy / MAG_FIT_PRIOR_GAUSS) * (sy / MAG_FIT_PRIOR_GAUSS);
-    double rhs[4];
-    for (int i = 0; i < 4; ++i) {
-        for (int j = 0; j < 4; ++j) {
-            A[i][j] = m->fit_ata[i][j];
-            A[i][4 + j] = i == j ? 1.0 : 0.0;
+    const double pr[3] = {f->cfg.mag_hard_iron_gauss.x, f->cfg.mag_hard_iron_gauss.y, f->cfg.mag_hard_iron_gauss.z};
+    double A[3][7];
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            A[i][j] = m->fit_ata[i][j] + (i == j ? lambda : 0.0);
+            A[i][3 + j] = i == j ? 1.0 : 0.0;
         }
-        rhs[i] = m->fit_aty[i];
-        if (i < 3) {
-            A[i][i] += lambda;
-            rhs[i] += lambda * pr[i];
-        }
+        A[i][6] = m->fit_aty[i] + lambda * pr[i];
     }
-    for (int c = 0; c < 4; ++c) {
+    for (int c = 0; c < 3; ++c) {
         int piv = c;
-        for (int r = c + 1; r < 4; ++r)
+        for (int r = c + 1; r < 3; ++r)
             if (fabs(A[r][c]) > fabs(A[piv][c]))
                 piv = r;
         if (!(fabs(A[piv][c]) > 1e-300))
             return 0;
         if (piv != c)
-            for (int j = 0; j < 8; ++j) {
+            for (int j = 0; j < 7; ++j) {
                 double t = A[c][j];
                 A[c][j] = A[piv][j];
                 A[piv][j] = t;
             }
         double inv = 1.0 / A[c][c];
-        for (int j = 0; j < 8; ++j)
+        for (int j = 0; j < 7; ++j)
             A[c][j] *= inv;
-        for (int r = 0; r < 4; ++r) {
+        for (int r = 0; r < 3; ++r) {
             if (r == c)
                 continue;
             double k = A[r][c];
-            for (int j = 0; j < 8; ++j)
+            for (int j = 0; j < 7; ++j)
                 A[r][j] -= k * A[c][j];
         }
     }
-    double x[4];
-    for (int i = 0; i < 4; ++i)
-        x[i] = A[i][4] * rhs[0] + A[i][5] * rhs[1] + A[i][6] * rhs[2] + A[i][7] * rhs[3];
-    hl_vec3d e = hl_v3(x[0], x[1], x[2]);
-    double rho2 = x[3] + hl_v3_dot(e, e);
-    if (!(rho2 > 0) || !finite3(e))
+    hl_vec3d b = hl_v3(A[0][6], A[1][6], A[2][6]);
+    if (!finite3(b))
         return 0;
     f->stats.mag_fits++;
-    m->fit_radius_gauss = sqrt(rho2);
-    /* Offset covariance σ_y²·(AᵀA)⁻¹ (σ_y inflated ×3 for unmodelled soft iron and disturbances);
-     * its horizontal part: trace − uᵀCu. */
-    double s2 = (2.0 * m->fit_radius_gauss * f->cfg.mag_noise_gauss * 3.0);
-    s2 *= s2;
+    /* Covariance sy²·(AᵀA)⁻¹: the horizontal part (trace − uᵀCu) sets the heading error directly;
+     * the vertical part leaks in by sin(tilt) once the head tilts: counted at 10° (sin² ≈ 0.03). */
     const double u[3] = {up_body.x, up_body.y, up_body.z};
     double tr = 0, uCu = 0;
     for (int i = 0; i < 3; ++i) {
-        tr += A[i][4 + i];
+        tr += A[i][3 + i];
         for (int j = 0; j < 3; ++j)
-            uCu += u[i] * A[i][4 + j] * u[j];
+            uCu += u[i] * A[i][3 + j] * u[j];
     }
-    /* The vertical part matters too once the head tilts (it leaks into the horizontal by sin tilt):
-     * counted with a typical 10° of head tilt. */
-    double var_h = s2 * ((tr - uCu) + 0.03 * uCu);
-    m->fit_sigma_gauss = sqrt(var_h > 0 ? var_h : 0);
-    if (m->fit_points < MAG_FIT_MIN_POINTS || m->fit_sigma_gauss > f->cfg.mag_fit_sigma_gauss)
+    double per_anchor = m->fit_anchors > 0 ? (double)m->fit_points / (double)m->fit_anchors : 1.0;
+    double var = sy * sy * per_anchor * ((tr - uCu) + 0.03 * uCu);
+    m->fit_sigma_gauss = sqrt(var > 0 ? var : 0);
+    if (m->fit_anchors < MAG_FIT_MIN_ANCHORS || m->fit_sigma_gauss > f->cfg.mag_fit_sigma_gauss)
         return 0;
-    m->hard_iron_gauss = hl_v3_add(m->fit_origin, e);
+    m->hard_iron_gauss = b;
     m->hard_iron_ok = 1;
     return 1;
 }
 
-static void mag_fit_add(struct trk_fusion_mag *m, hl_vec3d mag)
+/* Gyro-aided rows: between an anchor reading a and a later reading, the body rotated by Q, the
+ * bias-corrected gyro integrated since the anchor (trk_fusion_update keeps it) — not the fused
+ * orientations, whose accel and heading corrections (~0.1–0.3°) would be as large as the signal.
+ * Over the anchor window (0.5 s) the gyro's own error is ~0.01°. The field is fixed in
+ * the world, so m_a − b = Q (m − b): (I − Q) b = m_a − Q m, three rows linear in b alone — no
+ * reference heading or magnitude needed, and every component of b is seen that the rotation moves
+ * (all but its axis), to first order. Every reading adds its rows; they share the anchor's noise,
+ * which the covariance accounts for by counting anchors, not rows. */
+static void mag_fit_add(struct trk_fusion *f, double t_s, hl_vec3d mag)
 {
-    if (m->fit_points == 0) {
-        m->fit_origin = mag;
-    } else {
-        hl_vec3d step = hl_v3_sub(mag, m->fit_last);
-        if (hl_v3_dot(step, step) < MAG_FIT_SPACING_GAUSS * MAG_FIT_SPACING_GAUSS)
-            return;
+    struct trk_fusion_mag *m = &f->mag;
+    double age = t_s - m->anchor_time_s;
+    if (!m->has_anchor || !(age >= 0) || age > MAG_FIT_ANCHOR_S) {
+        m->has_anchor = 1;
+        m->anchor_mag_gauss = mag;
+        m->anchor_dq = hl_q_identity();
+        m->anchor_time_s = t_s;
+        m->fit_anchors++;
+        return;
     }
-    m->fit_last = mag;
-    hl_vec3d d = hl_v3_sub(mag, m->fit_origin);
-    const double a[4] = {2.0 * d.x, 2.0 * d.y, 2.0 * d.z, 1.0};
-    double y = hl_v3_dot(d, d);
-    for (int i = 0; i < 4; ++i) {
-        for (int j = 0; j < 4; ++j)
-            m->fit_ata[i][j] += a[i] * a[j];
-        m->fit_aty[i] += a[i] * y;
+    hl_quatd dq = m->anchor_dq; /* body(now) → body(anchor), gyro only */
+    double Q[3][3];
+    quat_to_mat(dq, Q);
+    hl_vec3d qm = hl_q_rotate(dq, mag);
+    const double y[3] = {m->anchor_mag_gauss.x - qm.x, m->anchor_mag_gauss.y - qm.y, m->anchor_mag_gauss.z - qm.z};
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            double s = 0;
+            for (int k = 0; k < 3; ++k)
+                s += ((k == i ? 1.0 : 0.0) - Q[k][i]) * ((k == j ? 1.0 : 0.0) - Q[k][j]);
+            m->fit_ata[i][j] += s;
+        }
+        double s = 0;
+        for (int k = 0; k < 3; ++k)
+            s += ((k == i ? 1.0 : 0.0) - Q[k][i]) * y[k];
+        m->fit_aty[i] += s;
     }
     m->fit_points++;
 }
@@ -585,7 +599,7 @@ int trk_fusion_update_mag(struct trk_fusion *f, double t_s, hl_vec3d mag_gauss)
             take = fabs(nrm - m->ref_norm_gauss) <= f->cfg.mag_norm_gate_gauss;
         }
         if (take) {
-            mag_fit_add(m, mag_gauss);
+            mag_fit_add(f, t_s, mag_gauss);
             if (m->fit_points >= m->fit_points_solved + MAG_FIT_EVERY) {
                 m->fit_points_solved = m->fit_points;
                 if (mag_fit_solve(f, up_b) && !in_window && m->ref_n > 0)

@@ -321,8 +321,8 @@ struct trk_fusion_config {
                                         * long of readings; default 0.5 s */
     hl_vec3d mag_hard_iron_gauss;      /* body-frame hard-iron offset: exact when not estimated, the
                                         * fit's prior otherwise; default 0 */
-    int mag_estimate_hard_iron;        /* 1 (default): online sphere fit; 0: use the offset above */
-    double mag_fit_sigma_gauss;        /* fit used once its horizontal σ is below this; 0.002 */
+    int mag_estimate_hard_iron;        /* 1 (default): fitted online; 0: use the offset above */
+    double mag_fit_sigma_gauss;        /* fit used once its σ is below this; default 0.01 */
 };
 
 /* Counters for what the boundary refused or clamped, and what the filter did. */
@@ -342,18 +342,20 @@ struct trk_fusion_stats {
     uint64_t mag_gated_norm, mag_gated_dip, mag_gated_horizontal; /* disturbance / weak-field gates */
     uint64_t mag_updates;       /* heading updates applied */
     uint64_t mag_rate_limited;  /* of those, scaled down to the heading-rate bound */
-    uint64_t mag_fits;          /* hard-iron sphere-fit solves */
+    uint64_t mag_fits;          /* hard-iron fit solves */
 };
 
 /* Magnetometer state: the reference field and the online hard-iron fit (fusion.c). */
 struct trk_fusion_mag {
     hl_vec3d hard_iron_gauss;    /* body-frame offset in use */
     int hard_iron_ok;            /* configured, or the fit is well enough determined */
-    double fit_ata[4][4], fit_aty[4]; /* sphere-fit normal equations, points relative to fit_origin */
-    hl_vec3d fit_origin, fit_last;    /* first point; last point taken (spacing) */
-    uint64_t fit_points, fit_points_solved;
-    double fit_sigma_gauss;      /* horizontal σ of the offset at the last solve */
-    double fit_radius_gauss;     /* field magnitude from the last solve */
+    double fit_ata[3][3], fit_aty[3]; /* normal equations of (I − Q) b = m_a − Q m (fusion.c) */
+    hl_vec3d anchor_mag_gauss;   /* reading of the last anchor */
+    hl_quatd anchor_dq;          /* gyro rotation since it: body(now) → body(anchor) */
+    double anchor_time_s;
+    int has_anchor;
+    uint64_t fit_points, fit_points_solved, fit_anchors; /* rows taken / at the last solve; anchors */
+    double fit_sigma_gauss;      /* σ of the offset at the last solve (vertical part weighted) */
     hl_vec3d ref_sum_Rm;         /* Σ R·m over the reference window (world frame) */
     double ref_sum_R[3][3];      /* Σ R over the window: B_ref = (Σ R m − (Σ R) b) / n */
     double ref_n, ref_start_s;

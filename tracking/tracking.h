@@ -632,9 +632,9 @@ void trk_hotplug_destroy(struct trk_hotplug *h);
  * then pose_at returns the last pose with zero angular velocity (no prediction). The thread watches
  * hot-plug and reopens a matching device when one is added (any node name; same serial when known),
  * re-sends the start reports, re-initialises the stream (timestamp unwrapping, fusion start-up;
- * heading restarts at 0: the magnetometer reference is relative, captured anew), drains stale reports and returns to OK on the first new
- * report. Before the first report pose_at gives a still pose (health says why). stop joins the
- * thread and closes the device; destroy stops first. */
+ * heading restarts at 0, and a magnetometer's reference, being relative, is captured anew), drains
+ * stale reports and returns to OK on the first new report. Before the first report pose_at gives
+ * a still pose (health says why). stop joins the thread and closes the device; destroy stops first. */
 int trk_tracker_source_create(const char *path_or_auto, double max_prediction_s, struct trk_pose_source **out,
                               struct hl_error *err);
 

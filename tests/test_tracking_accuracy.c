@@ -191,11 +191,12 @@ static void test_bad_input(void)
 
 /* Rift DK2 with the synthesized magnetometer (evaluate.c: 0.48 gauss, 60 deg dip, 2 mgauss noise,
  * hard iron ±0.25 gauss per axis) on 30 s of corbillon_user1_t30. Calibrated offset: heading held to
- * the start heading — measured RMS 0.36 deg, max 0.66 deg after 5 s, against 2.1/4.1 without. The
- * least-squares slope of a bounded error is not a drift (measured −2.1 deg/min on this slice from a
- * ±0.7 deg wander, vs −6.9 without), so it is bounded loosely and the RMS/max carry the claim. With
- * the offset fitted online (gyro-aided, fusion.c) it is found to 0.003 gauss here, but only ~10 s in:
- * the drift before that dominates (measured RMS 1.8 vs 2.1 deg), so only sanity is checked. */
+ * the start heading — measured RMS 0.29 deg, max 0.51 deg after 5 s, slope −0.7 deg/min, against
+ * 2.1/4.1 deg and −6.9 deg/min without. The least-squares slope of a bounded error over 30 s is not
+ * a drift (a ±0.5 deg wander moves it by ~1 deg/min), so it is bounded at 1.5 deg/min and the RMS/max
+ * carry the claim, with margin for other seeds (0.1–0.3 deg RMS measured on the three motion streams).
+ * With the offset fitted online (gyro-aided, fusion.c) it is found to < 0.01 gauss here, but only
+ * ~10 s in: the drift before that dominates (measured RMS 1.75 vs 2.1 deg), so only sanity is checked. */
 static void test_magnetometer(void)
 {
     struct trk_imu_csv_row *rows = NULL;
@@ -215,11 +216,11 @@ static void test_magnetometer(void)
            (unsigned long long)r.mag_updates, (unsigned long long)r.mag_gated);
     CHECK(r.has_mag);
     CHECK(r.tilt_rms_deg <= 1.0 && r.nomag_tilt_rms_deg <= 1.0);
-    CHECK(r.yaw_rms_deg <= 1.0);
-    CHECK(r.yaw_max_deg <= 2.0);
-    CHECK(fabs(r.yaw_drift_deg_per_min) <= 3.0);
+    CHECK(r.yaw_rms_deg <= 0.5);
+    CHECK(r.yaw_max_deg <= 1.0);
+    CHECK(fabs(r.yaw_drift_deg_per_min) <= 1.5);
     CHECK(r.yaw_rms_deg * 3.0 <= r.nomag_yaw_rms_deg);
-    CHECK(r.mag_updates > 20000 && r.mag_gated == 0);
+    CHECK(r.mag_updates > 5000 && r.mag_gated == 0); /* ≤ 200 Hz over 29.5 s */
     opt.mag_hard_iron_known = 0;
     CHECK(trk_evaluate_device(TRK_DEVICE_RIFT_DK2, rows, SLICE_ROWS, &opt, &r, &err) == 0);
     printf("Rift DK2 + magnetometer (online hard iron): yaw RMS/max %.2f/%.2f (%.2f/%.2f) deg, offset error %.4f gauss\n",

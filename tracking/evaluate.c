@@ -339,19 +339,18 @@ static double quantile_sorted(const double *v, size_t n, double p)
     return v[i > 0 ? (i <= n ? i - 1 : n - 1) : 0];
 }
 
-/* The same reports with the fusion ignoring the magnetometer (today's figures, for comparison):
- * tilt RMS, yaw drift slope, yaw RMS/max after yaw_skip_s. */
-static void nomag_pass(enum trk_device_kind kind, const struct trk_evaluate_options *opt, const struct ev_gen *gen,
-                       const struct ev_truth *tr, hl_quatd warm, struct trk_evaluate_result *res)
+/* Accuracy only, the same reports with another fusion configuration (magnetometer ignored, or the
+ * hard-iron offset given): tilt RMS, yaw drift slope, yaw RMS/max after yaw_skip_s. */
+struct ev_yaw {
+    double tilt_rms_deg, yaw_drift_deg_per_min, yaw_rms_deg, yaw_max_deg;
+};
+static void yaw_pass(enum trk_device_kind kind, const struct trk_fusion_config *cfg,
+                     const struct trk_evaluate_options *opt, const struct ev_gen *gen, const struct ev_truth *tr,
+                     hl_quatd warm, struct ev_yaw *res)
 {
-    struct trk_fusion_config cfg;
-    if (opt->fusion)
-        cfg = *opt->fusion;
-    else
-        trk_fusion_config_default(&cfg);
-    cfg.use_magnetometer = 0;
+    memset(res, 0, sizeof *res);
     struct trk_stream st;
-    ev_init(&st, kind, &cfg, warm);
+    ev_init(&st, kind, cfg, warm);
     double tilt2 = 0, prev = 0, st_ = 0, sy = 0, stt = 0, sty = 0, y2 = 0, ymax = 0;
     uint64_t n = 0, ny = 0;
     for (size_t i = 0; i < gen->count; ++i) {
@@ -382,11 +381,11 @@ static void nomag_pass(enum trk_device_kind kind, const struct trk_evaluate_opti
     if (n == 0)
         return;
     double N = (double)n, den = stt - st_ * st_ / N;
-    res->nomag_tilt_rms_deg = sqrt(tilt2 / N) * HL_DEG_PER_RAD;
-    res->nomag_yaw_drift_deg_per_min = den > 0 ? (sty - st_ * sy / N) / den * HL_DEG_PER_RAD * 60.0 : 0.0;
+    res->tilt_rms_deg = sqrt(tilt2 / N) * HL_DEG_PER_RAD;
+    res->yaw_drift_deg_per_min = den > 0 ? (sty - st_ * sy / N) / den * HL_DEG_PER_RAD * 60.0 : 0.0;
     if (ny > 0) {
-        res->nomag_yaw_rms_deg = sqrt(y2 / (double)ny) * HL_DEG_PER_RAD;
-        res->nomag_yaw_max_deg = ymax * HL_DEG_PER_RAD;
+        res->yaw_rms_deg = sqrt(y2 / (double)ny) * HL_DEG_PER_RAD;
+        res->yaw_max_deg = ymax * HL_DEG_PER_RAD;
     }
 }
 
@@ -552,8 +551,33 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
     res->nomag_yaw_drift_deg_per_min = res->yaw_drift_deg_per_min;
     res->nomag_yaw_rms_deg = res->yaw_rms_deg;
     res->nomag_yaw_max_deg = res->yaw_max_deg;
-    if (gen.has_mag)
-        nomag_pass(kind, &opt, &gen, &tr, warm, res);
+    res->cal_yaw_rms_deg = res->yaw_rms_deg;
+    res->cal_yaw_max_deg = res->yaw_max_deg;
+    res->cal_yaw_drift_deg_per_min = res->yaw_drift_deg_per_min;
+    if (gen.has_mag) {
+        struct trk_fusion_config cfg;
+        if (opt.fusion)
+            cfg = *opt.fusion;
+        else
+            trk_fusion_config_default(&cfg);
+        struct ev_yaw y;
+        struct trk_fusion_config off = cfg;
+        off.use_magnetometer = 0;
+        yaw_pass(kind, &off, &opt, &gen, &tr, warm, &y);
+        res->nomag_tilt_rms_deg = y.tilt_rms_deg;
+        res->nomag_yaw_drift_deg_per_min = y.yaw_drift_deg_per_min;
+        res->nomag_yaw_rms_deg = y.yaw_rms_deg;
+        res->nomag_yaw_max_deg = y.yaw_max_deg;
+        if (cfg.mag_estimate_hard_iron) { /* else pass 1 already was the calibrated case */
+            struct trk_fusion_config cal = cfg;
+            cal.mag_estimate_hard_iron = 0;
+            cal.mag_hard_iron_gauss = gen.hard_iron_gauss;
+            yaw_pass(kind, &cal, &opt, &gen, &tr, warm, &y);
+            res->cal_yaw_drift_deg_per_min = y.yaw_drift_deg_per_min;
+            res->cal_yaw_rms_deg = y.yaw_rms_deg;
+            res->cal_yaw_max_deg = y.yaw_max_deg;
+        }
+    }
     for (int h = 0; h < TRK_EVAL_HORIZONS; ++h) {
         if (m[h] == 0)
             continue;

@@ -64,6 +64,7 @@ void trk_fusion_config_default(struct trk_fusion_config *cfg)
     cfg->mag_min_horizontal_gauss = 0.05;
     cfg->mag_reference_window_s = 0.5;
     cfg->mag_estimate_hard_iron = 1;
+    cfg->mag_min_interval_s = 0.005;
     cfg->mag_fit_sigma_gauss = 0.01; /* its σ is conservative: measured errors are ~3× smaller */
 }
 
@@ -415,10 +416,10 @@ void trk_fusion_predict(const struct trk_fusion *f, double horizon_s, hl_quatd *
  * and to the vertical gyro bias (u·δb_g, the component only heading observes), zero on the accel
  * bias, and scaled down if the heading step would exceed mag_max_yaw_rate·dt. P is updated with the
  * form valid for any gain, P − K hᵀP − P h Kᵀ + s K Kᵀ, so it stays consistent with what was applied.
- * Per reading: ~300 flops, plus a 3×3 solve every 100 readings. */
+ * Per reading used (≤ 200 Hz, mag_min_interval_s): ~300 flops, plus a 3×3 solve every 100 of them. */
 
 #define MAG_FIT_ANCHOR_S 0.5   /* rows pair each reading with the anchor up to this old */
-#define MAG_FIT_EVERY 100      /* rows between solves */
+#define MAG_FIT_EVERY 100      /* rows between solves (0.5 s at 200 Hz) */
 #define MAG_FIT_MIN_ANCHORS 10
 #define MAG_FIT_PRIOR_GAUSS 0.5
 
@@ -534,19 +535,15 @@ static void mag_fit_add(struct trk_fusion *f, double t_s, hl_vec3d mag)
     hl_quatd dq = m->anchor_dq; /* body(now) → body(anchor), gyro only */
     double Q[3][3];
     quat_to_mat(dq, Q);
-    hl_vec3d qm = hl_q_rotate(dq, mag);
+    hl_vec3d qm = hl_v3(Q[0][0] * mag.x + Q[0][1] * mag.y + Q[0][2] * mag.z,
+                        Q[1][0] * mag.x + Q[1][1] * mag.y + Q[1][2] * mag.z,
+                        Q[2][0] * mag.x + Q[2][1] * mag.y + Q[2][2] * mag.z);
     const double y[3] = {m->anchor_mag_gauss.x - qm.x, m->anchor_mag_gauss.y - qm.y, m->anchor_mag_gauss.z - qm.z};
+    /* (I − Q)ᵀ(I − Q) = 2I − Q − Qᵀ (Q orthonormal): no 3×3 product needed. */
     for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-            double s = 0;
-            for (int k = 0; k < 3; ++k)
-                s += ((k == i ? 1.0 : 0.0) - Q[k][i]) * ((k == j ? 1.0 : 0.0) - Q[k][j]);
-            m->fit_ata[i][j] += s;
-        }
-        double s = 0;
-        for (int k = 0; k < 3; ++k)
-            s += ((k == i ? 1.0 : 0.0) - Q[k][i]) * y[k];
-        m->fit_aty[i] += s;
+        for (int j = 0; j < 3; ++j)
+            m->fit_ata[i][j] += (i == j ? 2.0 : 0.0) - Q[i][j] - Q[j][i];
+        m->fit_aty[i] += y[i] - (Q[0][i] * y[0] + Q[1][i] * y[1] + Q[2][i] * y[2]);
     }
     m->fit_points++;
 }
@@ -561,6 +558,13 @@ int trk_fusion_update_mag(struct trk_fusion *f, double t_s, hl_vec3d mag_gauss)
     }
     if (!f->cfg.use_magnetometer) {
         f->stats.mag_waiting++;
+        return 1;
+    }
+    /* Decimation: a heading held at ≤ 1 °/s needs no 1 kHz updates, and its variance is dominated
+     * by correlated errors that more readings do not average (mag_inflate); the HMC5983 class
+     * itself samples at most 220 Hz, so 1 kHz reports repeat it. */
+    if (m->has_time && t_s - m->last_time_s < f->cfg.mag_min_interval_s - 1e-7 && t_s >= m->last_time_s) {
+        f->stats.mag_decimated++;
         return 1;
     }
     double dt = m->has_time ? t_s - m->last_time_s : 0.0;
@@ -660,7 +664,7 @@ int trk_fusion_update_mag(struct trk_fusion *f, double t_s, hl_vec3d mag_gauss)
     }
     double K[9] = {scale * kt * u[0], scale * kt * u[1], scale * kt * u[2],
                    scale * kg * u[0], scale * kg * u[1], scale * kg * u[2], 0, 0, 0};
-    for (int i = 0; i < 9; ++i)
+    for (int i = 0; i < 6; ++i) /* K is zero on δb_a: rows/columns 6..8 change only against 0..5 */
         for (int j = i; j < 9; ++j) {
             P[i][j] += -K[i] * Ph[j] - Ph[i] * K[j] + S * K[i] * K[j];
             P[j][i] = P[i][j];
@@ -668,7 +672,8 @@ int trk_fusion_update_mag(struct trk_fusion *f, double t_s, hl_vec3d mag_gauss)
     double dx[9];
     for (int i = 0; i < 9; ++i)
         dx[i] = K[i] * innov;
-    f->orientation = hl_q_normalize(hl_q_mul(f->orientation, hl_q_exp(hl_v3(dx[0], dx[1], dx[2]))));
+    /* exp(δθ) to first order (δθ ≤ 1 °/s · dt, ~1e-5 rad): saves the sin/cos; renormalised. */
+    f->orientation = hl_q_normalize(hl_q_mul(f->orientation, hl_q(1.0, 0.5 * dx[0], 0.5 * dx[1], 0.5 * dx[2])));
     f->gyro_bias_radps = hl_v3_add(f->gyro_bias_radps, hl_v3(dx[3], dx[4], dx[5]));
     f->stats.mag_updates++;
     return 0;

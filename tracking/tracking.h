@@ -317,6 +317,8 @@ struct trk_fusion_config {
     double mag_norm_gate_gauss;        /* reading refused when |‖m − b‖ − reference| exceeds it; 0.05 */
     double mag_dip_gate_rad;           /* refused when its dip differs from the reference's; 5° */
     double mag_min_horizontal_gauss;   /* refused when the horizontal field is weaker; 0.05 */
+    double mag_min_interval_s;         /* readings closer than this to the last one used are
+                                        * skipped (counted); default 0.005 (≤ 200 Hz) */
     double mag_reference_window_s;     /* the reference heading is the field's over the first this
                                         * long of readings; default 0.5 s */
     hl_vec3d mag_hard_iron_gauss;      /* body-frame hard-iron offset: exact when not estimated, the
@@ -339,6 +341,7 @@ struct trk_fusion_stats {
     uint64_t mag_readings;      /* calls to trk_fusion_update_mag */
     uint64_t mag_rejected_nonfinite; /* NaN/Inf or zero reading, or no orientation yet: ignored */
     uint64_t mag_waiting;       /* taken for the reference / hard-iron fit only (not yet usable) */
+    uint64_t mag_decimated;     /* skipped: within mag_min_interval_s of the last one used */
     uint64_t mag_gated_norm, mag_gated_dip, mag_gated_horizontal; /* disturbance / weak-field gates */
     uint64_t mag_updates;       /* heading updates applied */
     uint64_t mag_rate_limited;  /* of those, scaled down to the heading-rate bound */
@@ -716,6 +719,9 @@ struct trk_evaluate_result {
     int has_mag;
     double nomag_tilt_rms_deg, nomag_yaw_drift_deg_per_min, nomag_yaw_rms_deg, nomag_yaw_max_deg;
     double hard_iron_error_gauss;    /* ‖fitted − true offset‖ at the end; −1 if never fitted */
+    /* The same with the fusion given the true offset (a calibrated headset); equal to the figures
+     * above when mag_hard_iron_known or no magnetometer. */
+    double cal_yaw_drift_deg_per_min, cal_yaw_rms_deg, cal_yaw_max_deg;
     uint64_t mag_updates, mag_gated; /* heading updates applied / readings refused by the gates */
     /* Per horizon: body-frame step error est⁻¹⊗pred vs truth(t)⁻¹⊗truth(t+h), RMS, and the hold
      * baseline (identity step); absolute error angle(pred, truth(t+h)) vs hold angle(est, truth(t+h)). */

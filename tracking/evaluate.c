@@ -27,6 +27,14 @@
  *     tilt figure is set by this model (≈ σ·√2 RMS), not earned by hmdlod's fusion; its prediction
  *     figures do exercise the real report path (Q1.14 / Q6.9 quantization) and the predictor.
  *
+ *   Rift magnetometer (the streams have none, data/README.md §5): SYNTHESIZED from the truth, an
+ *     assumption: world field 0.48 gauss with 60° dip (mid-latitude Europe), heading drawn; body
+ *     reading = R(q)ᵀB + a constant hard-iron offset (each axis uniform ±0.25 gauss, drawn from the
+ *     seed: headset magnets) + 2 mgauss white noise per axis (HMC5983 class, DK2), quantized to 1e-4
+ *     gauss by the encoder, one per report. Soft iron and disturbances are not simulated. The fusion
+ *     fits the offset online unless mag_hard_iron_known; accuracy is also measured with the
+ *     magnetometer ignored (nomag_) and with the true offset given (cal_).
+ *
  * Warm start, as tests/test_fusion.c and the README's table: the fusion starts at the truth at the
  * first device sample with a 0.1° prior σ, so tilt and yaw measure tracking, not convergence.
  *

@@ -10,7 +10,7 @@
 #include "tracking/tracking.h"
 
 /* ---- traces --------------------------------------------------------------------------------- */
-enum rpl_trace_format { RPL_TRACE_HMDLOD_CSV = 0, RPL_TRACE_CORBILLON = 1 };
+enum rpl_trace_format { RPL_TRACE_HMDLOD_CSV = 0, RPL_TRACE_CORBILLON = 1, RPL_TRACE_NASRABADI = 2 };
 
 /* What loading found and did (docs/trace-format.md lists each rule). */
 struct rpl_trace_report {

@@ -1,4 +1,4 @@
-/* Trace parsing: the project's CSV and Corbillon MMSys'18 text files, held in memory. Every rule
+/* Trace parsing: the project's CSV, Corbillon MMSys'18 and Nasrabadi MMSys'19 text files, held in memory. Every rule
  * is in docs/trace-format.md. The parser never reads past `length` and never relies on a NUL:
  * each line is bounded by the buffer, and only data lines are copied (bounded) for strtod. */
 #include "replay/trace_internal.h"
@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #define LINE_MAX_BYTES 1024 /* a data row is at most ~11 numbers; far longer is not a trace */
 #define MAX_COLUMNS 11
@@ -14,10 +15,13 @@
 static const char CORBILLON_HEADER[] = "timestamp viewpoint w x y z";
 static const char CSV_HEADER_BASE[] = "t_s,qw,qx,qy,qz";
 static const char CSV_EXPECTED[] =
-    "\"t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]\" or \"timestamp viewpoint w x y z\"";
+    "\"t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]\", \"timestamp viewpoint w x y z\", or headerless Nasrabadi rows "
+    "\"t,qx,qy,qz,qw,vx,vy,vz\"";
+#define NASRABADI_COLUMNS 8
 
 struct layout {
     enum rpl_trace_format format;
+    int first_line_is_data; /* headerless format: the line that identified it is a row */
     int columns;
     int has_position, has_gaze;
     int pos_col, gaze_col; /* first column of each group */
@@ -41,9 +45,35 @@ static int span_equals(const char *s, size_t n, const char *lit)
     return n == m && memcmp(s, lit, m) == 0;
 }
 
-/* Recognises the header; 0 on success. */
+/* A headerless Nasrabadi row: exactly 8 comma-separated fields, each a whole number (strtod
+ * consumes it all). Only the first line is tested; the rows after it are checked as data. */
+static int is_nasrabadi_row(const char *s, size_t n)
+{
+    char buf[LINE_MAX_BYTES + 1];
+    if (n > LINE_MAX_BYTES)
+        return 0;
+    memcpy(buf, s, n);
+    buf[n] = '\0';
+    int fields = 0;
+    for (char *p = buf;; ++fields) {
+        char *end = NULL;
+        strtod(p, &end);
+        if (end == p)
+            return 0;
+        while (is_blank(*end))
+            ++end;
+        if (*end == '\0')
+            return fields + 1 == NASRABADI_COLUMNS;
+        if (*end != ',')
+            return 0;
+        p = end + 1;
+    }
+}
+
+/* Recognises the header (or a headerless Nasrabadi first row); 0 on success. */
 static int detect_layout(const char *s, size_t n, struct layout *L)
 {
+    static const char *const nas_names[] = {"t", "qx", "qy", "qz", "qw", "vx", "vy", "vz"};
     static const char *const csv_names[] = {"t_s", "qw", "qx", "qy", "qz", "px", "py", "pz", "gx", "gy", "gz"};
     static const char *const corb_names[] = {"timestamp", "viewpoint", "w", "x", "y", "z"};
     memset(L, 0, sizeof *L);
@@ -52,6 +82,14 @@ static int detect_layout(const char *s, size_t n, struct layout *L)
         L->columns = 6;
         for (int i = 0; i < 6; ++i)
             L->names[i] = corb_names[i];
+        return 0;
+    }
+    if (is_nasrabadi_row(s, n)) {
+        L->format = RPL_TRACE_NASRABADI;
+        L->first_line_is_data = 1;
+        L->columns = NASRABADI_COLUMNS;
+        for (int i = 0; i < NASRABADI_COLUMNS; ++i)
+            L->names[i] = nas_names[i];
         return 0;
     }
     size_t base = sizeof CSV_HEADER_BASE - 1;
@@ -103,7 +141,7 @@ static int parse_row(const char *name, size_t line_no, const char *s, size_t n, 
     size_t fn[MAX_COLUMNS + 1];
     int count = 0;
     size_t i = 0;
-    if (L->format == RPL_TRACE_HMDLOD_CSV) {
+    if (L->format != RPL_TRACE_CORBILLON) {
         for (;;) {
             size_t start = i;
             while (i < n && s[i] != ',')
@@ -209,7 +247,8 @@ int rpl_trace_parse(const char *text, size_t length, const char *name, struct rp
             header_line = line_no;
             if (trace_builder_init(&b, out, L.format, lines, L.has_position, L.has_gaze, err) != 0)
                 return -1;
-            continue;
+            if (!L.first_line_is_data)
+                continue;
         }
 
         /* A row without its end of line was cut off: its last number may be a prefix of the real
@@ -219,12 +258,18 @@ int rpl_trace_parse(const char *text, size_t length, const char *name, struct rp
             return hl_fail(err, "%s:%zu: truncated last row (no end of line)", name, line_no);
         }
 
-        double v[MAX_COLUMNS];
+        double v[MAX_COLUMNS] = {0};
         if (parse_row(name, line_no, s, m, &L, v, err) != 0)
             return rpl_trace_free(out), -1;
 
         double t = v[0];
-        const double *qv = L.format == RPL_TRACE_CORBILLON ? v + 2 : v + 1;
+        /* w x y z from each layout: Corbillon after its viewpoint column, Nasrabadi in Unity's x y z w. */
+        double wxyz[4];
+        if (L.format == RPL_TRACE_NASRABADI)
+            wxyz[0] = v[4], wxyz[1] = v[1], wxyz[2] = v[2], wxyz[3] = v[3];
+        else
+            memcpy(wxyz, L.format == RPL_TRACE_CORBILLON ? v + 2 : v + 1, sizeof wxyz);
+        const double *qv = wxyz;
         if (out->count > 0 && t == prev_t)
             return rpl_trace_free(out),
                    hl_fail(err, "%s:%zu: time does not increase (%.9g s equals the previous row)", name, line_no, t);
@@ -241,6 +286,8 @@ int rpl_trace_parse(const char *text, size_t length, const char *name, struct rp
         q = hl_q_normalize(q);
         if (L.format == RPL_TRACE_CORBILLON)
             q = hl_q(q.w, -q.y, q.z, -q.x); /* file x fwd / y left / z up → +X right, +Y up, +Z back */
+        else if (L.format == RPL_TRACE_NASRABADI)
+            q = hl_q(q.w, -q.x, -q.y, q.z); /* Unity left-handed, Y up, Z fwd: mirror Z (data README §5) */
 
         hl_vec3d p, g;
         if (L.has_position)
@@ -274,6 +321,11 @@ int rpl_trace_load(const char *path, struct rpl_trace *out, struct hl_error *err
     FILE *f = fopen(path, "rb");
     if (!f)
         return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        return hl_fail(err, "%s: is a folder, not a trace file", path);
+    }
     size_t cap = 1 << 16, len = 0;
     char *buf = malloc(cap);
     if (!buf) {

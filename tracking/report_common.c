@@ -11,6 +11,20 @@ void trk_sample_clear(struct trk_imu_sample *s)
     s->orientation = hl_q_identity();
 }
 
+struct trk_imu_sample *trk_sample_begin_at_tick(struct trk_tick_clock *clock, struct trk_report_counters *n,
+                                                uint32_t raw_ticks, struct trk_imu_sample *slot)
+{
+    int64_t ticks;
+    int step = trk_tick_clock_unwrap(clock, raw_ticks, &ticks);
+    if (step <= 0) {
+        trk_count_drop(n, step);
+        return NULL;
+    }
+    trk_sample_clear(slot);
+    slot->device_time_ns = trk_tick_clock_ns(clock, ticks);
+    return slot;
+}
+
 /* ---- counter unwrapping ------------------------------------------------------------------------ */
 
 void trk_tick_clock_init(struct trk_tick_clock *clock, uint32_t bits, uint32_t period_num_ns, uint32_t period_den)

@@ -41,6 +41,12 @@ static inline void trk_count_drop(struct trk_report_counters *n, int clock_resul
         ++n->backward;
 }
 
+/* Starts the next output sample from a raw device tick: when the unwrapped clock advances, clears
+ * *slot, stamps its device time and returns it; otherwise counts the duplicate or backward tick and
+ * returns NULL (the sample is dropped). */
+struct trk_imu_sample *trk_sample_begin_at_tick(struct trk_tick_clock *clock, struct trk_report_counters *n,
+                                                uint32_t raw_ticks, struct trk_imu_sample *slot);
+
 static inline int trk_reject(struct trk_report_counters *n) { ++n->rejected; return -1; }
 
 #endif

@@ -34,18 +34,13 @@ int trk_psvr_parse(struct trk_psvr_parser *p, const uint8_t *report, size_t leng
     int emitted = 0;
     for (int k = 0; k < 2; ++k) {
         const uint8_t *s = report + sample_offset[k];
-        int64_t ticks;
         /* Each sample carries its own tick (≈500 µs apart). Stale ticks — the unit replays a
          * previous session's queue at start — come out as backward and are dropped. The open
          * drivers' clamp of odd deltas to 500 µs is a fusion policy, not applied here. */
-        int step = trk_tick_clock_unwrap(&p->clock, trk_rd_u32(s) & 0xFFFFFFu, &ticks);
-        if (step <= 0) {
-            trk_count_drop(&p->n, step);
+        struct trk_imu_sample *o = trk_sample_begin_at_tick(&p->clock, &p->n, trk_rd_u32(s) & 0xFFFFFFu, &out[emitted]);
+        if (!o)
             continue;
-        }
-        struct trk_imu_sample *o = &out[emitted++];
-        trk_sample_clear(o);
-        o->device_time_ns = trk_tick_clock_ns(&p->clock, ticks);
+        ++emitted;
         o->gyro_radps = psvr_axes(s + 4, TRK_PSVR_GYRO_LSB_RADPS);
         o->accel_mps2 = psvr_axes(s + 10, TRK_PSVR_ACCEL_LSB_MPS2);
         o->has_gyro = 1;

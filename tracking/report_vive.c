@@ -162,15 +162,10 @@ int trk_vive_parse(struct trk_vive_parser *p, const uint8_t *report, size_t leng
     int emitted = 0;
     for (int k = 0; k < count; ++k) {
         const uint8_t *s = slot[order[k]];
-        int64_t ticks;
-        int step = trk_tick_clock_unwrap(&p->clock, trk_rd_u32(s + 12), &ticks);
-        if (step <= 0) {
-            trk_count_drop(&p->n, step);
+        struct trk_imu_sample *o = trk_sample_begin_at_tick(&p->clock, &p->n, trk_rd_u32(s + 12), &out[emitted]);
+        if (!o)
             continue;
-        }
-        struct trk_imu_sample *o = &out[emitted++];
-        trk_sample_clear(o);
-        o->device_time_ns = trk_tick_clock_ns(&p->clock, ticks);
+        ++emitted;
         const struct trk_vive_calibration *c = &p->cal;
         o->accel_mps2 = device_to_body(c->model, scale_words(s, c->accel_range_mps2, c->accel_scale, c->accel_bias_mps2));
         o->gyro_radps = device_to_body(c->model, scale_words(s + 6, c->gyro_range_radps, c->gyro_scale, c->gyro_bias_radps));

@@ -5,22 +5,26 @@
 
 #include "replay/run_internal.h"
 
-/* Cull a bounding sphere (head frame, eye-relative) against the union of both eye frusta. The
- * right eye mirrors the left, so the union spans max(L, R) to either side; the eyes sit ±ipd/2 off
- * the head centre, which the caller adds to the radius. Plane normals are unit (÷ sqrt(1 + tan²)). */
-static int sphere_in_union_frustum(const struct rpl_session *s, hl_vec3d p, double radius_m)
+/* The right eye mirrors the left, so the union of both frusta spans max(L, R) to either side; the
+ * eyes sit ±ipd/2 off the head centre, which culling adds to each radius. A point p is inside a side
+ * plane when n·p ≥ 0 with n the plane's inward normal. */
+void rpl_cull_planes_init(struct rpl_session *s)
 {
     const struct hmd_eye *e = &s->eyes[HMD_EYE_LEFT];
     double side = fmax(e->tan_left, e->tan_right);
-    double side_norm = sqrt(1.0 + side * side);
+    s->cull_normals[0] = hl_v3_normalize(hl_v3(1, 0, -side));            /* left: x ≥ side·z */
+    s->cull_normals[1] = hl_v3_normalize(hl_v3(-1, 0, -side));           /* right */
+    s->cull_normals[2] = hl_v3_normalize(hl_v3(0, -1, -e->tan_up));      /* top */
+    s->cull_normals[3] = hl_v3_normalize(hl_v3(0, 1, -e->tan_down));     /* bottom */
+}
+
+static int sphere_in_union_frustum(const struct rpl_session *s, hl_vec3d p, double radius_m)
+{
     if (-p.z < s->near_m - radius_m)
         return 0;
-    if ((p.x - side * p.z) / side_norm < -radius_m || (-p.x - side * p.z) / side_norm < -radius_m)
-        return 0;
-    if ((-p.y - e->tan_up * p.z) / sqrt(1.0 + e->tan_up * e->tan_up) < -radius_m)
-        return 0;
-    if ((p.y - e->tan_down * p.z) / sqrt(1.0 + e->tan_down * e->tan_down) < -radius_m)
-        return 0;
+    for (int k = 0; k < 4; ++k)
+        if (hl_v3_dot(s->cull_normals[k], p) < -radius_m)
+            return 0;
     return 1;
 }
 

@@ -177,7 +177,7 @@ void rnd_renderer_size(const struct rnd_renderer *r, int *width_px, int *height_
         *height_px = r ? r->eye_h : 0;
 }
 
-int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct rnd_scene *scene, struct hl_error *err)
+int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct scn_scene *scene, struct hl_error *err)
 {
     if (!r || !scene)
         return hl_fail(err, "renderer: no renderer or scene");
@@ -221,7 +221,7 @@ int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct rnd_scene *sc
 /* Column-major 4×4 of the model-to-eye transform, computed in double and only then rounded: the
  * translation is the instance position minus the eye position, so an object 1e6 m from the origin
  * but 2 m from the eye keeps millimetre precision (float world matrices would lose ~6 cm there). */
-static void rnd_model_view(const struct rnd_instance *in, const struct rnd_eye_view *v, float out[16])
+static void rnd_model_view(const struct scn_instance *in, const struct rnd_eye_view *v, float out[16])
 {
     hl_quatd to_eye = hl_q_conj(v->orientation);
     hl_quatd q = hl_q_mul(to_eye, in->rotation);
@@ -238,7 +238,7 @@ static void rnd_model_view(const struct rnd_instance *in, const struct rnd_eye_v
         out[i] = (float)m[i];
 }
 
-int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct rnd_scene *scene,
+int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *scene,
                              const struct rnd_eye_view views[2], const uint32_t *index, const uint8_t *lod,
                              size_t count, struct rnd_draw_stats *stats)
 {
@@ -277,8 +277,8 @@ int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct rnd_scene *sce
         for (size_t k = 0; k < count; ++k) {
             if (lod[k] == 255)
                 continue;
-            const struct rnd_instance *in = &scene->instances[index[k]];
-            const struct rnd_lod *L = &scene->chains[in->chain].lods[lod[k]];
+            const struct scn_instance *in = &scene->instances[index[k]];
+            const struct scn_lod *L = &scene->chains[in->chain].lods[lod[k]];
             if (L->index_count == 0)
                 continue;
             rnd_model_view(in, v, mv);

@@ -30,7 +30,7 @@ static int sphere_in_union_frustum(const struct rpl_session *s, hl_vec3d p, doub
 
 static uint32_t cull_scene(const struct rpl_session *s, const struct trk_pose *pose)
 {
-    const struct rnd_scene *sc = &s->scene;
+    const struct scn_scene *sc = &s->scene;
     hl_quatd world_to_head = hl_q_conj(pose->orientation);
     double eye_margin_m = 0.5 * s->display.ipd_m;
     uint32_t n = 0;
@@ -93,7 +93,7 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
         acu_select_finest(n, a->lod);
     rec->acuity_evaluations = stats.model_evaluations;
     for (uint32_t k = 0; k < n; ++k) {
-        const struct rnd_chain *chain = &s->scene.chains[s->scene.chain_of_instance[a->visible[k]]];
+        const struct scn_chain *chain = &s->scene.chains[s->scene.chain_of_instance[a->visible[k]]];
         rec->triangles_finest += chain->lods[0].triangle_count;
         rec->lod_histogram[a->lod[k]]++;
     }

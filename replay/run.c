@@ -81,8 +81,8 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     if (rc != 0 || rpl_trace_source_create(&trace, &s->source, err) != 0)
         return -1;
 
-    struct rnd_scene_params params = {.object_count = o->object_count, .seed = o->seed};
-    if (rnd_scene_build(o->scene, &params, &s->scene, err) != 0)
+    struct scn_scene_params params = {.object_count = o->object_count, .seed = o->seed};
+    if (scn_scene_build(o->scene, &params, &s->scene, err) != 0)
         return -1;
     uint32_t n = s->scene.instance_count;
     s->chains = calloc(s->scene.chain_count, sizeof *s->chains);
@@ -96,7 +96,7 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
         !s->arrays.diameter_deg || !s->arrays.ceiling_cpd || !s->arrays.lod)
         return hl_fail(err, "scene '%s': out of memory for %u objects", o->scene, n);
     for (uint32_t c = 0; c < s->scene.chain_count; ++c) {
-        const struct rnd_chain *chain = &s->scene.chains[c];
+        const struct scn_chain *chain = &s->scene.chains[c];
         s->chains[c].lod_count = chain->lod_count;
         for (int k = 0; k < chain->lod_count; ++k)
             s->chains[c].unique_freq_cpdiam[k] = chain->lods[k].unique_freq_cpdiam;
@@ -116,7 +116,7 @@ static void session_close(struct rpl_session *s)
     if (s->renderer)
         rnd_renderer_destroy(s->renderer);
     trk_source_destroy(s->source);
-    rnd_scene_free(&s->scene);
+    scn_scene_free(&s->scene);
     free(s->chains);
     free(s->arrays.visible);
     free(s->arrays.eccentricity_deg);

@@ -24,7 +24,7 @@ struct rpl_frame_record {
     uint32_t visible;
     uint64_t acuity_evaluations;
     uint64_t triangles_per_eye, triangles_finest;
-    uint32_t lod_histogram[RND_MAX_LODS];
+    uint32_t lod_histogram[SCN_MAX_LODS];
     double acuity_us, select_us, draw_ms, frame_ms;
     int deadline_met;
 };
@@ -33,7 +33,7 @@ struct rpl_session {
     struct hmd_profile display;
     struct hmd_eye eyes[2];
     struct acu_limits limits;
-    struct rnd_scene scene;
+    struct scn_scene scene;
     struct acu_chain *chains;
     struct trk_pose_source *source;
     struct rnd_renderer *renderer;

@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 /* ---- scenes --------------------------------------------------------------------------------- */
-static void print_chain(const struct rnd_chain *c)
+static void print_chain(const struct scn_chain *c)
 {
     printf("  chain %-10s R = %.4f m\n", c->name, c->bound_radius_m);
     for (int l = 0; l < c->lod_count; ++l)
@@ -22,7 +22,7 @@ static void print_chain(const struct rnd_chain *c)
                c->lods[l].vertex_count, c->lods[l].geometric_error_m, c->lods[l].unique_freq_cpdiam);
 }
 
-static void check_chain_monotone(const struct rnd_chain *c)
+static void check_chain_monotone(const struct scn_chain *c)
 {
     CHECK(c->lods[0].geometric_error_m == 0.0);
     CHECK(isinf(c->lods[0].unique_freq_cpdiam) && c->lods[0].unique_freq_cpdiam > 0);
@@ -38,17 +38,17 @@ static void check_chain_monotone(const struct rnd_chain *c)
 static void test_field(void)
 {
     struct hl_error err = {""};
-    struct rnd_scene s = {0};
-    struct rnd_scene_params p = {0, 0}; /* defaults: 100 objects, seed 1 */
-    CHECK(rnd_scene_build("field", &p, &s, &err) == 0);
+    struct scn_scene s = {0};
+    struct scn_scene_params p = {0, 0}; /* defaults: 100 objects, seed 1 */
+    CHECK(scn_scene_build("field", &p, &s, &err) == 0);
     CHECK(strcmp(s.name, "field") == 0);
     CHECK(s.instance_count == 100);
     CHECK(s.chain_count == 1);
     if (s.chain_count != 1) {
-        rnd_scene_free(&s);
+        scn_scene_free(&s);
         return;
     }
-    const struct rnd_chain *c = &s.chains[0];
+    const struct scn_chain *c = &s.chains[0];
     printf("field:\n");
     print_chain(c);
     static const double reddy[4] = {3928, 834, 254, 76};
@@ -67,43 +67,43 @@ static void test_field(void)
     }
     for (uint32_t k = 0; k < s.index_count; ++k)
         CHECK(s.indices[k] < s.vertex_count);
-    rnd_scene_free(&s);
-    rnd_scene_free(&s); /* twice is safe */
+    scn_scene_free(&s);
+    scn_scene_free(&s); /* twice is safe */
 
     /* Determinism: the seed names the scene. */
-    struct rnd_scene a = {0}, b = {0}, d = {0};
-    struct rnd_scene_params pa = {500, 7}, pd = {500, 8};
-    CHECK(rnd_scene_build("field", &pa, &a, &err) == 0);
-    CHECK(rnd_scene_build("field", &pa, &b, &err) == 0);
-    CHECK(rnd_scene_build("field", &pd, &d, &err) == 0);
+    struct scn_scene a = {0}, b = {0}, d = {0};
+    struct scn_scene_params pa = {500, 7}, pd = {500, 8};
+    CHECK(scn_scene_build("field", &pa, &a, &err) == 0);
+    CHECK(scn_scene_build("field", &pa, &b, &err) == 0);
+    CHECK(scn_scene_build("field", &pd, &d, &err) == 0);
     CHECK(a.instance_count == 500 && b.instance_count == 500 && d.instance_count == 500);
     if (a.instance_count == 500 && b.instance_count == 500 && d.instance_count == 500) {
         CHECK(memcmp(a.center_m, b.center_m, 3 * 500 * sizeof(double)) == 0);
         CHECK(memcmp(a.center_m, d.center_m, 3 * 500 * sizeof(double)) != 0);
     }
-    rnd_scene_free(&a);
-    rnd_scene_free(&b);
-    rnd_scene_free(&d);
+    scn_scene_free(&a);
+    scn_scene_free(&b);
+    scn_scene_free(&d);
 
     /* Bad input: a message, no scene, nothing leaked. */
     static const int bad_counts[] = {-1, 100001, -2147483647};
     for (size_t i = 0; i < sizeof bad_counts / sizeof bad_counts[0]; ++i) {
-        struct rnd_scene_params pb = {bad_counts[i], 1};
+        struct scn_scene_params pb = {bad_counts[i], 1};
         err.msg[0] = 0;
-        CHECK(rnd_scene_build("field", &pb, &s, &err) != 0);
+        CHECK(scn_scene_build("field", &pb, &s, &err) != 0);
         CHECK(strstr(err.msg, "object_count") != NULL);
         CHECK(s.instances == NULL && s.positions == NULL);
     }
-    struct rnd_scene_params one = {1, 3};
-    CHECK(rnd_scene_build("field", &one, &s, &err) == 0 && s.instance_count == 1);
-    rnd_scene_free(&s);
+    struct scn_scene_params one = {1, 3};
+    CHECK(scn_scene_build("field", &one, &s, &err) == 0 && s.instance_count == 1);
+    scn_scene_free(&s);
 }
 
 static void test_auditorium(void)
 {
     struct hl_error err = {""};
-    struct rnd_scene s = {0};
-    CHECK(rnd_scene_build("auditorium", NULL, &s, &err) == 0);
+    struct scn_scene s = {0};
+    CHECK(scn_scene_build("auditorium", NULL, &s, &err) == 0);
     CHECK(strcmp(s.name, "auditorium") == 0);
     printf("auditorium: %u chains, %u instances\n", s.chain_count, s.instance_count);
     uint64_t full = 0;
@@ -135,16 +135,16 @@ static void test_auditorium(void)
         CHECK(s.center_m[3 * i + 1] + s.radius_m[i] < 0.2);
     }
     CHECK(front > 0 && behind > 0);
-    rnd_scene_free(&s);
+    scn_scene_free(&s);
 
-    struct rnd_scene zero = {0};
-    rnd_scene_free(&zero);
-    rnd_scene_free(NULL);
+    struct scn_scene zero = {0};
+    scn_scene_free(&zero);
+    scn_scene_free(NULL);
     err.msg[0] = 0;
-    CHECK(rnd_scene_build("cathedral", NULL, &s, &err) != 0);
+    CHECK(scn_scene_build("cathedral", NULL, &s, &err) != 0);
     CHECK(strstr(err.msg, "cathedral") && strstr(err.msg, "field") && strstr(err.msg, "auditorium"));
-    CHECK(rnd_scene_build(NULL, NULL, &s, &err) != 0);
-    const char *const *names = rnd_scene_builtin_names();
+    CHECK(scn_scene_build(NULL, NULL, &s, &err) != 0);
+    const char *const *names = scn_scene_builtin_names();
     CHECK(names && names[0] && names[1] && !names[2]);
 }
 
@@ -167,16 +167,16 @@ static float quad_pos[] = {-0.1f, -0.1f, 0, 0.1f, -0.1f, 0, 0.1f, 0.1f, 0, -0.1f
 static float quad_nrm[] = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1};
 static uint32_t quad_idx[] = {0, 1, 2, 0, 2, 3};
 
-static void quad_scene(struct rnd_scene *s, struct rnd_chain *chain, struct rnd_instance *inst, double x, double y,
+static void quad_scene(struct scn_scene *s, struct scn_chain *chain, struct scn_instance *inst, double x, double y,
                        double z, hl_quatd rot)
 {
     memset(s, 0, sizeof *s);
     memset(chain, 0, sizeof *chain);
     snprintf(chain->name, sizeof chain->name, "quad");
     chain->lod_count = 1;
-    chain->lods[0] = (struct rnd_lod){0, 6, 2, 4, 0.0, INFINITY};
+    chain->lods[0] = (struct scn_lod){0, 6, 2, 4, 0.0, INFINITY};
     chain->bound_radius_m = 0.1 * sqrt(2.0);
-    *inst = (struct rnd_instance){0, {x, y, z}, rot, 1.0, {1.0f, 0.2f, 0.1f}};
+    *inst = (struct scn_instance){0, {x, y, z}, rot, 1.0, {1.0f, 0.2f, 0.1f}};
     s->positions = quad_pos;
     s->normals = quad_nrm;
     s->vertex_count = 4;
@@ -218,7 +218,7 @@ static double centroid_x(const uint8_t *img, int eye, int *count)
     return n ? sum / n : -1;
 }
 
-static int draw_quad(struct rnd_renderer *r, const struct rnd_scene *s, const struct rnd_eye_view v[2], uint8_t lod,
+static int draw_quad(struct rnd_renderer *r, const struct scn_scene *s, const struct rnd_eye_view v[2], uint8_t lod,
                      uint8_t *img, struct rnd_draw_stats *st)
 {
     struct hl_error err = {""};
@@ -235,9 +235,9 @@ static void test_render_quad(struct rnd_renderer *r)
 {
     size_t bytes = (size_t)2 * EW * EH * 4;
     uint8_t *img = malloc(bytes), *far_img = malloc(bytes), *turned = malloc(bytes);
-    struct rnd_scene s;
-    struct rnd_chain chain;
-    struct rnd_instance inst;
+    struct scn_scene s;
+    struct scn_chain chain;
+    struct scn_instance inst;
     struct rnd_eye_view v[2];
     struct rnd_draw_stats st;
     const double ipd = 0.064, dist = 0.5;
@@ -307,8 +307,8 @@ static void test_render_quad(struct rnd_renderer *r)
 static void test_render_builtin(struct rnd_renderer *r, const char *name)
 {
     struct hl_error err = {""};
-    struct rnd_scene s = {0};
-    if (rnd_scene_build(name, NULL, &s, &err) != 0) {
+    struct scn_scene s = {0};
+    if (scn_scene_build(name, NULL, &s, &err) != 0) {
         CHECK(0);
         return;
     }
@@ -336,7 +336,7 @@ static void test_render_builtin(struct rnd_renderer *r, const char *name)
     free(img);
     free(index);
     free(lod);
-    rnd_scene_free(&s);
+    scn_scene_free(&s);
 }
 
 /* ---- PNG ------------------------------------------------------------------------------------ */

@@ -1,7 +1,7 @@
 /* "field": the test environment of Reddy (1998 §5) — many copies of one object with four LODs of
  * about 3928 / 834 / 254 / 76 triangles scattered around the viewer. Reddy's traces come from
  * free head motion, so objects surround the origin in every direction, not just ahead. */
-#include "render/render_internal.h"
+#include "scene/scene_internal.h"
 
 #include <math.h>
 
@@ -28,37 +28,37 @@ static const float field_palette[8][3] = {
     {0.68f, 0.51f, 0.79f}, {0.40f, 0.76f, 0.71f}, {0.91f, 0.58f, 0.71f}, {0.78f, 0.74f, 0.65f},
 };
 
-int rnd_scene_build_field(const struct rnd_scene_params *p, struct rnd_scene *s, struct hl_error *err)
+int scn_scene_build_field(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err)
 {
     int n = p->object_count == 0 ? FIELD_DEFAULT_COUNT : p->object_count;
     if (n < 1 || n > FIELD_MAX_COUNT)
         return hl_fail(err, "scene field: object_count %d out of range (1…%d, 0 = %d)", p->object_count,
                        FIELD_MAX_COUNT, FIELD_DEFAULT_COUNT);
     snprintf(s->name, sizeof s->name, "field");
-    struct rnd_mesh levels[4] = {{0}};
+    struct scn_mesh levels[4] = {{0}};
     for (int l = 0; l < 4; ++l)
-        rnd_mesh_add_sphere(&levels[l], field_base_radius_m, field_levels[l][0], field_levels[l][1], field_shape);
-    int rc = rnd_scene_add_chain(s, "bumpy_sphere", levels, 4, err);
+        scn_mesh_add_sphere(&levels[l], field_base_radius_m, field_levels[l][0], field_levels[l][1], field_shape);
+    int rc = scn_scene_add_chain(s, "bumpy_sphere", levels, 4, err);
     for (int l = 0; l < 4; ++l)
-        rnd_mesh_free(&levels[l]);
-    if (rc != 0 || rnd_scene_alloc_instances(s, (uint32_t)n, err) != 0)
+        scn_mesh_free(&levels[l]);
+    if (rc != 0 || scn_scene_alloc_instances(s, (uint32_t)n, err) != 0)
         return -1;
 
-    struct rnd_rng g = {p->seed};
+    struct scn_rng g = {p->seed};
     for (int i = 0; i < n; ++i) {
         /* Direction uniform on the sphere (z uniform in [−1, 1], azimuth uniform). Distance uniform
          * in [near + r, far] rather than uniform in volume, which would put most objects near 40 m
          * where they are a few pixels: this way every distance band holds as many objects, so the
          * LOD choice always has near, middle and far work. No part of an object is within 3 m. */
-        double z = 2.0 * rnd_rng_uniform(&g) - 1.0, az = 2.0 * HL_PI * rnd_rng_uniform(&g);
+        double z = 2.0 * scn_rng_uniform(&g) - 1.0, az = 2.0 * HL_PI * scn_rng_uniform(&g);
         double rho = sqrt(fmax(0.0, 1.0 - z * z));
         hl_vec3d dir = hl_v3(rho * cos(az), z, rho * sin(az));
-        double scale = 0.5 + rnd_rng_uniform(&g);
+        double scale = 0.5 + scn_rng_uniform(&g);
         double near = field_near_m + s->chains[0].bound_radius_m * scale;
-        double dist = near + (field_far_m - near) * rnd_rng_uniform(&g);
-        hl_quatd rot = rnd_rng_rotation(&g);
-        const float *color = field_palette[rnd_rng_next(&g) % 8];
-        rnd_scene_set_instance(s, (uint32_t)i, 0, hl_v3_scale(dir, dist), rot, scale, color);
+        double dist = near + (field_far_m - near) * scn_rng_uniform(&g);
+        hl_quatd rot = scn_rng_rotation(&g);
+        const float *color = field_palette[scn_rng_next(&g) % 8];
+        scn_scene_set_instance(s, (uint32_t)i, 0, hl_v3_scale(dir, dist), rot, scale, color);
     }
     return 0;
 }

@@ -1,16 +1,16 @@
 /* Scene assembly shared by the built-in scenes: packing LOD chains into one vertex and one index
  * array (so the GPU needs one buffer of each), the per-instance arrays, and the name dispatch. */
-#include "render/render_internal.h"
+#include "scene/scene_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const rnd_builtin_names[] = {"field", "auditorium", NULL};
+static const char *const scn_builtin_names[] = {"field", "auditorium", NULL};
 
-const char *const *rnd_scene_builtin_names(void) { return rnd_builtin_names; }
+const char *const *scn_scene_builtin_names(void) { return scn_builtin_names; }
 
-void rnd_scene_free(struct rnd_scene *s)
+void scn_scene_free(struct scn_scene *s)
 {
     if (!s)
         return;
@@ -22,34 +22,34 @@ void rnd_scene_free(struct rnd_scene *s)
     free(s->center_m);
     free(s->radius_m);
     free(s->chain_of_instance);
-    *s = (struct rnd_scene){0};
+    *s = (struct scn_scene){0};
 }
 
-int rnd_scene_build(const char *name, const struct rnd_scene_params *params, struct rnd_scene *out,
+int scn_scene_build(const char *name, const struct scn_scene_params *params, struct scn_scene *out,
                     struct hl_error *err)
 {
     if (!out)
         return hl_fail(err, "scene: no output");
-    *out = (struct rnd_scene){0};
-    struct rnd_scene_params p = params ? *params : (struct rnd_scene_params){0};
+    *out = (struct scn_scene){0};
+    struct scn_scene_params p = params ? *params : (struct scn_scene_params){0};
     if (p.seed == 0)
         p.seed = 1;
     int rc;
     if (name && strcmp(name, "field") == 0)
-        rc = rnd_scene_build_field(&p, out, err);
+        rc = scn_scene_build_field(&p, out, err);
     else if (name && strcmp(name, "auditorium") == 0)
-        rc = rnd_scene_build_auditorium(&p, out, err);
+        rc = scn_scene_build_auditorium(&p, out, err);
     else
         return hl_fail(err, "scene: unknown built-in scene '%s' (built-in: field, auditorium)", name ? name : "(null)");
     if (rc != 0) {
-        rnd_scene_free(out);
+        scn_scene_free(out);
         return rc;
     }
     snprintf(out->name, sizeof out->name, "%s", name);
     return 0;
 }
 
-static int rnd_scene_reserve(void **p, size_t count, size_t elem)
+static int scn_scene_reserve(void **p, size_t count, size_t elem)
 {
     void *q = realloc(*p, count ? count * elem : 1);
     if (!q)
@@ -58,11 +58,11 @@ static int rnd_scene_reserve(void **p, size_t count, size_t elem)
     return 0;
 }
 
-int rnd_scene_add_chain(struct rnd_scene *s, const char *name, struct rnd_mesh *meshes, int count,
+int scn_scene_add_chain(struct scn_scene *s, const char *name, struct scn_mesh *meshes, int count,
                         struct hl_error *err)
 {
-    if (count < 1 || count > RND_MAX_LODS)
-        return hl_fail(err, "scene %s: chain %s: %d levels (1…%d)", s->name, name, count, RND_MAX_LODS);
+    if (count < 1 || count > SCN_MAX_LODS)
+        return hl_fail(err, "scene %s: chain %s: %d levels (1…%d)", s->name, name, count, SCN_MAX_LODS);
     uint64_t nv = s->vertex_count, ni = s->index_count;
     for (int l = 0; l < count; ++l) {
         if (meshes[l].failed)
@@ -72,13 +72,13 @@ int rnd_scene_add_chain(struct rnd_scene *s, const char *name, struct rnd_mesh *
     }
     if (nv > UINT32_MAX || ni > UINT32_MAX)
         return hl_fail(err, "scene: chain %s: more than 2^32 vertices or indices", name);
-    if (rnd_scene_reserve((void **)&s->positions, nv * 3, sizeof(float)) ||
-        rnd_scene_reserve((void **)&s->normals, nv * 3, sizeof(float)) ||
-        rnd_scene_reserve((void **)&s->indices, ni, sizeof(uint32_t)) ||
-        rnd_scene_reserve((void **)&s->chains, s->chain_count + 1, sizeof *s->chains))
+    if (scn_scene_reserve((void **)&s->positions, nv * 3, sizeof(float)) ||
+        scn_scene_reserve((void **)&s->normals, nv * 3, sizeof(float)) ||
+        scn_scene_reserve((void **)&s->indices, ni, sizeof(uint32_t)) ||
+        scn_scene_reserve((void **)&s->chains, s->chain_count + 1, sizeof *s->chains))
         return hl_fail(err, "scene: chain %s: out of memory", name);
 
-    struct rnd_chain *c = &s->chains[s->chain_count];
+    struct scn_chain *c = &s->chains[s->chain_count];
     memset(c, 0, sizeof *c);
     snprintf(c->name, sizeof c->name, "%s", name);
     c->lod_count = count;
@@ -90,8 +90,8 @@ int rnd_scene_add_chain(struct rnd_scene *s, const char *name, struct rnd_mesh *
     }
     c->bound_radius_m = sqrt(r2);
     for (int l = 0; l < count; ++l) {
-        const struct rnd_mesh *m = &meshes[l];
-        struct rnd_lod *lod = &c->lods[l];
+        const struct scn_mesh *m = &meshes[l];
+        struct scn_lod *lod = &c->lods[l];
         lod->first_index = s->index_count;
         lod->index_count = m->index_count;
         lod->triangle_count = m->index_count / 3;
@@ -102,8 +102,8 @@ int rnd_scene_add_chain(struct rnd_scene *s, const char *name, struct rnd_mesh *
             s->indices[s->index_count + k] = m->indices[k] + s->vertex_count;
         s->vertex_count += m->vertex_count;
         s->index_count += m->index_count;
-        lod->geometric_error_m = l == 0 ? 0.0 : rnd_lod_geometric_error(&meshes[0], m);
-        lod->unique_freq_cpdiam = rnd_lod_unique_freq(lod->geometric_error_m, c->bound_radius_m);
+        lod->geometric_error_m = l == 0 ? 0.0 : scn_lod_geometric_error(&meshes[0], m);
+        lod->unique_freq_cpdiam = scn_lod_unique_freq(lod->geometric_error_m, c->bound_radius_m);
         /* The acuity step needs f strictly decreasing with the level: a coarser level loses larger
          * features, i.e. lower frequencies. A level that happens to be no worse than the previous
          * one is clamped just below it (docs/scenes.md). */
@@ -114,7 +114,7 @@ int rnd_scene_add_chain(struct rnd_scene *s, const char *name, struct rnd_mesh *
     return 0;
 }
 
-int rnd_scene_alloc_instances(struct rnd_scene *s, uint32_t n, struct hl_error *err)
+int scn_scene_alloc_instances(struct scn_scene *s, uint32_t n, struct hl_error *err)
 {
     s->instances = calloc(n ? n : 1, sizeof *s->instances);
     s->center_m = calloc(n ? 3 * (size_t)n : 1, sizeof *s->center_m);
@@ -126,10 +126,10 @@ int rnd_scene_alloc_instances(struct rnd_scene *s, uint32_t n, struct hl_error *
     return 0;
 }
 
-void rnd_scene_set_instance(struct rnd_scene *s, uint32_t i, uint32_t chain, hl_vec3d position,
+void scn_scene_set_instance(struct scn_scene *s, uint32_t i, uint32_t chain, hl_vec3d position,
                             hl_quatd rotation, double scale, const float color[3])
 {
-    struct rnd_instance *in = &s->instances[i];
+    struct scn_instance *in = &s->instances[i];
     in->chain = chain;
     in->position_m[0] = position.x, in->position_m[1] = position.y, in->position_m[2] = position.z;
     in->rotation = rotation;

@@ -1,13 +1,13 @@
 /* LOD analysis: how far a coarse level strays from the finest one (geometric error) and the
  * spatial frequency of the detail it loses, the quantity Reddy's acuity model compares against
  * the eye's and the display's limits (Reddy 1998 §3.2; docs/scenes.md). */
-#include "render/render_internal.h"
+#include "scene/scene_internal.h"
 
 #include <math.h>
 
 /* Closest point on triangle abc to p (Ericson, Real-Time Collision Detection §5.1.5): Voronoi
  * regions of the vertices, then the edges, else the face. Exact for degenerate slivers too. */
-static hl_vec3d rnd_closest_on_triangle(hl_vec3d p, hl_vec3d a, hl_vec3d b, hl_vec3d c)
+static hl_vec3d scn_closest_on_triangle(hl_vec3d p, hl_vec3d a, hl_vec3d b, hl_vec3d c)
 {
     hl_vec3d ab = hl_v3_sub(b, a), ac = hl_v3_sub(c, a), ap = hl_v3_sub(p, a);
     double d1 = hl_v3_dot(ab, ap), d2 = hl_v3_dot(ac, ap);
@@ -37,24 +37,24 @@ static hl_vec3d rnd_closest_on_triangle(hl_vec3d p, hl_vec3d a, hl_vec3d b, hl_v
     return hl_v3_add(a, hl_v3_add(hl_v3_scale(ab, v), hl_v3_scale(ac, w)));
 }
 
-static hl_vec3d rnd_vertex(const struct rnd_mesh *m, uint32_t i)
+static hl_vec3d scn_vertex(const struct scn_mesh *m, uint32_t i)
 {
     const float *p = m->positions + 3 * (size_t)i;
     return hl_v3(p[0], p[1], p[2]);
 }
 
-double rnd_lod_geometric_error(const struct rnd_mesh *fine, const struct rnd_mesh *coarse)
+double scn_lod_geometric_error(const struct scn_mesh *fine, const struct scn_mesh *coarse)
 {
     /* One-sided Hausdorff distance sampled at the fine vertices. Brute force: O(V·T) is at most a
      * few million point–triangle tests for the built-in chains, done once per scene build. */
     double worst = 0;
     for (uint32_t v = 0; v < fine->vertex_count; ++v) {
-        hl_vec3d p = rnd_vertex(fine, v);
+        hl_vec3d p = scn_vertex(fine, v);
         double best = INFINITY;
         for (uint32_t t = 0; t + 2 < coarse->index_count && best > worst; t += 3) {
-            hl_vec3d q = rnd_closest_on_triangle(p, rnd_vertex(coarse, coarse->indices[t]),
-                                                 rnd_vertex(coarse, coarse->indices[t + 1]),
-                                                 rnd_vertex(coarse, coarse->indices[t + 2]));
+            hl_vec3d q = scn_closest_on_triangle(p, scn_vertex(coarse, coarse->indices[t]),
+                                                 scn_vertex(coarse, coarse->indices[t + 1]),
+                                                 scn_vertex(coarse, coarse->indices[t + 2]));
             hl_vec3d d = hl_v3_sub(p, q);
             double dist = sqrt(hl_v3_dot(d, d));
             if (dist < best)
@@ -67,7 +67,7 @@ double rnd_lod_geometric_error(const struct rnd_mesh *fine, const struct rnd_mes
     return worst;
 }
 
-double rnd_lod_unique_freq(double eps_m, double bound_radius_m)
+double scn_lod_unique_freq(double eps_m, double bound_radius_m)
 {
     /* What a level loses is a thin sliver between the two surfaces: ε across, a chord long.
      * Reddy (1998 §3.2) measures each lost feature's extent at several orientations and keeps the

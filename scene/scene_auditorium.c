@@ -1,7 +1,7 @@
 /* "auditorium": the test model of Funkhouser & Séquin (1993 §7) — rows of chairs, each a chain of
  * LODs, plus a stage and the room. The viewer sits among the seats at the origin, head 1.2 m above
  * the floor, facing the stage along −Z; rows in front and behind make head turns change the load. */
-#include "render/render_internal.h"
+#include "scene/scene_internal.h"
 
 #include <math.h>
 
@@ -12,7 +12,7 @@ static const double aud_row_pitch = 1.0, aud_seat_pitch = 0.6;
 
 /* Chair, centred on its model origin (so the bounding-sphere centre is the instance position):
  * seat top 0.45 m above the floor, back up to 0.9 m; it spans y ∈ [−0.45, 0.45]. */
-static void aud_chair(struct rnd_mesh *m, int level)
+static void aud_chair(struct scn_mesh *m, int level)
 {
     const hl_quatd id = hl_q_identity();
     const double fy = -0.45, seat_y = fy + 0.43, leg_h = 0.41;
@@ -24,30 +24,30 @@ static void aud_chair(struct rnd_mesh *m, int level)
         int leg_seg = level == 0 ? 20 : 7, post_seg = level == 0 ? 16 : 6;
         for (int i = 0; i < 4; ++i) {
             double x = (i & 1) ? 0.21 : -0.21, z = (i & 2) ? 0.19 : -0.19;
-            rnd_mesh_add_cylinder(m, hl_v3(x, fy + leg_h / 2, z), 0.022, leg_h / 2, leg_seg, id);
+            scn_mesh_add_cylinder(m, hl_v3(x, fy + leg_h / 2, z), 0.022, leg_h / 2, leg_seg, id);
         }
-        rnd_mesh_add_box(m, seat_c, seat_h, id);
-        rnd_mesh_add_box(m, back_c, back_h, id);
+        scn_mesh_add_box(m, seat_c, seat_h, id);
+        scn_mesh_add_box(m, back_c, back_h, id);
         for (int i = 0; i < 2; ++i) {
             double x = i ? 0.21 : -0.21;
-            rnd_mesh_add_cylinder(m, hl_v3(x, 0.12, 0.20), 0.018, 0.33 / 2 + 0.07, post_seg, id);
+            scn_mesh_add_cylinder(m, hl_v3(x, 0.12, 0.20), 0.018, 0.33 / 2 + 0.07, post_seg, id);
             if (level == 0) /* arm rails along z at 0.2 m above the seat */
-                rnd_mesh_add_cylinder(m, hl_v3(x + (i ? 0.03 : -0.03), seat_y + 0.2, 0.0), 0.02, 0.19, 16,
+                scn_mesh_add_cylinder(m, hl_v3(x + (i ? 0.03 : -0.03), seat_y + 0.2, 0.0), 0.02, 0.19, 16,
                                       hl_q_from_axis_angle(hl_v3(1, 0, 0), HL_PI / 2));
             else
-                rnd_mesh_add_box(m, hl_v3(x + (i ? 0.03 : -0.03), seat_y + 0.2, 0.0), hl_v3(0.02, 0.02, 0.19), id);
+                scn_mesh_add_box(m, hl_v3(x + (i ? 0.03 : -0.03), seat_y + 0.2, 0.0), hl_v3(0.02, 0.02, 0.19), id);
         }
         break;
     }
     case 2: /* 60: seat, back, and the legs/arms merged into two side panels and a back post bar */
-        rnd_mesh_add_box(m, seat_c, seat_h, id);
-        rnd_mesh_add_box(m, back_c, back_h, id);
+        scn_mesh_add_box(m, seat_c, seat_h, id);
+        scn_mesh_add_box(m, back_c, back_h, id);
         for (int i = 0; i < 2; ++i)
-            rnd_mesh_add_box(m, hl_v3(i ? 0.225 : -0.225, fy + 0.31, 0.0), hl_v3(0.015, 0.31, 0.21), id);
-        rnd_mesh_add_box(m, hl_v3(0, seat_y - 0.2, 0.19), hl_v3(0.21, 0.02, 0.02), id);
+            scn_mesh_add_box(m, hl_v3(i ? 0.225 : -0.225, fy + 0.31, 0.0), hl_v3(0.015, 0.31, 0.21), id);
+        scn_mesh_add_box(m, hl_v3(0, seat_y - 0.2, 0.19), hl_v3(0.21, 0.02, 0.02), id);
         break;
     default: /* 12: one box, the chair's silhouette as seen from a distance */
-        rnd_mesh_add_box(m, hl_v3(0, fy + 0.45, 0.02), hl_v3(0.24, 0.45, 0.2), id);
+        scn_mesh_add_box(m, hl_v3(0, fy + 0.45, 0.02), hl_v3(0.24, 0.45, 0.2), id);
         break;
     }
 }
@@ -58,15 +58,15 @@ struct aud_surface {
     float color[3];
 };
 
-int rnd_scene_build_auditorium(const struct rnd_scene_params *p, struct rnd_scene *s, struct hl_error *err)
+int scn_scene_build_auditorium(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err)
 {
     snprintf(s->name, sizeof s->name, "auditorium");
-    struct rnd_mesh chair[4] = {{0}};
+    struct scn_mesh chair[4] = {{0}};
     for (int l = 0; l < 4; ++l)
         aud_chair(&chair[l], l);
-    int rc = rnd_scene_add_chain(s, "chair", chair, 4, err);
+    int rc = scn_scene_add_chain(s, "chair", chair, 4, err);
     for (int l = 0; l < 4; ++l)
-        rnd_mesh_free(&chair[l]);
+        scn_mesh_free(&chair[l]);
     if (rc != 0)
         return -1;
 
@@ -84,33 +84,33 @@ int rnd_scene_build_auditorium(const struct rnd_scene_params *p, struct rnd_scen
     };
     const uint32_t nsurf = sizeof surf / sizeof surf[0];
     for (uint32_t i = 0; i < nsurf; ++i) { /* each surface is its own one-level chain at its origin */
-        struct rnd_mesh box = {0};
-        rnd_mesh_add_box(&box, hl_v3(0, 0, 0), surf[i].half, hl_q_identity());
-        rc = rnd_scene_add_chain(s, surf[i].name, &box, 1, err);
-        rnd_mesh_free(&box);
+        struct scn_mesh box = {0};
+        scn_mesh_add_box(&box, hl_v3(0, 0, 0), surf[i].half, hl_q_identity());
+        rc = scn_scene_add_chain(s, surf[i].name, &box, 1, err);
+        scn_mesh_free(&box);
         if (rc != 0)
             return -1;
     }
 
     uint32_t n = AUD_ROWS * AUD_SEATS + nsurf;
-    if (rnd_scene_alloc_instances(s, n, err) != 0)
+    if (scn_scene_alloc_instances(s, n, err) != 0)
         return -1;
     /* Seats face the stage (−Z): the chair's back is at +z in its model frame, so no rotation. A
      * small seeded jitter keeps rows from looking machine-placed and makes the seed matter. */
-    struct rnd_rng g = {p->seed};
+    struct scn_rng g = {p->seed};
     static const float seat_colors[2][3] = {{0.60f, 0.12f, 0.14f}, {0.52f, 0.10f, 0.12f}};
     uint32_t k = 0;
     for (int row = 0; row < AUD_ROWS; ++row) {
         for (int seat = 0; seat < AUD_SEATS; ++seat) {
-            double jx = 0.02 * (rnd_rng_uniform(&g) - 0.5), yaw = 0.06 * (rnd_rng_uniform(&g) - 0.5);
+            double jx = 0.02 * (scn_rng_uniform(&g) - 0.5), yaw = 0.06 * (scn_rng_uniform(&g) - 0.5);
             /* The viewer's own seat: eyes above the seat at the origin, the chair 0.15 m behind. */
             double x = (seat - AUD_VIEWER_SEAT) * aud_seat_pitch + jx;
             double z = (row - AUD_VIEWER_ROW) * aud_row_pitch + 0.15;
-            rnd_scene_set_instance(s, k++, 0, hl_v3(x, fy + 0.45, z), hl_q_from_axis_angle(hl_v3(0, 1, 0), yaw),
+            scn_scene_set_instance(s, k++, 0, hl_v3(x, fy + 0.45, z), hl_q_from_axis_angle(hl_v3(0, 1, 0), yaw),
                                    1.0, seat_colors[(row + seat) & 1]);
         }
     }
     for (uint32_t i = 0; i < nsurf; ++i)
-        rnd_scene_set_instance(s, k++, 1 + i, surf[i].center, hl_q_identity(), 1.0, surf[i].color);
+        scn_scene_set_instance(s, k++, 1 + i, surf[i].center, hl_q_identity(), 1.0, surf[i].color);
     return 0;
 }

@@ -1,12 +1,12 @@
 /* Procedural meshes: a growable triangle list and the primitives the built-in scenes are made of
  * (boxes, cylinders, bumpy spheres). Everything is closed and wound CCW seen from outside, because
  * the renderer culls back faces. */
-#include "render/render_internal.h"
+#include "scene/scene_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 
-uint64_t rnd_rng_next(struct rnd_rng *g)
+uint64_t scn_rng_next(struct scn_rng *g)
 {
     uint64_t z = (g->state += 0x9E3779B97F4A7C15ull);
     z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
@@ -14,25 +14,25 @@ uint64_t rnd_rng_next(struct rnd_rng *g)
     return z ^ (z >> 31);
 }
 
-double rnd_rng_uniform(struct rnd_rng *g) { return (double)(rnd_rng_next(g) >> 11) * 0x1.0p-53; }
+double scn_rng_uniform(struct scn_rng *g) { return (double)(scn_rng_next(g) >> 11) * 0x1.0p-53; }
 
-hl_quatd rnd_rng_rotation(struct rnd_rng *g)
+hl_quatd scn_rng_rotation(struct scn_rng *g)
 {
     /* Shoemake, "Uniform random rotations", Graphics Gems III (1992). */
-    double u1 = rnd_rng_uniform(g), u2 = 2.0 * HL_PI * rnd_rng_uniform(g), u3 = 2.0 * HL_PI * rnd_rng_uniform(g);
+    double u1 = scn_rng_uniform(g), u2 = 2.0 * HL_PI * scn_rng_uniform(g), u3 = 2.0 * HL_PI * scn_rng_uniform(g);
     double a = sqrt(1.0 - u1), b = sqrt(u1);
     return hl_q_normalize(hl_q(b * cos(u3), a * sin(u2), a * cos(u2), b * sin(u3)));
 }
 
-void rnd_mesh_free(struct rnd_mesh *m)
+void scn_mesh_free(struct scn_mesh *m)
 {
     free(m->positions);
     free(m->normals);
     free(m->indices);
-    *m = (struct rnd_mesh){0};
+    *m = (struct scn_mesh){0};
 }
 
-static int rnd_mesh_grow(void **p, uint32_t *cap, uint32_t need, size_t elem)
+static int scn_mesh_grow(void **p, uint32_t *cap, uint32_t need, size_t elem)
 {
     if (need <= *cap)
         return 0;
@@ -47,13 +47,13 @@ static int rnd_mesh_grow(void **p, uint32_t *cap, uint32_t need, size_t elem)
     return 0;
 }
 
-uint32_t rnd_mesh_add_vertex(struct rnd_mesh *m, hl_vec3d p, hl_vec3d n)
+uint32_t scn_mesh_add_vertex(struct scn_mesh *m, hl_vec3d p, hl_vec3d n)
 {
     if (m->failed)
         return 0;
     uint32_t cap_p = m->vertex_cap, cap_n = m->vertex_cap;
-    if (rnd_mesh_grow((void **)&m->positions, &cap_p, m->vertex_count + 1, 3 * sizeof(float)) ||
-        rnd_mesh_grow((void **)&m->normals, &cap_n, m->vertex_count + 1, 3 * sizeof(float))) {
+    if (scn_mesh_grow((void **)&m->positions, &cap_p, m->vertex_count + 1, 3 * sizeof(float)) ||
+        scn_mesh_grow((void **)&m->normals, &cap_n, m->vertex_count + 1, 3 * sizeof(float))) {
         m->failed = 1;
         return 0;
     }
@@ -64,11 +64,11 @@ uint32_t rnd_mesh_add_vertex(struct rnd_mesh *m, hl_vec3d p, hl_vec3d n)
     return m->vertex_count++;
 }
 
-void rnd_mesh_add_triangle(struct rnd_mesh *m, uint32_t a, uint32_t b, uint32_t c)
+void scn_mesh_add_triangle(struct scn_mesh *m, uint32_t a, uint32_t b, uint32_t c)
 {
     if (m->failed)
         return;
-    if (rnd_mesh_grow((void **)&m->indices, &m->index_cap, m->index_count + 3, sizeof(uint32_t))) {
+    if (scn_mesh_grow((void **)&m->indices, &m->index_cap, m->index_count + 3, sizeof(uint32_t))) {
         m->failed = 1;
         return;
     }
@@ -77,13 +77,13 @@ void rnd_mesh_add_triangle(struct rnd_mesh *m, uint32_t a, uint32_t b, uint32_t 
     m->indices[m->index_count++] = c;
 }
 
-static hl_vec3d rnd_mesh_pos(const struct rnd_mesh *m, uint32_t i)
+static hl_vec3d scn_mesh_pos(const struct scn_mesh *m, uint32_t i)
 {
     const float *p = m->positions + 3 * (size_t)i;
     return hl_v3(p[0], p[1], p[2]);
 }
 
-void rnd_mesh_smooth_normals(struct rnd_mesh *m)
+void scn_mesh_smooth_normals(struct scn_mesh *m)
 {
     if (m->failed)
         return;
@@ -94,9 +94,9 @@ void rnd_mesh_smooth_normals(struct rnd_mesh *m)
     }
     for (uint32_t t = 0; t < m->index_count; t += 3) {
         uint32_t a = m->indices[t], b = m->indices[t + 1], c = m->indices[t + 2];
-        hl_vec3d pa = rnd_mesh_pos(m, a);
+        hl_vec3d pa = scn_mesh_pos(m, a);
         /* The cross product's length is twice the area: area weighting for free. */
-        hl_vec3d n = hl_v3_cross(hl_v3_sub(rnd_mesh_pos(m, b), pa), hl_v3_sub(rnd_mesh_pos(m, c), pa));
+        hl_vec3d n = hl_v3_cross(hl_v3_sub(scn_mesh_pos(m, b), pa), hl_v3_sub(scn_mesh_pos(m, c), pa));
         acc[a] = hl_v3_add(acc[a], n), acc[b] = hl_v3_add(acc[b], n), acc[c] = hl_v3_add(acc[c], n);
     }
     for (uint32_t i = 0; i < m->vertex_count; ++i) {
@@ -107,7 +107,7 @@ void rnd_mesh_smooth_normals(struct rnd_mesh *m)
     free(acc);
 }
 
-void rnd_mesh_add_box(struct rnd_mesh *m, hl_vec3d center, hl_vec3d half, hl_quatd rot)
+void scn_mesh_add_box(struct scn_mesh *m, hl_vec3d center, hl_vec3d half, hl_quatd rot)
 {
     /* Per face: normal axis k, tangent axes chosen so (u × v) = n gives CCW seen from outside. */
     static const int axes[3][2] = {{1, 2}, {2, 0}, {0, 1}};
@@ -125,17 +125,17 @@ void rnd_mesh_add_box(struct rnd_mesh *m, hl_vec3d center, hl_vec3d half, hl_qua
                 double su = (corner == 1 || corner == 2) ? 1 : -1, sv = (corner >= 2) ? 1 : -1;
                 hl_vec3d local = hl_v3(c[0] + su * u[0] + sv * v[0], c[1] + su * u[1] + sv * v[1],
                                        c[2] + su * u[2] + sv * v[2]);
-                uint32_t id = rnd_mesh_add_vertex(m, hl_v3_add(center, hl_q_rotate(rot, local)), nw);
+                uint32_t id = scn_mesh_add_vertex(m, hl_v3_add(center, hl_q_rotate(rot, local)), nw);
                 if (corner == 0)
                     base = id;
             }
-            rnd_mesh_add_triangle(m, base, base + 1, base + 2);
-            rnd_mesh_add_triangle(m, base, base + 2, base + 3);
+            scn_mesh_add_triangle(m, base, base + 1, base + 2);
+            scn_mesh_add_triangle(m, base, base + 2, base + 3);
         }
     }
 }
 
-void rnd_mesh_add_cylinder(struct rnd_mesh *m, hl_vec3d center, double radius, double half_height,
+void scn_mesh_add_cylinder(struct scn_mesh *m, hl_vec3d center, double radius, double half_height,
                            int segments, hl_quatd rot)
 {
     uint32_t side = m->vertex_count;
@@ -145,56 +145,56 @@ void rnd_mesh_add_cylinder(struct rnd_mesh *m, hl_vec3d center, double radius, d
         hl_vec3d nw = hl_q_rotate(rot, n);
         for (int e = 0; e < 2; ++e) {
             hl_vec3d local = hl_v3(radius * n.x, e ? half_height : -half_height, radius * n.z);
-            rnd_mesh_add_vertex(m, hl_v3_add(center, hl_q_rotate(rot, local)), nw);
+            scn_mesh_add_vertex(m, hl_v3_add(center, hl_q_rotate(rot, local)), nw);
         }
     }
     for (int i = 0; i < segments; ++i) {
         uint32_t b0 = side + 2 * i, t0 = b0 + 1, b1 = side + 2 * ((i + 1) % segments), t1 = b1 + 1;
-        rnd_mesh_add_triangle(m, b0, b1, t1);
-        rnd_mesh_add_triangle(m, b0, t1, t0);
+        scn_mesh_add_triangle(m, b0, b1, t1);
+        scn_mesh_add_triangle(m, b0, t1, t0);
     }
     for (int e = 0; e < 2; ++e) { /* caps: a fan around a centre vertex, flat normal */
         double y = e ? half_height : -half_height;
         hl_vec3d nw = hl_q_rotate(rot, hl_v3(0, e ? 1 : -1, 0));
-        uint32_t mid = rnd_mesh_add_vertex(m, hl_v3_add(center, hl_q_rotate(rot, hl_v3(0, y, 0))), nw);
+        uint32_t mid = scn_mesh_add_vertex(m, hl_v3_add(center, hl_q_rotate(rot, hl_v3(0, y, 0))), nw);
         for (int i = 0; i < segments; ++i) {
             double a = 2.0 * HL_PI * i / segments;
-            rnd_mesh_add_vertex(m, hl_v3_add(center, hl_q_rotate(rot, hl_v3(radius * cos(a), y, -radius * sin(a)))), nw);
+            scn_mesh_add_vertex(m, hl_v3_add(center, hl_q_rotate(rot, hl_v3(radius * cos(a), y, -radius * sin(a)))), nw);
         }
         for (int i = 0; i < segments; ++i) {
             uint32_t a = mid + 1 + i, b = mid + 1 + (i + 1) % segments;
             if (e)
-                rnd_mesh_add_triangle(m, mid, a, b);
+                scn_mesh_add_triangle(m, mid, a, b);
             else
-                rnd_mesh_add_triangle(m, mid, b, a);
+                scn_mesh_add_triangle(m, mid, b, a);
         }
     }
 }
 
-void rnd_mesh_add_sphere(struct rnd_mesh *m, double radius, int rings, int segments,
+void scn_mesh_add_sphere(struct scn_mesh *m, double radius, int rings, int segments,
                          double (*shape)(hl_vec3d dir))
 {
     uint32_t base = m->vertex_count;
     hl_vec3d up = hl_v3(0, 1, 0), down = hl_v3(0, -1, 0);
-    uint32_t top = rnd_mesh_add_vertex(m, hl_v3_scale(up, radius * shape(up)), up);
+    uint32_t top = scn_mesh_add_vertex(m, hl_v3_scale(up, radius * shape(up)), up);
     for (int r = 1; r <= rings; ++r) {
         double polar = HL_PI * r / (rings + 1);
         for (int i = 0; i < segments; ++i) {
             double a = 2.0 * HL_PI * i / segments;
             hl_vec3d d = hl_v3(sin(polar) * cos(a), cos(polar), -sin(polar) * sin(a));
-            rnd_mesh_add_vertex(m, hl_v3_scale(d, radius * shape(d)), d);
+            scn_mesh_add_vertex(m, hl_v3_scale(d, radius * shape(d)), d);
         }
     }
-    uint32_t bottom = rnd_mesh_add_vertex(m, hl_v3_scale(down, radius * shape(down)), down);
+    uint32_t bottom = scn_mesh_add_vertex(m, hl_v3_scale(down, radius * shape(down)), down);
 #define RING(r, i) (base + 1 + (uint32_t)((r) - 1) * (uint32_t)segments + (uint32_t)((i) % segments))
     for (int i = 0; i < segments; ++i) {
-        rnd_mesh_add_triangle(m, top, RING(1, i), RING(1, i + 1));
-        rnd_mesh_add_triangle(m, bottom, RING(rings, i + 1), RING(rings, i));
+        scn_mesh_add_triangle(m, top, RING(1, i), RING(1, i + 1));
+        scn_mesh_add_triangle(m, bottom, RING(rings, i + 1), RING(rings, i));
         for (int r = 1; r < rings; ++r) {
-            rnd_mesh_add_triangle(m, RING(r, i), RING(r + 1, i), RING(r + 1, i + 1));
-            rnd_mesh_add_triangle(m, RING(r, i), RING(r + 1, i + 1), RING(r, i + 1));
+            scn_mesh_add_triangle(m, RING(r, i), RING(r + 1, i), RING(r + 1, i + 1));
+            scn_mesh_add_triangle(m, RING(r, i), RING(r + 1, i + 1), RING(r, i + 1));
         }
     }
 #undef RING
-    rnd_mesh_smooth_normals(m);
+    scn_mesh_smooth_normals(m);
 }

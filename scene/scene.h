@@ -1,0 +1,64 @@
+/* scene: what the world holds, on the CPU — meshes, LOD chains, instances and the built-in
+ * procedural scenes. Prefix scn_. Knows nothing of OpenGL: render/ uploads and draws what this
+ * module holds; lod/ and acuity/ see it only as arrays. */
+#ifndef HMDLOD_SCENE_H
+#define HMDLOD_SCENE_H
+
+#include "base/base.h"
+
+enum { SCN_MAX_LODS = 8, SCN_NAME_MAX = 32 };
+
+/* ---- scenes ------------------------------------------------------------------------------------
+ * All chains' vertices and indices live in one packed array each; an LOD is a range in them. */
+struct scn_lod {
+    uint32_t first_index, index_count; /* range in scene.indices (3 per triangle) */
+    uint32_t triangle_count, vertex_count;
+    double geometric_error_m;  /* max distance from the finest level's vertices to this level's surface */
+    double unique_freq_cpdiam; /* see acuity.h; derived from geometric_error_m (docs/scenes.md) */
+};
+
+struct scn_chain {
+    char name[SCN_NAME_MAX];
+    int lod_count;
+    struct scn_lod lods[SCN_MAX_LODS];
+    double bound_radius_m; /* bounding sphere about the model origin, at scale 1 */
+};
+
+struct scn_instance {
+    uint32_t chain;
+    double position_m[3];
+    hl_quatd rotation; /* model to world, w x y z */
+    double scale;
+    float color[3];
+};
+
+struct scn_scene {
+    char name[SCN_NAME_MAX];
+    float *positions; /* 3 per vertex, model space */
+    float *normals;   /* 3 per vertex */
+    uint32_t vertex_count;
+    uint32_t *indices; /* absolute vertex indices */
+    uint32_t index_count;
+    struct scn_chain *chains;
+    uint32_t chain_count;
+    struct scn_instance *instances;
+    uint32_t instance_count;
+    double *center_m; /* world bounding-sphere centres, 3 per instance (structure of arrays for acuity) */
+    double *radius_m; /* world bounding-sphere radii, 1 per instance */
+    uint32_t *chain_of_instance;
+};
+
+struct scn_scene_params {
+    int object_count; /* field: 1…100000, 0 = default 100 (auditorium ignores it) */
+    uint64_t seed;    /* placement seed (default 1) */
+};
+
+/* Built-in scenes: "field" (Reddy §5: N copies of one object with 4 LODs of about 3928/834/254/76
+ * triangles, randomly placed around the viewer) and "auditorium" (Funkhouser §7: rows of chairs
+ * with several LODs, walls and a stage, ~90k triangles at full detail). Deterministic for a seed. */
+int scn_scene_build(const char *name, const struct scn_scene_params *params, struct scn_scene *out,
+                    struct hl_error *err);
+void scn_scene_free(struct scn_scene *scene);
+const char *const *scn_scene_builtin_names(void); /* NULL-terminated */
+
+#endif

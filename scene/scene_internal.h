@@ -1,0 +1,64 @@
+/* scene internals shared by the built-in scene builders, the mesh primitives and the LOD error
+ * estimate. Not public: other modules see only scene.h. */
+#ifndef HMDLOD_SCENE_INTERNAL_H
+#define HMDLOD_SCENE_INTERNAL_H
+
+#include "scene/scene.h"
+
+/* ---- deterministic PRNG ----------------------------------------------------------------------
+ * splitmix64 (Steele et al. 2014): tiny, full-period, and identical on every platform, unlike
+ * rand(), so a scene seed names the same scene everywhere. */
+struct scn_rng {
+    uint64_t state;
+};
+uint64_t scn_rng_next(struct scn_rng *g);
+double scn_rng_uniform(struct scn_rng *g); /* [0, 1), 53 random bits */
+hl_quatd scn_rng_rotation(struct scn_rng *g); /* uniform over SO(3) (Shoemake 1992) */
+
+/* ---- growable triangle mesh (one LOD level while it is being built) ------------------------- */
+struct scn_mesh {
+    float *positions, *normals; /* 3 per vertex */
+    uint32_t vertex_count, vertex_cap;
+    uint32_t *indices; /* 3 per triangle, local to this mesh */
+    uint32_t index_count, index_cap;
+    int failed; /* an allocation failed; every later append is ignored */
+};
+void scn_mesh_free(struct scn_mesh *m);
+uint32_t scn_mesh_add_vertex(struct scn_mesh *m, hl_vec3d p, hl_vec3d n);
+void scn_mesh_add_triangle(struct scn_mesh *m, uint32_t a, uint32_t b, uint32_t c);
+/* Replaces every normal with the area-weighted average of its faces' normals (smooth shading). */
+void scn_mesh_smooth_normals(struct scn_mesh *m);
+
+/* Primitives, all closed with CCW-outward triangles. `rot` orients the local frame (identity =
+ * axis-aligned); boxes get flat faces (24 vertices), cylinders smooth sides and flat caps. */
+void scn_mesh_add_box(struct scn_mesh *m, hl_vec3d center, hl_vec3d half, hl_quatd rot);
+/* Cylinder along its local +Y, `segments` ≥ 3 around: 4·segments triangles. */
+void scn_mesh_add_cylinder(struct scn_mesh *m, hl_vec3d center, double radius, double half_height,
+                           int segments, hl_quatd rot);
+/* Latitude–longitude sphere with radius radius·shape(direction): rings interior latitude rings and
+ * segments longitudes, 2·rings·segments triangles, one vertex per pole. */
+void scn_mesh_add_sphere(struct scn_mesh *m, double radius, int rings, int segments,
+                         double (*shape)(hl_vec3d dir));
+
+/* ---- scene assembly --------------------------------------------------------------------------- */
+/* Appends a chain whose levels are meshes[0] (finest) … meshes[count−1] to the scene's packed
+ * arrays, computing counts, bound radius, geometric errors and unique frequencies. */
+int scn_scene_add_chain(struct scn_scene *s, const char *name, struct scn_mesh *meshes, int count,
+                        struct hl_error *err);
+/* Sizes the per-instance arrays for n instances (instances, center_m, radius_m, chain_of_instance). */
+int scn_scene_alloc_instances(struct scn_scene *s, uint32_t n, struct hl_error *err);
+/* Sets instance i and its bounding sphere (chains are centred on the model origin). */
+void scn_scene_set_instance(struct scn_scene *s, uint32_t i, uint32_t chain, hl_vec3d position,
+                            hl_quatd rotation, double scale, const float color[3]);
+
+int scn_scene_build_field(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err);
+int scn_scene_build_auditorium(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err);
+
+/* ---- LOD analysis (lod_error.c) --------------------------------------------------------------- */
+/* Max over the fine mesh's vertices of the distance to the nearest triangle of the coarse mesh. */
+double scn_lod_geometric_error(const struct scn_mesh *fine, const struct scn_mesh *coarse);
+/* Cycles per object diameter of the detail lost at geometric error eps on a bounding sphere of
+ * radius R (see lod_error.c and docs/scenes.md); +INFINITY for eps = 0 at level 0. */
+double scn_lod_unique_freq(double eps_m, double bound_radius_m);
+
+#endif

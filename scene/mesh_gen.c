@@ -198,3 +198,12 @@ void scn_mesh_add_sphere(struct scn_mesh *m, double radius, int rings, int segme
 #undef RING
     scn_mesh_smooth_normals(m);
 }
+
+void scn_lodset_free(struct scn_lodset *set)
+{
+    if (!set)
+        return;
+    for (int l = 0; l < SCN_LODSET_MAX_LEVELS; ++l)
+        scn_mesh_free(&set->levels[l]);
+    *set = (struct scn_lodset){0};
+}

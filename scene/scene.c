@@ -109,6 +109,7 @@ int scn_scene_add_chain(struct scn_scene *s, const char *name, struct scn_mesh *
          * one is clamped just below it (docs/scenes.md). */
         if (l > 0 && !(lod->unique_freq_cpdiam < c->lods[l - 1].unique_freq_cpdiam))
             lod->unique_freq_cpdiam = c->lods[l - 1].unique_freq_cpdiam * (1.0 - 1e-6);
+        lod->freq = (struct scn_level_freq){NAN, NAN, lod->unique_freq_cpdiam};
     }
     s->chain_count++;
     return 0;

@@ -5,6 +5,8 @@
 #define HMDLOD_SCENE_H
 
 #include "base/base.h"
+#include "scene/lodset.h"
+#include "scene/mesh.h"
 
 enum { SCN_MAX_LODS = 8, SCN_NAME_MAX = 32 };
 
@@ -14,7 +16,8 @@ struct scn_lod {
     uint32_t first_index, index_count; /* range in scene.indices (3 per triangle) */
     uint32_t triangle_count, vertex_count;
     double geometric_error_m;  /* max distance from the finest level's vertices to this level's surface */
-    double unique_freq_cpdiam; /* see acuity.h; derived from geometric_error_m (docs/scenes.md) */
+    double unique_freq_cpdiam; /* the reading the selectors use (see acuity.h, docs/scenes.md) */
+    struct scn_level_freq freq; /* every reading known for this level (lodset.h) */
 };
 
 struct scn_chain {

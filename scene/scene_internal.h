@@ -15,20 +15,6 @@ uint64_t scn_rng_next(struct scn_rng *g);
 double scn_rng_uniform(struct scn_rng *g); /* [0, 1), 53 random bits */
 hl_quatd scn_rng_rotation(struct scn_rng *g); /* uniform over SO(3) (Shoemake 1992) */
 
-/* ---- growable triangle mesh (one LOD level while it is being built) ------------------------- */
-struct scn_mesh {
-    float *positions, *normals; /* 3 per vertex */
-    uint32_t vertex_count, vertex_cap;
-    uint32_t *indices; /* 3 per triangle, local to this mesh */
-    uint32_t index_count, index_cap;
-    int failed; /* an allocation failed; every later append is ignored */
-};
-void scn_mesh_free(struct scn_mesh *m);
-uint32_t scn_mesh_add_vertex(struct scn_mesh *m, hl_vec3d p, hl_vec3d n);
-void scn_mesh_add_triangle(struct scn_mesh *m, uint32_t a, uint32_t b, uint32_t c);
-/* Replaces every normal with the area-weighted average of its faces' normals (smooth shading). */
-void scn_mesh_smooth_normals(struct scn_mesh *m);
-
 /* Primitives, all closed with CCW-outward triangles. `rot` orients the local frame (identity =
  * axis-aligned); boxes get flat faces (24 vertices), cylinders smooth sides and flat caps. */
 void scn_mesh_add_box(struct scn_mesh *m, hl_vec3d center, hl_vec3d half, hl_quatd rot);

@@ -174,7 +174,8 @@ static void quad_scene(struct scn_scene *s, struct scn_chain *chain, struct scn_
     memset(chain, 0, sizeof *chain);
     snprintf(chain->name, sizeof chain->name, "quad");
     chain->lod_count = 1;
-    chain->lods[0] = (struct scn_lod){0, 6, 2, 4, 0.0, INFINITY};
+    chain->lods[0] = (struct scn_lod){.first_index = 0, .index_count = 6, .triangle_count = 2, .vertex_count = 4,
+                                      .unique_freq_cpdiam = INFINITY};
     chain->bound_radius_m = 0.1 * sqrt(2.0);
     *inst = (struct scn_instance){0, {x, y, z}, rot, 1.0, {1.0f, 0.2f, 0.1f}};
     s->positions = quad_pos;

@@ -35,6 +35,20 @@ struct scn_instance {
     float color[3];
 };
 
+/* The hierarchy (Mason & Blake 1997 §2): groups hold instances and child groups; a group may have an
+ * impostor, a chain drawn instead of everything below it. Culling walks groups so that a culled
+ * group costs one sphere test. A scene without groups has none (group_count 0) and is flat. */
+enum { SCN_NONE = UINT32_MAX };
+struct scn_group {
+    char name[SCN_NAME_MAX];
+    uint32_t parent;                          /* SCN_NONE for a root */
+    uint32_t first_child, child_count;        /* child groups: group_children[first_child …] */
+    uint32_t first_instance, instance_count;  /* own instances: group_instances[first_instance …] */
+    uint32_t impostor_chain;                  /* SCN_NONE, or the chain drawn for the whole group */
+    double importance;                        /* Funkhouser's Importance, default 1 */
+    double center_m[3], radius_m;             /* world bounding sphere of everything below */
+};
+
 struct scn_scene {
     char name[SCN_NAME_MAX];
     float *positions; /* 3 per vertex, model space */
@@ -49,6 +63,9 @@ struct scn_scene {
     double *center_m; /* world bounding-sphere centres, 3 per instance (structure of arrays for acuity) */
     double *radius_m; /* world bounding-sphere radii, 1 per instance */
     uint32_t *chain_of_instance;
+    struct scn_group *groups; /* parents before children */
+    uint32_t group_count;
+    uint32_t *group_children, *group_instances; /* index lists the groups' ranges point into */
 };
 
 struct scn_scene_params {
@@ -63,5 +80,9 @@ int scn_scene_build(const char *name, const struct scn_scene_params *params, str
                     struct hl_error *err);
 void scn_scene_free(struct scn_scene *scene);
 const char *const *scn_scene_builtin_names(void); /* NULL-terminated */
+
+#include "scene/lodgen.h"
+#include "scene/measure.h"
+#include "scene/scenefile.h"
 
 #endif

@@ -1,4 +1,4 @@
-/* Device streams: one tracker's parser feeding one fusion (tracking.h). The live driver and the raw
+/* Device streams: one tracker's parser feeding one fusion (tracking/stream.h). The live driver and the raw
  * recording replay both go through trk_stream_feed, so a recording fuses exactly as it did live. */
 #include <math.h>
 #include <string.h>
@@ -24,7 +24,7 @@ void trk_stream_init(struct trk_stream *s, enum trk_device_kind kind, const stru
         trk_vive_parser_init(&s->parser.vive, TRK_VIVE_MODEL_VIVE);
         break;
     case TRK_DEVICE_VIVE_PRO_INDEX:
-        /* One USB id for both: the axes differ (tracking.h), and only the headset's JSON config
+        /* One USB id for both: the axes differ (tracking/reports.h), and only the headset's JSON config
          * tells them apart, so the driver overwrites parser.vive.cal once it has read it. */
         trk_vive_parser_init(&s->parser.vive, TRK_VIVE_MODEL_PRO);
         break;

@@ -1,4 +1,4 @@
-/* The live pose source of a head tracker (tracking.h): a reader thread owns the device, reads
+/* The live pose source of a head tracker (tracking/hid.h): a reader thread owns the device, reads
  * reports with a short timeout, feeds a trk_stream and sends keep-alives itself — DEVICES.md §4:
  * a starved or render-driven reader misses the Rift's 10 s watchdog (thaytan/OpenHMD #33) and
  * OpenHMD only advanced poses when the app called update (godot_openhmd #13). On unplug it keeps the
@@ -25,7 +25,7 @@
                                              * complete (umockdev adds the sysfs tree piecewise) or
                                              * usable (permissions, driver binding) */
 #define RESCAN_SLOW_NS 2000000000LL         /* otherwise every 2 s, in case an event was missed */
-#define DEFAULT_MAX_PREDICTION_S 0.040      /* tracking.h: constant-rate prediction good to ~40 ms */
+#define DEFAULT_MAX_PREDICTION_S 0.040      /* tracking/hid.h: constant-rate prediction good to ~40 ms */
 #define MAX_SCAN 16
 
 struct tracker_source {

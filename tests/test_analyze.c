@@ -1,0 +1,234 @@
+/* Reddy's offline spatial-frequency analysis (render/analyze.h) and the replay glue that applies it
+ * to the built-in chains (replay/assets.c): CIELUV against published values, the comparison of two
+ * images, a chain with a feature of known size, the built-in field object, parameters refused. */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "render/render.h"
+#include "replay/replay.h"
+#include "tests/test_util.h"
+
+/* Bruce Lindbloom's colour calculator (sRGB, D65, 2°), the values scikit-image's rgb2luv test and
+ * several colour libraries check against: the eight colour-bar corners of the RGB cube. */
+static void test_luv_reference(void)
+{
+    static const struct {
+        uint8_t rgb[3];
+        double luv[3];
+    } ref[] = {
+        {{255, 255, 255}, {100, 0, 0}},
+        {{255, 255, 0}, {97.1393, 7.7056, 106.7866}},
+        {{0, 255, 255}, {91.1132, -70.4773, -15.2042}},
+        {{0, 255, 0}, {87.7347, -83.0776, 107.3985}},
+        {{255, 0, 255}, {60.3242, 84.0714, -108.6834}},
+        {{255, 0, 0}, {53.2408, 175.0151, 37.7564}},
+        {{0, 0, 255}, {32.2970, -9.4054, -130.3423}},
+        {{0, 0, 0}, {0, 0, 0}},
+    };
+    for (size_t i = 0; i < sizeof ref / sizeof ref[0]; ++i) {
+        double luv[3];
+        rnd_srgb8_to_luv(ref[i].rgb, luv);
+        for (int k = 0; k < 3; ++k)
+            CHECK_NEAR(luv[k], ref[i].luv[k], 2e-3);
+    }
+    /* The linear segment near black: sRGB 1/255 → Y = (1/255)/12.92, L* = (29/3)^3·Y (CIE 1976). */
+    double luv[3];
+    rnd_srgb8_to_luv((const uint8_t[3]){1, 1, 1}, luv);
+    CHECK_NEAR(luv[0], 24389.0 / 27.0 * (1.0 / 255.0 / 12.92), 1e-6);
+    CHECK_NEAR(luv[1], 0.0, 1e-6);
+    double a[3] = {50, 10, -20}, b[3] = {53, 6, -20};
+    CHECK_NEAR(rnd_delta_e_uv(a, b), 5.0, 1e-12);
+}
+
+/* A flat image, a copy, and a copy with a 3×12 bar and a lone pixel painted in. */
+static void test_image_compare(void)
+{
+    enum { W = 40, H = 30 };
+    static uint8_t a[W * H * 4], b[W * H * 4];
+    for (int i = 0; i < W * H; ++i)
+        a[4 * i] = 120, a[4 * i + 1] = 130, a[4 * i + 2] = 140, a[4 * i + 3] = 255;
+    memcpy(b, a, sizeof a);
+    struct rnd_image_diff d;
+    CHECK(rnd_image_compare(a, b, W, H, 2.3, 3, &d, NULL) == 0);
+    CHECK(d.differing_px == 0 && d.components == 0 && d.noise_components == 0);
+    /* One 8-bit step is below a JND: no pixel differs. */
+    for (int i = 0; i < W * H; ++i)
+        b[4 * i] = 121;
+    CHECK(rnd_image_compare(a, b, W, H, 2.3, 3, &d, NULL) == 0);
+    CHECK(d.differing_px == 0);
+    memcpy(b, a, sizeof a);
+    for (int y = 5; y < 17; ++y)
+        for (int x = 10; x < 13; ++x)
+            b[4 * (y * W + x)] = 250;
+    b[4 * (25 * W + 30)] = 250; /* a single pixel: noise */
+    /* A diagonal run touching only by corners is one 8-connected component. */
+    for (int k = 0; k < 5; ++k)
+        b[4 * ((20 + k) * W + 2 + k)] = 250;
+    CHECK(rnd_image_compare(a, b, W, H, 2.3, 3, &d, NULL) == 0);
+    CHECK(d.differing_px == 36 + 1 + 5);
+    CHECK(d.components == 2 && d.noise_components == 1);
+    CHECK_NEAR(d.narrow_extent_px, 1.0, 1e-12); /* the diagonal run, across at 135° */
+    /* Long: the smallest over components of each one's longest extent — the run's, 8/√2 + 1 along
+     * x + y (the bar's is 12). */
+    CHECK_NEAR(d.long_extent_px, 8.0 * 0.70710678118654752 + 1.0, 1e-12);
+    CHECK(rnd_image_compare(a, b, W, H, 2.3, 1, &d, NULL) == 0);
+    CHECK(d.components == 3 && d.noise_components == 0);
+    CHECK(rnd_image_compare(a, b, W, H, 0.0, 3, &d, NULL) != 0);
+    CHECK(rnd_image_compare(a, b, 0, H, 2.3, 3, &d, NULL) != 0);
+}
+
+/* Axis-aligned box with flat faces, CCW outward. */
+static void add_box(struct scn_mesh *m, const double lo[3], const double hi[3])
+{
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            int u = (axis + 1) % 3, v = (axis + 2) % 3;
+            double n[3] = {0, 0, 0};
+            n[axis] = side ? 1 : -1;
+            uint32_t base = m->vertex_count;
+            for (int k = 0; k < 4; ++k) {
+                double p[3];
+                p[axis] = side ? hi[axis] : lo[axis];
+                p[u] = (k == 1 || k == 2) ? hi[u] : lo[u];
+                p[v] = (k >= 2) ? hi[v] : lo[v];
+                scn_mesh_add_vertex(m, hl_v3(p[0], p[1], p[2]), hl_v3(n[0], n[1], n[2]));
+            }
+            /* (u, v) corners 0 (lo,lo) 1 (hi,lo) 2 (hi,hi) 3 (lo,hi); u × v = +axis. */
+            if (side) {
+                scn_mesh_add_triangle(m, base, base + 1, base + 2);
+                scn_mesh_add_triangle(m, base, base + 2, base + 3);
+            } else {
+                scn_mesh_add_triangle(m, base, base + 2, base + 1);
+                scn_mesh_add_triangle(m, base, base + 3, base + 2);
+            }
+        }
+}
+
+/* Level 0: a box with a thin square fin on top (w thick along X, L long along Z and L high);
+ * level 1: the plain box. Diameter 2R = 1.2 m over 256 px. */
+static const double fin_w_m = 0.03, fin_l_m = 0.3, fin_r_m = 0.6;
+
+static void make_fin_set(struct scn_lodset *set, int identical)
+{
+    memset(set, 0, sizeof *set);
+    set->level_count = 2;
+    const double lo[3] = {-0.4, -0.25, -0.3}, hi[3] = {0.4, 0.25, 0.3};
+    const double flo[3] = {-fin_w_m / 2, 0.2, -fin_l_m / 2}, fhi[3] = {fin_w_m / 2, 0.25 + fin_l_m, fin_l_m / 2};
+    for (int l = 0; l < 2; ++l) {
+        add_box(&set->levels[l], lo, hi);
+        if (l == 0 || identical)
+            add_box(&set->levels[l], flo, fhi);
+    }
+    set->radius_m = fin_r_m;
+    for (int l = 0; l < 2; ++l)
+        set->freq[l] = (struct scn_level_freq){NAN, NAN, NAN};
+}
+
+static void test_fin(struct rnd_renderer *r)
+{
+    struct rnd_analyze_params p;
+    rnd_analyze_params_defaults(&p);
+    p.views = 6;
+    struct scn_lodset set;
+    struct rnd_analyze_report rep;
+    struct hl_error err = {{0}};
+    make_fin_set(&set, 0);
+    int rc = rnd_analyze_lodset(r, &set, &p, &rep, &err);
+    CHECK(rc == 0);
+    if (rc != 0)
+        fprintf(stderr, "analyze: %s\n", err.msg);
+    double px_per_m = p.size_px / (2 * fin_r_m);
+    double w_px = fin_w_m * px_per_m, l_px = fin_l_m * px_per_m;
+    /* Narrow: the fin's thickness, 6.4 px; rasterisation gives 6 or 7 px: ±1 px. */
+    double expect_narrow = p.size_px / (2 * w_px), expect_long = p.size_px / (2 * l_px);
+    printf("fin, 6 views: narrow %.3f (expect %.3f, extent %.1f px), long %.3f (expect %.3f, extent %.1f px)\n",
+           set.freq[1].narrow_cpdiam, expect_narrow, rep.levels[1].narrow_extent_px, set.freq[1].long_cpdiam,
+           expect_long, rep.levels[1].long_extent_px);
+    CHECK(isinf(set.freq[0].narrow_cpdiam) && isinf(set.freq[0].long_cpdiam));
+    CHECK(set.freq[1].narrow_cpdiam >= p.size_px / (2 * (w_px + 1)) &&
+          set.freq[1].narrow_cpdiam <= p.size_px / (2 * (w_px - 1)));
+    /* Long: the fin's side, 64 px, seen square-on from ±Z (its diagonal from ±X is longer). */
+    CHECK(set.freq[1].long_cpdiam >= p.size_px / (2 * (l_px + 1.5)) &&
+          set.freq[1].long_cpdiam <= p.size_px / (2 * (l_px - 1.5)));
+    CHECK(!rep.levels[1].invisible && rep.levels[1].components > 0);
+    CHECK(set.analysis_views == 6 && set.analysis_size_px == 256);
+    CHECK(rep.renders == 12);
+
+    /* 18 views include the 6, so each reading can only rise (the smallest extent over more views);
+     * the narrow one still sees the thickness (no view makes a plate thinner than it is), while the
+     * long one also sees the fin half hidden behind the box from below (view 10: 23 px of it poke
+     * out above the box's silhouette). */
+    double narrow6 = set.freq[1].narrow_cpdiam, long6 = set.freq[1].long_cpdiam;
+    p.views = 18;
+    CHECK(rnd_analyze_lodset(r, &set, &p, &rep, &err) == 0);
+    printf("fin, 18 views: narrow %.3f (view %d), long %.3f (view %d, extent %.1f px)\n", set.freq[1].narrow_cpdiam,
+           rep.levels[1].narrow_view, set.freq[1].long_cpdiam, rep.levels[1].long_view, rep.levels[1].long_extent_px);
+    CHECK(set.freq[1].narrow_cpdiam >= narrow6 && set.freq[1].long_cpdiam >= long6);
+    CHECK(set.freq[1].narrow_cpdiam >= p.size_px / (2 * (w_px + 1)) &&
+          set.freq[1].narrow_cpdiam <= p.size_px / (2 * (w_px - 1)));
+    CHECK(set.freq[1].long_cpdiam <= set.freq[1].narrow_cpdiam);
+    CHECK(rep.renders == 36 && set.analysis_views == 18);
+    scn_lodset_free(&set);
+
+    /* Two identical levels: nothing differs from any view; the level gets the largest value below
+     * level 0's +∞, so the selector always takes it. */
+    make_fin_set(&set, 1);
+    CHECK(rnd_analyze_lodset(r, &set, &p, &rep, &err) == 0);
+    CHECK(rep.levels[1].differing_px == 0 && rep.levels[1].components == 0 && rep.levels[1].invisible);
+    CHECK(set.freq[1].narrow_cpdiam == DBL_MAX && set.freq[1].long_cpdiam == DBL_MAX);
+    scn_lodset_free(&set);
+}
+
+static void test_bad_params(struct rnd_renderer *r)
+{
+    struct scn_lodset set;
+    make_fin_set(&set, 0);
+    struct rnd_analyze_params p;
+    struct hl_error err = {{0}};
+    rnd_analyze_params_defaults(&p);
+    CHECK(rnd_analyze_params_check(&p, &err) == 0);
+    p.views = 7;
+    CHECK(rnd_analyze_lodset(r, &set, &p, NULL, &err) != 0 && strstr(err.msg, "views"));
+    rnd_analyze_params_defaults(&p);
+    p.size_px = 8;
+    CHECK(rnd_analyze_lodset(r, &set, &p, NULL, &err) != 0 && strstr(err.msg, "size"));
+    p.size_px = 512; /* larger than the renderer's 256-px eyes */
+    CHECK(rnd_analyze_lodset(r, &set, &p, NULL, &err) != 0 && strstr(err.msg, "smaller"));
+    rnd_analyze_params_defaults(&p);
+    p.threshold_de = NAN;
+    CHECK(rnd_analyze_lodset(r, &set, &p, NULL, &err) != 0 && strstr(err.msg, "threshold"));
+    p.threshold_de = -1;
+    CHECK(rnd_analyze_params_check(&p, &err) != 0);
+    rnd_analyze_params_defaults(&p);
+    p.min_component_px = 0;
+    CHECK(rnd_analyze_params_check(&p, &err) != 0);
+    rnd_analyze_params_defaults(&p);
+    set.levels[1].indices[0] = 999; /* out of range: refused, table untouched */
+    CHECK(rnd_analyze_lodset(r, &set, &p, NULL, &err) != 0 && strstr(err.msg, "level 1"));
+    CHECK(isnan(set.freq[1].narrow_cpdiam));
+    scn_lodset_free(&set);
+    double dirs[18][3];
+    CHECK(rnd_analyze_view_dirs(6, dirs) == 6 && rnd_analyze_view_dirs(18, dirs) == 18 &&
+          rnd_analyze_view_dirs(12, dirs) == 0);
+    for (int v = 0; v < 18; ++v)
+        CHECK_NEAR(hl_v3_length(hl_v3(dirs[v][0], dirs[v][1], dirs[v][2])), 1.0, 1e-12);
+}
+
+int main(void)
+{
+    test_luv_reference();
+    test_image_compare();
+    struct rnd_renderer *r = NULL;
+    struct hl_error err;
+    if (rnd_renderer_create(256, 256, &r, &err) != 0) {
+        fprintf(stderr, "skip: no headless EGL: %s\n", err.msg);
+        return tu_finish("analyze") == 0 ? 77 : 1;
+    }
+    test_fin(r);
+    test_bad_params(r);
+    rnd_renderer_destroy(r);
+    return tu_finish("analyze");
+}

@@ -211,6 +211,31 @@ static void rnd_analyze_tables(const struct rnd_analyze_report *rep, int levels,
     }
 }
 
+/* Debug output (--dump): level l−1 and l as rendered, and the differing pixels in white over a
+ * darkened copy of level l. Reuses `prev` for the mask once compared (it is rendered again next). */
+static int rnd_analyze_dump(const char *dir, int view, int level, uint8_t *prev, const uint8_t *cur,
+                            const struct rnd_diff_work *w, struct hl_error *err)
+{
+    char path[4096];
+    int size = w->width_px;
+    if (level == 1) {
+        snprintf(path, sizeof path, "%s/view%02d_level0.png", dir, view);
+        if (rnd_png_write(path, prev, size, size, err) != 0)
+            return -1;
+    }
+    snprintf(path, sizeof path, "%s/view%02d_level%d.png", dir, view, level);
+    if (rnd_png_write(path, cur, size, size, err) != 0)
+        return -1;
+    for (size_t i = 0; i < (size_t)size * (size_t)size; ++i)
+        for (int k = 0; k < 3; ++k)
+            prev[4 * i + k] = w->label[i] ? 255 : (uint8_t)(cur[4 * i + k] / 3);
+    snprintf(path, sizeof path, "%s/view%02d_diff%d.png", dir, view, level);
+    if (rnd_png_write(path, prev, size, size, err) != 0)
+        return -1;
+    /* prev now holds the mask; the next level compares against cur, so nothing is lost. */
+    return 0;
+}
+
 int rnd_analyze_lodset(struct rnd_renderer *r, struct scn_lodset *set, const struct rnd_analyze_params *p,
                        struct rnd_analyze_report *report, struct hl_error *err)
 {
@@ -291,7 +316,11 @@ int rnd_analyze_lodset(struct rnd_renderer *r, struct scn_lodset *set, const str
                     L->narrow_extent_px = d.narrow_extent_px, L->narrow_view = v;
                 if (d.components && (L->long_view < 0 || d.long_extent_px < L->long_extent_px))
                     L->long_extent_px = d.long_extent_px, L->long_view = v;
+                if (d.largest_extent_px > L->largest_extent_px)
+                    L->largest_extent_px = d.largest_extent_px;
                 rep.compare_s += hl_clock_now_s() - t1;
+                if (p->dump_dir && rnd_analyze_dump(p->dump_dir, v, l, prev, cur, &work, err) != 0)
+                    goto done;
             }
             if (p->progress)
                 p->progress(p->progress_user, (double)rep.renders / total);

@@ -28,6 +28,7 @@ struct rnd_image_diff {
      * the orientations) and the smallest "long" extent (its largest), in pixels; 0 when none. These
      * are the highest-frequency features of each reading (f = 1 / (2 L) cycles per pixel). */
     double narrow_extent_px, long_extent_px;
+    double largest_extent_px; /* the largest longest extent of any kept component (the coarsest loss) */
 };
 
 /* Compares two RGBA8 images of width × height (rows top to bottom; alpha ignored): marks pixels with
@@ -45,6 +46,7 @@ struct rnd_analyze_params {
     int min_component_px;    /* regions smaller than this are noise, ≥ 1 (default 3) */
     void (*progress)(void *user, double fraction); /* optional, called after each render */
     void *progress_user;
+    const char *dump_dir; /* optional, an existing folder: every render and difference mask as PNG */
 };
 void rnd_analyze_params_defaults(struct rnd_analyze_params *p); /* 18 views, 256 px, 2.3, 3 px */
 /* Checks a parameter set; −1 with a message naming the parameter otherwise. */
@@ -55,6 +57,7 @@ struct rnd_analyze_level {
     uint64_t differing_px;                  /* over all views */
     uint32_t components, noise_components;  /* over all views */
     double narrow_extent_px, long_extent_px; /* the features that set the readings; 0 if none */
+    double largest_extent_px;               /* the largest kept feature's longest extent; 0 if none */
     int narrow_view, long_view;             /* the view they were seen from; −1 if none */
     int invisible;      /* no kept component from any view: nothing visible is lost at this size */
     int clamped;        /* a reading was lowered to keep the table strictly decreasing */

@@ -213,6 +213,8 @@ void rnd_diff_images(struct rnd_diff_work *w, const uint8_t *rgba_a, const uint8
             out->narrow_extent_px = narrow;
         if (out->long_extent_px == 0 || longest < out->long_extent_px)
             out->long_extent_px = longest;
+        if (longest > out->largest_extent_px)
+            out->largest_extent_px = longest;
     }
 }
 

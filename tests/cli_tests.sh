@@ -117,5 +117,15 @@ expect_ok "bench replay --quick" "\| \*\*none/reddy\*\* \| \| \*\*×[0-9.]+\*\*"
   "$bin" bench replay --quick --frames 20 --render-scale 0.25
 expect_error "bench replay bad --frames" "--frames: 'x' is not a whole number" -- "$bin" bench replay --frames x
 
+# analyze: help and bad arguments (a .lod round trip through the command is in tests/test_analyze.c).
+expect_ok "analyze --help" "usage: hmdlod analyze" -- "$bin" analyze --help
+expect_error "analyze without a file" "a \.lod file is required" -- "$bin" analyze
+expect_error "analyze bad --views" "--views: 7 \(6 or 18\)" -- "$bin" analyze "$tmp/x.lod" --views 7
+expect_error "analyze bad --size" "--size: 4 is outside" -- "$bin" analyze "$tmp/x.lod" --size 4
+expect_error "analyze missing file" "no-such\.lod: cannot open" -- "$bin" analyze "$tmp/no-such.lod"
+expect_error "analyze a CSV" "turn\.csv: byte 0: bad magic" -- "$bin" analyze "$tmp/turn.csv"
+expect_error "replay bad reading" "unknown reading 'widest'" -- \
+  "$bin" replay --frequency-reading widest --out "$tmp/rd"
+
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "render/render.h"
@@ -217,6 +218,193 @@ static void test_bad_params(struct rnd_renderer *r)
         CHECK_NEAR(hl_v3_length(hl_v3(dirs[v][0], dirs[v][1], dirs[v][2])), 1.0, 1e-12);
 }
 
+/* The field object (Reddy's four levels): every analysed quantity that should grow with the level
+ * does, and the tables fall strictly (what the selector needs), with 6 and with 18 views. */
+static void test_field(struct rnd_renderer *r)
+{
+    struct scn_scene sc;
+    struct scn_lodset set;
+    struct hl_error err = {{0}};
+    CHECK(scn_scene_build("field", NULL, &sc, &err) == 0);
+    CHECK(rpl_lodset_from_chain(&sc, 0, &set, &err) == 0);
+    CHECK(set.level_count == 4 && set.levels[0].index_count == 3 * 3906 && set.levels[3].index_count == 3 * 78);
+    CHECK(scn_mesh_hash(&set.levels[0]) != scn_mesh_hash(&set.levels[1]));
+    for (int views = 6; views <= 18; views += 12) {
+        struct rnd_analyze_params p;
+        rnd_analyze_params_defaults(&p);
+        p.views = views;
+        struct rnd_analyze_report rep;
+        CHECK(rnd_analyze_lodset(r, &set, &p, &rep, &err) == 0);
+        CHECK(rep.renders == (uint32_t)(4 * views));
+        CHECK(isinf(set.freq[0].narrow_cpdiam) && isinf(set.freq[0].long_cpdiam));
+        for (int l = 1; l < 4; ++l) {
+            const struct rnd_analyze_level *L = &rep.levels[l], *F = &rep.levels[l - 1];
+            printf("field, %d views, level %d: narrow %.4g long %.4g (geometric %.4g), %llu px differ, largest region "
+                   "%.0f px\n", views, l, set.freq[l].narrow_cpdiam, set.freq[l].long_cpdiam, set.freq[l].geometric_cpdiam,
+                   (unsigned long long)L->differing_px, L->largest_extent_px);
+            CHECK(set.freq[l].narrow_cpdiam < set.freq[l - 1].narrow_cpdiam);
+            CHECK(set.freq[l].long_cpdiam < set.freq[l - 1].long_cpdiam);
+            CHECK(set.freq[l].long_cpdiam <= set.freq[l].narrow_cpdiam);
+            CHECK(set.freq[l].narrow_cpdiam <= p.size_px / 2.0); /* a feature is at least a pixel */
+            CHECK(!L->invisible && L->components > 0);
+            /* Coarser levels lose more and larger: more pixels differ and the largest region grows. */
+            if (l > 1)
+                CHECK(L->differing_px > F->differing_px && L->largest_extent_px > F->largest_extent_px);
+        }
+    }
+    scn_lodset_free(&set);
+    scn_scene_free(&sc);
+}
+
+static int file_exists(const char *path) { return access(path, F_OK) == 0; }
+
+/* The cache of the built-in chains: written on the first run, read on the second (same tables, no
+ * analysis), a corrupt file re-analysed, other parameters another file, an unwritable folder no
+ * error; and the reading chosen lands in unique_freq_cpdiam. */
+static void test_cache(void)
+{
+    char dir[] = "/tmp/hmdlod-analyze-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    setenv("HMDLOD_CACHE_DIR", dir, 1);
+    struct rnd_analyze_params p;
+    rpl_assets_params(&p);
+    struct hl_error err = {{0}};
+    struct scn_scene a, b;
+    struct rpl_assets_report rep;
+    CHECK(scn_scene_build("field", NULL, &a, &err) == 0 && scn_scene_build("field", NULL, &b, &err) == 0);
+    CHECK(rpl_assets_prepare(&a, &p, RPL_READING_LONG, &rep, &err) == 0);
+    CHECK(rep.chains_analysed == 1 && rep.chains_cached == 0 && !rep.cache_unwritable && rep.analysis_s > 0);
+    CHECK(rpl_assets_prepare(&b, &p, RPL_READING_LONG, &rep, &err) == 0);
+    CHECK(rep.chains_analysed == 0 && rep.chains_cached == 1 && rep.analysis_s == 0);
+    for (int l = 0; l < 4; ++l) {
+        CHECK(a.chains[0].lods[l].freq.long_cpdiam == b.chains[0].lods[l].freq.long_cpdiam);
+        CHECK(a.chains[0].lods[l].freq.narrow_cpdiam == b.chains[0].lods[l].freq.narrow_cpdiam);
+        CHECK(a.chains[0].lods[l].unique_freq_cpdiam == a.chains[0].lods[l].freq.long_cpdiam);
+    }
+    /* The readings: narrow and geometric tables land in unique_freq_cpdiam, still falling. */
+    rpl_assets_apply_reading(&b, RPL_READING_NARROW);
+    for (int l = 1; l < 4; ++l)
+        CHECK(b.chains[0].lods[l].unique_freq_cpdiam == b.chains[0].lods[l].freq.narrow_cpdiam);
+    rpl_assets_apply_reading(&b, RPL_READING_GEOMETRIC);
+    for (int l = 1; l < 4; ++l)
+        CHECK(b.chains[0].lods[l].unique_freq_cpdiam == b.chains[0].lods[l].freq.geometric_cpdiam &&
+              b.chains[0].lods[l].unique_freq_cpdiam < b.chains[0].lods[l - 1].unique_freq_cpdiam);
+    enum rpl_freq_reading rd;
+    CHECK(rpl_freq_reading_parse("narrow", &rd, &err) == 0 && rd == RPL_READING_NARROW);
+    CHECK(rpl_freq_reading_parse("widest", &rd, &err) != 0 && strstr(err.msg, "widest"));
+
+    /* Corrupt the one file: one changed digit breaks the check line; it is analysed and rewritten. */
+    char cmd[512], path[600] = "";
+    snprintf(cmd, sizeof cmd, "ls %s/bumpy_sphere-*.freq", dir);
+    FILE *ls = popen(cmd, "r");
+    CHECK(ls && fgets(path, sizeof path, ls) != NULL);
+    if (ls)
+        pclose(ls);
+    path[strcspn(path, "\n")] = '\0';
+    size_t len = 0;
+    char *text = tu_read_file(path, &len);
+    CHECK(text && strstr(text, "level 1 "));
+    if (text) {
+        char *digit = strstr(text, "level 1 ") + 8;
+        *digit = *digit == '9' ? '8' : '9';
+        FILE *f = fopen(path, "wb");
+        fwrite(text, 1, len, f);
+        fclose(f);
+        free(text);
+    }
+    scn_scene_free(&b);
+    CHECK(scn_scene_build("field", NULL, &b, &err) == 0);
+    CHECK(rpl_assets_prepare(&b, &p, RPL_READING_LONG, &rep, &err) == 0);
+    CHECK(rep.chains_analysed == 1 && rep.chains_cached == 0);
+    CHECK(b.chains[0].lods[1].freq.long_cpdiam == a.chains[0].lods[1].freq.long_cpdiam);
+    scn_scene_free(&b);
+    CHECK(scn_scene_build("field", NULL, &b, &err) == 0);
+    CHECK(rpl_assets_prepare(&b, &p, RPL_READING_LONG, &rep, &err) == 0 && rep.chains_cached == 1);
+
+    /* Other parameters: another key, another file; the first stays valid. */
+    struct rnd_analyze_params q = p;
+    q.views = 6;
+    CHECK(rpl_assets_prepare(&b, &q, RPL_READING_LONG, &rep, &err) == 0 && rep.chains_analysed == 1);
+    snprintf(cmd, sizeof cmd, "test $(ls %s | wc -l) -eq 2", dir);
+    CHECK(system(cmd) == 0);
+
+    /* A folder that cannot be made (below a regular file): analysed, said once, not an error. */
+    char blocked[600];
+    snprintf(blocked, sizeof blocked, "%s/sub", path);
+    setenv("HMDLOD_CACHE_DIR", blocked, 1);
+    CHECK(rpl_assets_prepare(&b, &p, RPL_READING_LONG, &rep, &err) == 0);
+    CHECK(rep.chains_analysed == 1 && rep.cache_unwritable);
+    CHECK(!file_exists(blocked));
+    unsetenv("HMDLOD_CACHE_DIR");
+    scn_scene_free(&a);
+    scn_scene_free(&b);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    CHECK(system(cmd) == 0);
+}
+
+/* hmdlod analyze on a .lod of the field object: the tables come back in the file; bad arguments
+ * and a damaged file are refused with exit 1 and leave the file as it was. */
+static void test_cli(void)
+{
+    const char *bin = getenv("HMDLOD_BIN");
+    if (!bin || !*bin) {
+        printf("skip: HMDLOD_BIN not set; the analyze command was not run\n");
+        return;
+    }
+    char dir[] = "/tmp/hmdlod-analyze-cli-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char lod[600], cmd[2048];
+    snprintf(lod, sizeof lod, "%s/field.lod", dir);
+    struct scn_scene sc;
+    struct scn_lodset set, back;
+    struct hl_error err = {{0}};
+    CHECK(scn_scene_build("field", NULL, &sc, &err) == 0 && rpl_lodset_from_chain(&sc, 0, &set, &err) == 0);
+    CHECK(scn_lodfile_write(lod, &set, &err) == 0);
+    snprintf(cmd, sizeof cmd, "\"%s\" analyze \"%s\" --views 6 --size 128 > %s/out.txt 2>&1", bin, lod, dir);
+    CHECK(system(cmd) == 0);
+    CHECK(scn_lodfile_read(lod, &back, &err) == 0);
+    CHECK(back.analysis_views == 6 && back.analysis_size_px == 128);
+    CHECK(isinf(back.freq[0].long_cpdiam) && back.freq[3].long_cpdiam > 0 &&
+          back.freq[3].long_cpdiam < back.freq[2].long_cpdiam);
+    CHECK(back.freq[1].geometric_cpdiam == set.freq[1].geometric_cpdiam); /* untouched */
+    snprintf(cmd, sizeof cmd, "%s/out.txt", dir);
+    size_t out_len = 0;
+    char *out = tu_read_file(cmd, &out_len);
+    CHECK(out && strstr(out, "narrow c/diam") && strstr(out, "EGL context"));
+    free(out);
+    snprintf(cmd, sizeof cmd, "\"%s\" analyze \"%s\" --views 7 2>/dev/null", bin, lod);
+    CHECK(WEXITSTATUS(system(cmd)) == 1);
+    snprintf(cmd, sizeof cmd, "\"%s\" analyze \"%s\" --threshold -2 2>/dev/null", bin, lod);
+    CHECK(WEXITSTATUS(system(cmd)) == 1);
+    /* Damage a byte in the middle: refused by the reader (CRC), file unchanged. */
+    size_t len = 0;
+    char *bytes = tu_read_file(lod, &len);
+    CHECK(bytes && len > 400);
+    if (bytes) {
+        bytes[len / 2] ^= 0x40;
+        FILE *f = fopen(lod, "wb");
+        fwrite(bytes, 1, len, f);
+        fclose(f);
+    }
+    snprintf(cmd, sizeof cmd, "\"%s\" analyze \"%s\" 2> %s/err.txt", bin, lod, dir);
+    CHECK(WEXITSTATUS(system(cmd)) == 1);
+    size_t len2 = 0;
+    char *after = tu_read_file(lod, &len2);
+    CHECK(after && bytes && len2 == len && memcmp(after, bytes, len) == 0);
+    free(after);
+    free(bytes);
+    snprintf(cmd, sizeof cmd, "%s/err.txt", dir);
+    size_t msg_len = 0;
+    char *msg = tu_read_file(cmd, &msg_len);
+    CHECK(msg && strstr(msg, "field.lod") && strstr(msg, "CRC"));
+    free(msg);
+    scn_lodset_free(&set);
+    scn_lodset_free(&back);
+    scn_scene_free(&sc);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    CHECK(system(cmd) == 0);
+}
+
 int main(void)
 {
     test_luv_reference();
@@ -229,6 +417,9 @@ int main(void)
     }
     test_fin(r);
     test_bad_params(r);
+    test_field(r);
     rnd_renderer_destroy(r);
+    test_cache();
+    test_cli();
     return tu_finish("analyze");
 }

@@ -366,9 +366,9 @@ int scn_mesh_hausdorff(const struct scn_mesh *a, const struct scn_mesh *b, uint6
     }
     double max_ab, mean_ab, h_a, max_ba, mean_ba, h_b;
     uint64_t n_a, n_b;
-    int rc = scn_one_sided(a, &tb, samples_per_mesh, seed, &max_ab, &mean_ab, &h_a, &n_a, err);
+    int rc = scn_one_sided(a, &tb, samples_per_mesh, SCN_HAUSDORFF_SEED_A(seed), &max_ab, &mean_ab, &h_a, &n_a, err);
     if (rc == 0) /* a different stream for B, so A vs A does not sample the same points twice */
-        rc = scn_one_sided(b, &ta, samples_per_mesh, seed ^ 0xD1B54A32D192ED03ull, &max_ba, &mean_ba, &h_b, &n_b, err);
+        rc = scn_one_sided(b, &ta, samples_per_mesh, SCN_HAUSDORFF_SEED_B(seed), &max_ba, &mean_ba, &h_b, &n_b, err);
     scn_tri_bvh_free(&ta);
     scn_tri_bvh_free(&tb);
     if (rc != 0)

@@ -66,6 +66,9 @@ struct scn_surface_samples {
     uint64_t count;
     double spacing_m;
 };
+/* The seeds scn_mesh_hausdorff(a, b, n, seed) samples a and b with. */
+#define SCN_HAUSDORFF_SEED_A(seed) (seed)
+#define SCN_HAUSDORFF_SEED_B(seed) ((seed) ^ 0xD1B54A32D192ED03ull)
 int scn_surface_sample(const struct scn_mesh *m, uint64_t target, uint64_t seed, struct scn_surface_samples *out,
                        struct hl_error *err);
 void scn_surface_samples_free(struct scn_surface_samples *s);

@@ -50,7 +50,7 @@ static hl_vec3d vtx(const struct scn_mesh *m, uint32_t i)
 /* One direction by brute force over every triangle; returns the max, *mean the area-weighted mean,
  * *worst_dev the largest gap to the independent distance. */
 static double brute_one_sided(const struct scn_mesh *from, const struct scn_mesh *to, uint64_t n, uint64_t seed,
-                              double *mean, double *worst_dev, double *spacing, int *mismatches)
+                              double *mean, double *worst_dev, double *upper, int *mismatches)
 {
     struct hl_error err = {""};
     struct scn_surface_samples s;
@@ -58,7 +58,7 @@ static double brute_one_sided(const struct scn_mesh *from, const struct scn_mesh
     CHECK(scn_surface_sample(from, n, seed, &s, &err) == 0);
     CHECK(scn_tri_bvh_build(to, &bvh, &err) == 0);
     double worst = 0, sum = 0, wsum = 0;
-    *worst_dev = 0;
+    *worst_dev = 0, *upper = 0;
     for (uint64_t i = 0; i < s.count; ++i) {
         hl_vec3d p = hl_v3(s.points[3 * i], s.points[3 * i + 1], s.points[3 * i + 2]);
         double best2 = INFINITY, indep = INFINITY;
@@ -76,11 +76,11 @@ static double brute_one_sided(const struct scn_mesh *from, const struct scn_mesh
         double dev = fabs(best - indep);
         *worst_dev = dev > *worst_dev ? dev : *worst_dev;
         worst = best > worst ? best : worst;
+        *upper = best + s.reach_m[i] > *upper ? best + s.reach_m[i] : *upper;
         sum += s.weight_m2[i] * best;
         wsum += s.weight_m2[i];
     }
     *mean = sum / wsum;
-    *spacing = s.spacing_m;
     scn_surface_samples_free(&s);
     scn_tri_bvh_free(&bvh);
     return worst;
@@ -95,16 +95,16 @@ static void test_against_brute_force(void)
     struct scn_hausdorff h;
     const uint64_t n = 20000, seed = 7;
     CHECK(scn_mesh_hausdorff(&fine, &coarse, n, seed, &h, &err) == 0);
-    double mean_ab, mean_ba, dev_ab, dev_ba, sp_a, sp_b;
+    double mean_ab, mean_ba, dev_ab, dev_ba, up_a, up_b;
     int mism = 0;
-    double max_ab = brute_one_sided(&fine, &coarse, n, SCN_HAUSDORFF_SEED_A(seed), &mean_ab, &dev_ab, &sp_a, &mism);
-    double max_ba = brute_one_sided(&coarse, &fine, n, SCN_HAUSDORFF_SEED_B(seed), &mean_ba, &dev_ba, &sp_b, &mism);
+    double max_ab = brute_one_sided(&fine, &coarse, n, SCN_HAUSDORFF_SEED_A(seed), &mean_ab, &dev_ab, &up_a, &mism);
+    double max_ba = brute_one_sided(&coarse, &fine, n, SCN_HAUSDORFF_SEED_B(seed), &mean_ba, &dev_ba, &up_b, &mism);
     printf("  sphere 384 vs 80 tris: max %.6f mean %.6f bound %.6f samples %llu (indep. dev %.2g)\n", h.max_m,
            h.mean_m, h.bound_m, (unsigned long long)h.samples, dev_ab > dev_ba ? dev_ab : dev_ba);
     CHECK(mism == 0); /* the BVH answer equals brute force, bit for bit */
     CHECK(h.max_m == (max_ab > max_ba ? max_ab : max_ba));
     CHECK(h.mean_m == 0.5 * (mean_ab + mean_ba));
-    CHECK(h.bound_m == (sp_a > sp_b ? sp_a : sp_b));
+    CHECK(h.bound_m == (up_a > up_b ? up_a : up_b) - h.max_m);
     CHECK(dev_ab < 1e-12 && dev_ba < 1e-12);
     CHECK(h.max_m > 0.01 && h.max_m < 0.5);
     CHECK(h.samples >= n && h.samples <= 2 * n + fine.vertex_count + coarse.vertex_count);
@@ -152,8 +152,13 @@ static void test_sampling_bound(void)
     CHECK_NEAR(wsum, area, 1e-12 * area);
     CHECK(far == 0);
     CHECK(s.count <= 3000 + m.vertex_count);
+    int reach_over = 0;
+    for (uint64_t i = 0; i < s.count; ++i)
+        reach_over += !(s.reach_m[i] <= s.spacing_m);
+    CHECK(reach_over == 0);
     struct scn_rng g = {12345};
     double worst_ratio = 0;
+    int uncovered = 0;
     for (int k = 0; k < 3000; ++k) {
         uint32_t t = 3 * (uint32_t)(scn_rng_uniform(&g) * (m.index_count / 3));
         double r1 = scn_rng_uniform(&g), r2 = scn_rng_uniform(&g);
@@ -161,16 +166,19 @@ static void test_sampling_bound(void)
             r1 = 1 - r1, r2 = 1 - r2;
         hl_vec3d p0 = vtx(&m, m.indices[t]), p1 = vtx(&m, m.indices[t + 1]), p2 = vtx(&m, m.indices[t + 2]);
         hl_vec3d p = hl_v3_add(p0, hl_v3_add(hl_v3_scale(hl_v3_sub(p1, p0), r1), hl_v3_scale(hl_v3_sub(p2, p0), r2)));
-        double best = INFINITY;
+        double best = INFINITY, covered = INFINITY;
         for (uint64_t i = 0; i < s.count; ++i) {
             double d = hl_v3_length(hl_v3_sub(p, hl_v3(s.points[3 * i], s.points[3 * i + 1], s.points[3 * i + 2])));
             best = d < best ? d : best;
+            covered = d - s.reach_m[i] < covered ? d - s.reach_m[i] : covered;
         }
+        uncovered += covered > 1e-12; /* some sample's reach holds p */
         worst_ratio = best / s.spacing_m > worst_ratio ? best / s.spacing_m : worst_ratio;
     }
     printf("  sampling: %llu samples, spacing %.4f m, farthest test point at %.2f spacing\n",
            (unsigned long long)s.count, s.spacing_m, worst_ratio);
     CHECK(worst_ratio <= 1.0);
+    CHECK(uncovered == 0);
     CHECK(worst_ratio > 0.1); /* the bound is not absurdly loose */
     scn_surface_samples_free(&s);
     scn_mesh_free(&m);

@@ -26,6 +26,7 @@ struct scn_soup {
     uint32_t bad_index_faces;      /* faces naming a vertex that does not exist (skipped) */
     uint32_t first_bad_index_face; /* the first of them */
     int failed;                    /* out of memory */
+    char reader_note[160];         /* the reader's first complaint, if any ("" if none) */
 };
 void scn_soup_free(struct scn_soup *s);
 /* Appends one file face (n ≥ 3 vertex indices) as n − 2 triangles. Quads split along the shorter

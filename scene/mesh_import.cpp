@@ -13,6 +13,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <new>
@@ -102,7 +103,7 @@ class QuietOpenMesh {
 // The first line of what OpenMesh complained about, for the message ("" if nothing).
 std::string first_line(const std::string &s)
 {
-    size_t b = s.find_first_not_of(" \t\r\n");
+    size_t b = s.find_first_not_of(" \t\r\n0123456789"); // OpenMesh prefixes some with a count
     if (b == std::string::npos)
         return "";
     size_t e = s.find_first_of("\r\n", b);
@@ -159,6 +160,7 @@ extern "C" int scn_om_read(const char *path, struct scn_soup *soup, struct hl_er
                            complaint.c_str());
         // A reader that stopped part-way (ok == false) still hands over what it read; validation
         // decides whether that is a mesh (a truncated OBJ is usually a smaller valid one).
+        snprintf(soup->reader_note, sizeof soup->reader_note, "%s", complaint.c_str());
         if (fill_soup(imp, soup) != 0) {
             scn_soup_free(soup);
             return hl_fail(err, "%s: out of memory while reading", path);

@@ -315,12 +315,14 @@ int scn_soup_to_mesh(const char *path, struct scn_soup *soup, struct scn_mesh *o
     rep.faces_read = soup->faces_read;
     rep.polygons_triangulated = soup->polygons_triangulated;
     if (soup->vertex_count == 0)
-        return hl_fail(err, "%s: no vertices (empty or not a mesh file)", path);
+        return hl_fail(err, "%s: no vertices (not a mesh file?)%s%s", path, soup->reader_note[0] ? "; reader: " : "",
+                       soup->reader_note);
     if (soup->bad_index_faces)
         return hl_fail(err, "%s: face %u: refers to a vertex that does not exist (%u such faces, %u vertices)", path,
                        soup->first_bad_index_face + 1, soup->bad_index_faces, soup->vertex_count);
     if (soup->triangle_count == 0)
-        return hl_fail(err, "%s: no faces (%u vertices, %u faces read)", path, soup->vertex_count, soup->faces_read);
+        return hl_fail(err, "%s: no faces (%u vertices, %u faces read)%s%s", path, soup->vertex_count,
+                       soup->faces_read, soup->reader_note[0] ? "; reader: " : "", soup->reader_note);
     for (uint32_t v = 0; v < soup->vertex_count; ++v)
         for (int k = 0; k < 3; ++k) {
             double x = soup->positions[3 * (size_t)v + k];
@@ -387,6 +389,48 @@ int scn_soup_to_mesh(const char *path, struct scn_soup *soup, struct scn_mesh *o
 
 /* ---- the front door: which reader, and the file-system failures a reader would garble ----------- */
 
+/* OpenMesh's OBJ reader parses "v x y z" with iostream >> float, which cannot read "nan" or "inf" or
+ * a value beyond float range: it skips such a line silently and every later face index then points
+ * at the wrong vertex. So OBJ vertex lines are checked here first, with strtod, naming the line. */
+static int obj_prescan(const char *path, uint32_t *vertex_lines, struct hl_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+    char *line = NULL;
+    size_t cap = 0;
+    uint64_t lineno = 0, nv = 0;
+    int rc = 0;
+    while (rc == 0 && getline(&line, &cap, f) > 0) {
+        ++lineno;
+        const char *c = line + strspn(line, " \t");
+        if (c[0] != 'v' || (c[1] != ' ' && c[1] != '\t'))
+            continue;
+        ++nv;
+        c += 2;
+        for (int k = 0; k < 3 && rc == 0; ++k) {
+            char *end = NULL;
+            double x = strtod(c, &end);
+            if (end == c)
+                rc = hl_fail(err, "%s:%llu: vertex %llu: coordinate %c missing or not a number", path,
+                             (unsigned long long)lineno, (unsigned long long)nv, "xyz"[k]);
+            else if (!isfinite(x))
+                rc = hl_fail(err, "%s:%llu: vertex %llu: coordinate %c is %s", path, (unsigned long long)lineno,
+                             (unsigned long long)nv, "xyz"[k], isnan(x) ? "NaN" : "infinite");
+            else if (fabs(x) > 3.4e38)
+                rc = hl_fail(err, "%s:%llu: vertex %llu: coordinate %c = %g is beyond float range", path,
+                             (unsigned long long)lineno, (unsigned long long)nv, "xyz"[k], x);
+            c = end;
+        }
+    }
+    free(line);
+    fclose(f);
+    if (rc == 0 && nv >= UINT32_MAX)
+        rc = hl_fail(err, "%s: %llu vertices: more than 32-bit indices hold", path, (unsigned long long)nv);
+    *vertex_lines = (uint32_t)nv;
+    return rc;
+}
+
 static int ext_is(const char *ext, const char *want)
 {
     for (; *ext && *want; ++ext, ++want)
@@ -421,10 +465,20 @@ int scn_mesh_import(const char *path, struct scn_mesh *out, struct scn_import_re
     if (!probe)
         return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
     fclose(probe);
+    uint32_t obj_vertices = 0;
+    int is_obj = ext_is(ext, "obj");
+    if (is_obj && obj_prescan(path, &obj_vertices, err) != 0)
+        return -1;
     struct scn_soup soup;
     int rc = om ? scn_om_read(path, &soup, err) : scn_assimp_read(path, &soup, err);
     if (rc != 0)
         return rc;
+    if (is_obj && soup.vertex_count != obj_vertices) {
+        uint32_t got = soup.vertex_count;
+        scn_soup_free(&soup);
+        return hl_fail(err, "%s: OpenMesh read %u of its %u vertex lines; face indices would be wrong", path, got,
+                       obj_vertices);
+    }
     rc = scn_soup_to_mesh(path, &soup, out, report, err);
     scn_soup_free(&soup);
     return rc;

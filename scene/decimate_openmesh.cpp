@@ -111,10 +111,10 @@ int extract(const OmTriMesh &mesh, struct scn_mesh *out)
 } // namespace
 
 extern "C" int scn_om_decimate_chain(const struct scn_mesh *in, const uint32_t *target_tris, int count,
-                                     double feature_angle_deg, struct scn_mesh *outs, struct scn_om_timing *timing,
+                                     double feature_angle_deg, struct scn_mesh *outs, struct scn_decimate_timing *timing,
                                      const struct scn_chain_observer *obs, struct hl_error *err)
 {
-    struct scn_om_timing tm = {0, 0, 0, 0, 0, 0};
+    struct scn_decimate_timing tm = {0, 0, 0, 0, 0, 0};
     for (int k = 0; k < count; ++k)
         memset(&outs[k], 0, sizeof outs[k]);
     try {

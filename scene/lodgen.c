@@ -20,7 +20,8 @@ const char *scn_simplifier_name(enum scn_simplifier s)
 
 int scn_decimate_chain(const struct scn_mesh *in, const uint32_t *target_tris, int count,
                        enum scn_simplifier simplifier, double feature_angle_deg, struct scn_mesh *outs,
-                       const struct scn_chain_observer *obs, struct hl_error *err)
+                       struct scn_decimate_timing *timing, const struct scn_chain_observer *obs,
+                       struct hl_error *err)
 {
     struct hl_error why;
     if (scn_mesh_check(in, "mesh to decimate", &why) != 0)
@@ -33,11 +34,27 @@ int scn_decimate_chain(const struct scn_mesh *in, const uint32_t *target_tris, i
         double angle = feature_angle_deg == 0 ? LODGEN_DEFAULT_FEATURE_DEG : feature_angle_deg;
         if (!(angle < 0 || (angle > 0 && angle <= 180)))
             return hl_fail(err, "decimate: feature angle %g° (need 0…180, or negative for none)", feature_angle_deg);
-        return scn_om_decimate_chain(in, target_tris, count, angle, outs, NULL, obs, err);
+        return scn_om_decimate_chain(in, target_tris, count, angle, outs, timing, obs, err);
     }
-    if (simplifier == SCN_SIMPLIFIER_MESHOPT)
-        return scn_meshopt_decimate_chain(in, target_tris, count, outs, obs, err);
+    if (simplifier == SCN_SIMPLIFIER_MESHOPT) {
+        double t = hl_clock_now_s();
+        int rc = scn_meshopt_decimate_chain(in, target_tris, count, outs, obs, err);
+        if (rc == 0 && timing)
+            *timing = (struct scn_decimate_timing){0, 0, 0, hl_clock_now_s() - t, 0, 0};
+        return rc;
+    }
     return hl_fail(err, "decimate: unknown simplifier %d", (int)simplifier);
+}
+
+int scn_mesh_decimate_chain(const struct scn_mesh *in, const uint32_t *target_tris, int count,
+                            enum scn_simplifier simplifier, double feature_angle_deg, struct scn_mesh *outs,
+                            struct scn_decimate_timing *timing, struct hl_error *err)
+{
+    for (int k = 0; k < count; ++k)
+        memset(&outs[k], 0, sizeof outs[k]);
+    if (count < 1 || count > 64)
+        return hl_fail(err, "decimate: %d levels (1…64)", count);
+    return scn_decimate_chain(in, target_tris, count, simplifier, feature_angle_deg, outs, timing, NULL, err);
 }
 
 static int copy_mesh(const struct scn_mesh *in, struct scn_mesh *out)
@@ -74,7 +91,7 @@ int scn_mesh_decimate(const struct scn_mesh *in, uint32_t target_triangles, enum
             return hl_fail(err, "%s", why.msg);
         return copy_mesh(in, out) == 0 ? 0 : hl_fail(err, "decimate: out of memory");
     }
-    return scn_decimate_chain(in, &target_triangles, 1, simplifier, feature_angle_deg, out, NULL, err);
+    return scn_decimate_chain(in, &target_triangles, 1, simplifier, feature_angle_deg, out, NULL, NULL, err);
 }
 
 /* ---- bounds ------------------------------------------------------------------------------------ */
@@ -264,7 +281,7 @@ int scn_lodgen_build_timed(const struct scn_mesh *mesh, const struct scn_lodgen_
     lodgen_report(&clk);
     double start_s = hl_clock_now_s();
     if (n > 0 &&
-        scn_decimate_chain(mesh, targets, n, p->simplifier, p->feature_angle_deg, cand, &obs, err) != 0)
+        scn_decimate_chain(mesh, targets, n, p->simplifier, p->feature_angle_deg, cand, NULL, &obs, err) != 0)
         return -1;
     /* What the simplifier reached: a level no coarser than the one before ends the chain. */
     int reached = 0;

@@ -29,6 +29,19 @@ int scn_mesh_import(const char *path, struct scn_mesh *out, struct scn_import_re
 int scn_mesh_decimate(const struct scn_mesh *in, uint32_t target_triangles, enum scn_simplifier simplifier,
                       double feature_angle_deg, struct scn_mesh *out, struct hl_error *err);
 
+/* Where a decimation chain's time goes, seconds on the monotonic clock. OpenMesh fills every field
+ * (building its half-edge mesh, marking feature lines, initialising the modules, the collapses,
+ * garbage collection, copying out with welding and normals); meshopt only decimate_s. */
+struct scn_decimate_timing {
+    double build_s, feature_s, init_s, decimate_s, gc_s, extract_s;
+};
+/* Decimates `in` to each of target_tris[0 … count−1] (strictly decreasing) in turn, each level from
+ * the previous one: one OpenMesh decimater throughout (PLATFORM.md §7b), or meshopt from the
+ * previous level's output. outs[k] as scn_mesh_decimate's out; timing may be NULL. */
+int scn_mesh_decimate_chain(const struct scn_mesh *in, const uint32_t *target_tris, int count,
+                            enum scn_simplifier simplifier, double feature_angle_deg, struct scn_mesh *outs,
+                            struct scn_decimate_timing *timing, struct hl_error *err);
+
 struct scn_lodgen_params {
     enum scn_simplifier simplifier;
     int ratio_count;

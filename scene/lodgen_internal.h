@@ -61,26 +61,23 @@ struct scn_chain_observer {
     void (*level_done)(void *user, int level);
     void *user;
 };
-/* Where OpenMesh's time goes in one chain, seconds (monotonic clock). */
-struct scn_om_timing {
-    double build_s, feature_s, init_s, decimate_s, gc_s, extract_s;
-};
 /* One OpenMesh DecimaterT (ModQuadricT priority, ModNormalFlippingT guard) run through the
  * targets in turn (strictly decreasing triangle counts), garbage collection between levels
  * (PLATFORM.md §7b); outs[k] gets level k's welded mesh with area-weighted normals. Edges with
  * dihedral angle > feature_angle_deg are features (feature_angle_deg < 0: none); feature-line
  * ends and corners are locked. Stops early without error where no collapse is legal. */
 int scn_om_decimate_chain(const struct scn_mesh *in, const uint32_t *target_tris, int count,
-                          double feature_angle_deg, struct scn_mesh *outs, struct scn_om_timing *timing,
+                          double feature_angle_deg, struct scn_mesh *outs, struct scn_decimate_timing *timing,
                           const struct scn_chain_observer *obs, struct hl_error *err);
 /* The same with meshoptimizer (decimate_meshopt.c): each level simplified from the previous one. */
 int scn_meshopt_decimate_chain(const struct scn_mesh *in, const uint32_t *target_tris, int count,
                                struct scn_mesh *outs, const struct scn_chain_observer *obs, struct hl_error *err);
 
-/* Both simplifiers' chains behind one switch (lodgen.c). feature_angle_deg: 0 = 60°, < 0 = off. */
+/* scn_mesh_decimate_chain with a per-level observer (lodgen.c; timing may be NULL). */
 int scn_decimate_chain(const struct scn_mesh *in, const uint32_t *target_tris, int count,
                        enum scn_simplifier simplifier, double feature_angle_deg, struct scn_mesh *outs,
-                       const struct scn_chain_observer *obs, struct hl_error *err);
+                       struct scn_decimate_timing *timing, const struct scn_chain_observer *obs,
+                       struct hl_error *err);
 
 #ifdef __cplusplus
 }

@@ -451,7 +451,7 @@ static void test_fandisk_features(void)
     for (int features = 1; features >= 0; --features) {
         struct scn_mesh out[2];
         struct hl_error err = {{0}};
-        int rc = scn_decimate_chain(&m, targets, 2, SCN_SIMPLIFIER_OPENMESH, features ? 60.0 : -1.0, out, NULL, &err);
+        int rc = scn_mesh_decimate_chain(&m, targets, 2, SCN_SIMPLIFIER_OPENMESH, features ? 60.0 : -1.0, out, NULL, &err);
         CHECK(rc == 0);
         if (rc != 0)
             continue;
@@ -500,7 +500,7 @@ static void test_simplifiers(void)
         for (int s = 0; s < 2; ++s) {
             struct scn_mesh out[4];
             struct hl_error err = {{0}};
-            int rc = scn_decimate_chain(&m, targets, 4, (enum scn_simplifier)s, 0, out, NULL, &err);
+            int rc = scn_mesh_decimate_chain(&m, targets, 4, (enum scn_simplifier)s, 0, out, NULL, &err);
             CHECK(rc == 0);
             if (rc != 0)
                 continue;

@@ -18,9 +18,10 @@ struct scn_hausdorff {
  * gap (the true distance ≤ max_m + bound_m). Each triangle of each mesh is cut into k² copies of
  * itself, one random point in each, k = ⌈longest edge / h⌉ with h the least that keeps the total
  * ≤ samples_per_mesh (0 = default 2^20; at least one per triangle), plus every referenced vertex;
- * bound_m = the largest copy's diameter (≈ 1.2·√(2·area / samples) for well-shaped triangles: for
- * the bunny at 2^20 samples about 0.03 % of its radius). Meshes need ≥ 1 triangle, valid indices,
- * finite positions. Cost ~ O(samples · log triangles); docs/lod-format.md gives measured times. */
+ * bound_m ≤ the largest copy's diameter h (see hausdorff.c), halving for 4× the samples: bunny vs
+ * its 50 % level at 10^6 samples per mesh, max 0.16 mm, bound 0.53 mm (0.4 % of its radius), ~1 s.
+ * Meshes need ≥ 1 triangle, valid indices and finite positions; unreferenced vertices are ignored.
+ * Cost ~ O(samples · log triangles), single-threaded; docs/lod-format.md gives measured times. */
 int scn_mesh_hausdorff(const struct scn_mesh *a, const struct scn_mesh *b, uint64_t samples_per_mesh,
                        uint64_t seed, struct scn_hausdorff *out, struct hl_error *err);
 /* FNV-1a 64 over the little-endian bytes of vertex_count (u32), index_count (u32), the positions

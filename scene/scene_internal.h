@@ -57,15 +57,20 @@ hl_vec3d scn_closest_on_triangle(hl_vec3d p, hl_vec3d a, hl_vec3d b, hl_vec3d c)
 /* ---- surface sampling and nearest triangles (hausdorff.c) ------------------------------------- */
 /* 0 if m has ≥ 1 triangle, indices in range and finite positions; else fills err naming `what`. */
 int scn_mesh_check(const struct scn_mesh *m, const char *what, struct hl_error *err);
-/* The stratified samples scn_mesh_hausdorff uses: every triangle cut into k² copies of itself, one
- * uniform point in each (weight = its area), then every referenced vertex (weight 0). At most about
- * `target` + vertices points; every surface point lies within spacing_m of one. Deterministic for a seed. */
+/* The stratified samples scn_mesh_hausdorff uses: every triangle cut into k² copies of itself (cells),
+ * one uniform point in each (weight = the cell's area), then every referenced vertex (weight 0). At
+ * most about `target` + vertices points; every surface point lies within its cell's sample's reach_m,
+ * and so within spacing_m of a sample. Deterministic for a seed. */
 struct scn_surface_samples {
     double *points;    /* 3 per sample */
     double *weight_m2; /* the area each sample stands for */
+    double *reach_m;   /* every point of the sample's cell is within reach_m of it (0 for vertices) */
     uint64_t count;
-    double spacing_m;
+    double spacing_m;  /* max reach over all samples is ≤ this: the largest cell's diameter */
 };
+/* The seeds scn_mesh_hausdorff(a, b, n, seed) samples a and b with. */
+#define SCN_HAUSDORFF_SEED_A(seed) (seed)
+#define SCN_HAUSDORFF_SEED_B(seed) ((seed) ^ 0xD1B54A32D192ED03ull)
 int scn_surface_sample(const struct scn_mesh *m, uint64_t target, uint64_t seed, struct scn_surface_samples *out,
                        struct hl_error *err);
 void scn_surface_samples_free(struct scn_surface_samples *s);

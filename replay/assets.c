@@ -265,16 +265,73 @@ void rpl_assets_apply_reading(struct scn_scene *scene, enum rpl_freq_reading rea
     }
 }
 
-int rpl_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params *p, enum rpl_freq_reading reading,
-                       struct rpl_assets_report *report, struct hl_error *err)
+/* From the cache or by analysis (then stored): set->freq narrow and long readings. *r is the
+ * analysis renderer, made on the first miss and reused for later chains. */
+static int rpl_measure(struct scn_lodset *set, const char *name, const struct rnd_analyze_params *p,
+                       struct rnd_renderer **r, struct rpl_assets_report *rep, struct hl_error *err)
 {
     static int rpl_cache_warned; /* "cannot write" is said once per process */
+    char dir[4096], path[4300] = "";
+    struct hl_error dir_err;
+    int have_dir = rpl_cache_dir(dir, sizeof dir, &dir_err) == 0;
+    uint64_t key = rpl_cache_key(set, p);
+    double narrow[SCN_LODSET_MAX_LEVELS], longr[SCN_LODSET_MAX_LEVELS];
+    int cached = 1;
+    const char *why = "";
+    if (have_dir && rpl_cache_path(path, sizeof path, dir, name, key) == 0) {
+        cached = rpl_cache_read(path, key, set, p, narrow, longr, &why);
+        if (cached < 0)
+            fprintf(stderr, "hmdlod: note: analysis cache %s is corrupt (%s); analysing %s again\n", path, why, name);
+    }
+    if (cached == 0) {
+        for (int l = 0; l < set->level_count; ++l)
+            set->freq[l].narrow_cpdiam = narrow[l], set->freq[l].long_cpdiam = longr[l];
+        set->analysis_views = p->views;
+        set->analysis_size_px = p->size_px;
+        rep->chains_cached++;
+        return 0;
+    }
+    double t0 = hl_clock_now_s();
+    if (!*r && rnd_renderer_create(p->size_px, p->size_px, r, err) != 0)
+        return -1;
+    if (rnd_analyze_lodset(*r, set, p, NULL, err) != 0)
+        return -1;
+    rep->analysis_s += hl_clock_now_s() - t0;
+    rep->chains_analysed++;
+    if (!have_dir || rpl_cache_write(dir, path, key, set) != 0) {
+        rep->cache_unwritable = 1;
+        if (!rpl_cache_warned++)
+            fprintf(stderr, "hmdlod: note: cannot write the analysis cache %s (%s); analysing on every run\n",
+                    have_dir ? dir : "", have_dir ? strerror(errno) : dir_err.msg);
+    }
+    return 0;
+}
+
+int rpl_assets_measure(struct scn_lodset *set, const char *name, const struct rnd_analyze_params *p,
+                       struct rpl_assets_report *report, struct hl_error *err)
+{
     struct rpl_assets_report rep = {0};
     if (rnd_analyze_params_check(p, err) != 0)
         return -1;
-    char dir[4096];
-    struct hl_error dir_err;
-    int have_dir = rpl_cache_dir(dir, sizeof dir, &dir_err) == 0;
+    if (!set || set->level_count < 2) { /* one level loses nothing: nothing to measure */
+        if (report)
+            *report = rep;
+        return set ? 0 : hl_fail(err, "analysis: no lodset");
+    }
+    struct rnd_renderer *r = NULL;
+    int rc = rpl_measure(set, name && *name ? name : "lodset", p, &r, &rep, err);
+    rnd_renderer_destroy(r);
+    if (report)
+        *report = rep;
+    return rc;
+}
+
+int rpl_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params *p, enum rpl_freq_reading reading,
+                       struct rpl_assets_report *report, struct hl_error *err)
+{
+    struct rpl_assets_report rep = {0};
+    if (rnd_analyze_params_check(p, err) != 0)
+        return -1;
     struct rnd_renderer *r = NULL;
     int rc = 0;
     for (uint32_t c = 0; c < scene->chain_count && rc == 0; ++c) {
@@ -282,49 +339,18 @@ int rpl_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params 
         if (ch->lod_count < 2)
             continue;
         struct scn_lodset set;
-        if (rpl_lodset_from_chain(scene, c, &set, err) != 0)
-            return -1;
-        uint64_t key = rpl_cache_key(&set, p);
-        char path[4300] = "";
-        double narrow[SCN_LODSET_MAX_LEVELS], longr[SCN_LODSET_MAX_LEVELS];
-        int cached = 1;
-        const char *why = "";
-        if (have_dir && rpl_cache_path(path, sizeof path, dir, ch->name, key) == 0) {
-            cached = rpl_cache_read(path, key, &set, p, narrow, longr, &why);
-            if (cached < 0)
-                fprintf(stderr, "hmdlod: note: analysis cache %s is corrupt (%s); analysing %s again\n", path, why,
-                        ch->name);
+        if (rpl_lodset_from_chain(scene, c, &set, err) != 0) {
+            rc = -1;
+            break;
         }
-        if (cached != 0) {
-            double t0 = hl_clock_now_s();
-            if (!r && rnd_renderer_create(p->size_px, p->size_px, &r, err) != 0) {
-                rc = -1;
-            } else if (rnd_analyze_lodset(r, &set, p, NULL, err) != 0) {
-                rc = -1;
-            } else {
-                rep.analysis_s += hl_clock_now_s() - t0;
-                rep.chains_analysed++;
-                for (int l = 0; l < set.level_count; ++l)
-                    narrow[l] = set.freq[l].narrow_cpdiam, longr[l] = set.freq[l].long_cpdiam;
-                if (!have_dir || rpl_cache_write(dir, path, key, &set) != 0) {
-                    rep.cache_unwritable = 1;
-                    if (!rpl_cache_warned++)
-                        fprintf(stderr, "hmdlod: note: cannot write the analysis cache %s (%s); the built-in chains "
-                                        "are analysed on every run\n", have_dir ? dir : "", have_dir ? strerror(errno) : dir_err.msg);
-                }
-            }
-        } else {
-            rep.chains_cached++;
+        rc = rpl_measure(&set, ch->name, p, &r, &rep, err);
+        for (int l = 0; rc == 0 && l < ch->lod_count; ++l) {
+            ch->lods[l].freq.narrow_cpdiam = set.freq[l].narrow_cpdiam;
+            ch->lods[l].freq.long_cpdiam = set.freq[l].long_cpdiam;
         }
-        if (rc == 0)
-            for (int l = 0; l < ch->lod_count; ++l) {
-                ch->lods[l].freq.narrow_cpdiam = narrow[l];
-                ch->lods[l].freq.long_cpdiam = longr[l];
-            }
         scn_lodset_free(&set);
     }
-    if (r)
-        rnd_renderer_destroy(r);
+    rnd_renderer_destroy(r);
     if (rc != 0)
         return -1;
     rpl_assets_apply_reading(scene, reading);

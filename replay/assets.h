@@ -41,6 +41,11 @@ struct rpl_assets_report {
  * and is not an error. Then sets every level's unique_freq_cpdiam from `reading`. */
 int rpl_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params *p, enum rpl_freq_reading reading,
                        struct rpl_assets_report *report, struct hl_error *err);
+/* The same for one lodset (e.g. what a scene file's asset resolver loaded): fills set->freq[*]
+ * .narrow_cpdiam and .long_cpdiam (and analysis_views/size_px) from the cache or by analysis. name
+ * labels the cache file (NULL: "lodset"). A lodset of one level is left as it is. report may be NULL. */
+int rpl_assets_measure(struct scn_lodset *set, const char *name, const struct rnd_analyze_params *p,
+                       struct rpl_assets_report *report, struct hl_error *err);
 /* Only the last step: unique_freq_cpdiam of every level from `reading` (a level whose image-based
  * reading is NaN — not analysed — keeps the geometric one). */
 void rpl_assets_apply_reading(struct scn_scene *scene, enum rpl_freq_reading reading);

@@ -282,6 +282,14 @@ static void test_cache(void)
         CHECK(a.chains[0].lods[l].freq.narrow_cpdiam == b.chains[0].lods[l].freq.narrow_cpdiam);
         CHECK(a.chains[0].lods[l].unique_freq_cpdiam == a.chains[0].lods[l].freq.long_cpdiam);
     }
+    /* A lodset of the same meshes (what a scene file's resolver would hand over) hits the same file. */
+    struct scn_lodset set;
+    CHECK(rpl_lodset_from_chain(&a, 0, &set, &err) == 0);
+    for (int l = 0; l < 4; ++l)
+        set.freq[l].narrow_cpdiam = set.freq[l].long_cpdiam = NAN;
+    CHECK(rpl_assets_measure(&set, "bumpy_sphere", &p, &rep, &err) == 0 && rep.chains_cached == 1);
+    CHECK(set.freq[2].long_cpdiam == a.chains[0].lods[2].freq.long_cpdiam && set.analysis_views == 18);
+    scn_lodset_free(&set);
     /* The readings: narrow and geometric tables land in unique_freq_cpdiam, still falling. */
     rpl_assets_apply_reading(&b, RPL_READING_NARROW);
     for (int l = 1; l < 4; ++l)

@@ -43,7 +43,7 @@ static void print_table(const char *path, const struct scn_lodset *set, const st
     printf("%s: %d levels, bounding radius %.4g m; %d views, %d px across the diameter, dE*uv > %g, regions >= %d px\n",
            path, set->level_count, set->radius_m, p->views, p->size_px, p->threshold_de, p->min_component_px);
     printf("%5s %10s %11s %8s %13s %13s %13s  %s\n", "level", "triangles", "error m", "% R", "narrow c/diam",
-           "long c/diam", "geom c/diam", "differing px, regions, largest lost region");
+           "long c/diam", "geom c/diam", "differing px, regions, thickest / longest lost feature");
     for (int l = 0; l < set->level_count; ++l) {
         const struct rnd_analyze_level *L = &rep->levels[l];
         printf("%5d %10u %11.5g %8.3g", l, set->levels[l].index_count / 3, set->error_m[l], 100.0 * set->error_rel[l]);
@@ -55,8 +55,9 @@ static void print_table(const char *path, const struct scn_lodset *set, const st
         else if (L->invisible)
             printf("  %llu px, no region: loses nothing visible at this size\n", (unsigned long long)L->differing_px);
         else
-            printf("  %llu px, %u regions (+%u noise), %.0f px%s\n", (unsigned long long)L->differing_px, L->components,
-                   L->noise_components, L->largest_extent_px, L->clamped ? "; clamped below the finer level" : "");
+            printf("  %llu px, %u regions (+%u noise), %.1f / %.1f px (views %d / %d)%s\n",
+                   (unsigned long long)L->differing_px, L->components, L->noise_components, L->narrow_extent_px,
+                   L->long_extent_px, L->narrow_view, L->long_view, L->clamped ? "; clamped below the finer level" : "");
     }
 }
 

@@ -312,12 +312,11 @@ int rnd_analyze_lodset(struct rnd_renderer *r, struct scn_lodset *set, const str
                 L->differing_px += d.differing_px;
                 L->components += d.components;
                 L->noise_components += d.noise_components;
-                if (d.components && (L->narrow_view < 0 || d.narrow_extent_px < L->narrow_extent_px))
+                /* The largest lost feature over all views governs (analyze.h, Reddy 1998 §3.2). */
+                if (d.components && d.narrow_extent_px > L->narrow_extent_px)
                     L->narrow_extent_px = d.narrow_extent_px, L->narrow_view = v;
-                if (d.components && (L->long_view < 0 || d.long_extent_px < L->long_extent_px))
+                if (d.components && d.long_extent_px > L->long_extent_px)
                     L->long_extent_px = d.long_extent_px, L->long_view = v;
-                if (d.largest_extent_px > L->largest_extent_px)
-                    L->largest_extent_px = d.largest_extent_px;
                 rep.compare_s += hl_clock_now_s() - t1;
                 if (p->dump_dir && rnd_analyze_dump(p->dump_dir, v, l, prev, cur, &work, err) != 0)
                     goto done;

@@ -24,16 +24,20 @@ struct rnd_image_diff {
     uint64_t differing_px;     /* pixels whose ΔE*uv exceeds the threshold */
     uint32_t components;       /* 8-connected regions of them at least min_component_px large */
     uint32_t noise_components; /* smaller regions, dropped as rasterisation noise */
-    /* Over the kept components: the smallest "narrow" extent (a component's smallest extent over
-     * the orientations) and the smallest "long" extent (its largest), in pixels; 0 when none. These
-     * are the highest-frequency features of each reading (f = 1 / (2 L) cycles per pixel). */
+    /* Over the kept components, in pixels (0 when none). A component's narrow extent is its
+     * thickness at its thickest point: the largest, over its pixels, of the shortest run of the
+     * component through that pixel over the 4 orientations (a 1-px sliver, straight or curved, is
+     * about 1). Its long extent is its longest chord: the longest such run. Diagonal runs count
+     * √2 px a pixel. These are the MAXIMA over components: the largest lost feature is the most
+     * visible one, the lowest frequency f = 1 / (2 L) cycles per pixel, and it governs (every lost
+     * feature must be above the eye's limit, Reddy 1998 §3.2). */
     double narrow_extent_px, long_extent_px;
-    double largest_extent_px; /* the largest longest extent of any kept component (the coarsest loss) */
 };
 
 /* Compares two RGBA8 images of width × height (rows top to bottom; alpha ignored): marks pixels with
  * ΔE*uv > threshold_de, labels 8-connected components (two-pass union-find), drops those under
- * min_component_px pixels and measures the rest. Allocates its own work space (use
+ * min_component_px pixels and measures the rest by run lengths at 0, 45, 90 and 135 degrees (one
+ * linear pass per orientation). Allocates its own work space (use
  * rnd_analyze_lodset for many images). Returns 0, or −1 on bad arguments or no memory. */
 int rnd_image_compare(const uint8_t *rgba_a, const uint8_t *rgba_b, int width_px, int height_px,
                       double threshold_de, int min_component_px, struct rnd_image_diff *out, struct hl_error *err);
@@ -56,8 +60,10 @@ int rnd_analyze_params_check(const struct rnd_analyze_params *p, struct hl_error
 struct rnd_analyze_level {
     uint64_t differing_px;                  /* over all views */
     uint32_t components, noise_components;  /* over all views */
-    double narrow_extent_px, long_extent_px; /* the features that set the readings; 0 if none */
-    double largest_extent_px;               /* the largest kept feature's longest extent; 0 if none */
+    /* The largest narrow extent (thickest lost feature) and the largest long extent (longest lost
+     * chord) over all kept components and views, in pixels: they set the narrow and long readings
+     * (the lowest frequencies lost, the most visible); 0 if none. */
+    double narrow_extent_px, long_extent_px;
     int narrow_view, long_view;             /* the view they were seen from; −1 if none */
     int invisible;      /* no kept component from any view: nothing visible is lost at this size */
     int clamped;        /* a reading was lowered to keep the table strictly decreasing */
@@ -75,7 +81,8 @@ int rnd_analyze_view_dirs(int views, double dirs_out[18][3]);
 
 /* Renders every level of `set` from the params' views with an orthographic camera (the bounding
  * diameter spans size_px), compares successive levels and fills set->freq[l].narrow_cpdiam and
- * .long_cpdiam (l ≥ 1; level 0 gets +INFINITY), set->analysis_views and set->analysis_size_px.
+ * .long_cpdiam (l ≥ 1; level 0 gets +INFINITY) = size_px / (2 · the level's largest narrow or long
+ * extent), cycles per object diameter, set->analysis_views and set->analysis_size_px.
  * The tables come out strictly decreasing; a level that loses nothing visible gets the largest value
  * below the previous level's, so the selector always takes it when it takes the previous one.
  * r: a renderer whose eyes are at least size_px square, whose uploaded scene this replaces; NULL

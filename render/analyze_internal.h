@@ -5,16 +5,18 @@
 
 #include "render/render_internal.h"
 
-/* Per component: pixel count and, per orientation, the min and max projection (integer units). */
+/* Per component (indexed by its root label): pixel count, thickness at its thickest point and
+ * longest chord, in pixels (analyze_image.c, rnd_measure_runs). */
 struct rnd_component {
     uint32_t count;
-    int32_t lo[RND_ANALYZE_ORIENTATIONS], hi[RND_ANALYZE_ORIENTATIONS];
+    float narrow_px, long_px;
 };
 
 struct rnd_diff_work {
     int width_px, height_px;
     uint32_t *label;  /* width·height provisional labels, 0 = not differing */
     uint32_t *parent; /* union-find forest over labels */
+    float *min_run_px; /* width·height: per pixel, its shortest run over the orientations */
     struct rnd_component *comp;
     uint32_t label_cap;
 };

@@ -11,8 +11,9 @@
 #include "replay/replay.h"
 
 /* Bump when the analysis itself changes (shader, light, colour, orientations, extent rule): every
- * cached table then misses and is measured again. */
-enum { RPL_ANALYSIS_VERSION = 1, RPL_CACHE_FILE_MAX = 4096 };
+ * cached table then misses and is measured again. 2: the largest lost feature governs, sized by run
+ * lengths (was the smallest, by projections). */
+enum { RPL_ANALYSIS_VERSION = 2, RPL_CACHE_FILE_MAX = 4096 };
 
 int rpl_freq_reading_parse(const char *name, enum rpl_freq_reading *out, struct hl_error *err)
 {

@@ -24,9 +24,9 @@ static const char replay_usage[] =
     "  --seed S           placement seed of the field scene (default 1)\n"
     "  --acuity-scale S   Reddy's global acuity factor s in (0, 1] (default 1)\n"
     "  --render-scale F   per-eye resolution factor in (0, 4] (default 1: the display's pixels)\n"
-    "  --frequency-reading R  the lost-detail frequency the selector uses: long (default; each\n"
-    "                     region's longest extent in Reddy's image analysis), narrow (its narrowest)\n"
-    "                     or geometric (R/eps, no rendering); docs/analysis.md\n"
+    "  --frequency-reading R  the lost-detail frequency the selector uses: narrow (default; the\n"
+    "                     thickness of the thickest feature Reddy's image analysis sees lost), long\n"
+    "                     (the longest lost chord) or geometric (R/eps, no rendering); docs/analysis.md\n"
     "  --quiet            no summary table on stdout\n";
 
 /* Parses the options replay and demo share; returns 0, or 1 after printing the message. */

@@ -8,8 +8,8 @@
 
 /* Which frequency of each level the selectors compare against the acuity limit. */
 enum rpl_freq_reading {
-    RPL_READING_LONG = 0,      /* image-based, each lost region's longest extent (the default) */
-    RPL_READING_NARROW = 1,    /* image-based, its narrowest extent (Reddy's "highest" frequency) */
+    RPL_READING_LONG = 0,      /* image-based, the longest chord of the largest lost feature */
+    RPL_READING_NARROW = 1,    /* image-based, the thickness of the thickest lost feature (default) */
     RPL_READING_GEOMETRIC = 2, /* R / ε from the geometric error (scene.c, no rendering) */
 };
 /* "long" | "narrow" | "geometric" → the enum; −1 naming the known ones otherwise. */

@@ -77,7 +77,7 @@ struct rpl_options {
     const char *scene;       /* built-in scene name */
     const char *display;     /* built-in name or JSON file */
     const char *selector;    /* "none" | "reddy" */
-    const char *frequency_reading; /* "long" (default) | "narrow" | "geometric" (replay/assets.h) */
+    const char *frequency_reading; /* "narrow" (default) | "long" | "geometric" (replay/assets.h) */
     const char *out_dir;     /* created if missing */
     double rate_hz;          /* 0 → the display's refresh */
     long frames;             /* 0 → the whole trace */

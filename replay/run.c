@@ -14,7 +14,7 @@ void rpl_options_defaults(struct rpl_options *o)
     o->scene = "field";
     o->display = "vive";
     o->selector = "reddy";
-    o->frequency_reading = "long";
+    o->frequency_reading = "narrow"; /* docs/analysis.md: why narrow */
     o->object_count = 100;
     o->seed = 1;
     o->acuity_scale = 1.0;
@@ -46,7 +46,7 @@ static int make_dirs(const char *dir, struct hl_error *err)
 static int check_options(const struct rpl_options *o, enum rpl_selector *selector, enum rpl_freq_reading *reading,
                          struct hl_error *err)
 {
-    if (rpl_freq_reading_parse(o->frequency_reading ? o->frequency_reading : "long", reading, err) != 0)
+    if (rpl_freq_reading_parse(o->frequency_reading ? o->frequency_reading : "narrow", reading, err) != 0)
         return -1;
     if (!strcmp(o->selector, "none"))
         *selector = RPL_SELECT_NONE;

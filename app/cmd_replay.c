@@ -8,7 +8,7 @@
 static const char replay_usage[] =
     "usage: hmdlod replay --trace FILE|--raw FILE --scene NAME --display NAME|FILE --selector NAME --out DIR\n"
     "                     [--rate HZ] [--frames N] [--capture EVERY] [--objects N] [--seed S]\n"
-    "                     [--acuity-scale S] [--render-scale F] [--quiet]\n"
+    "                     [--acuity-scale S] [--render-scale F] [--frequency-reading R] [--quiet]\n"
     "  Replays a head-motion trace on a virtual clock through a scene, rendering both eyes headless.\n"
     "  --trace FILE       hmdlod CSV (t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]), a Corbillon MMSys'18\n"
     "                     quaternion file or a Nasrabadi MMSys'19 CSV; omitted: the built-in 8 s clip\n"
@@ -24,6 +24,9 @@ static const char replay_usage[] =
     "  --seed S           placement seed of the field scene (default 1)\n"
     "  --acuity-scale S   Reddy's global acuity factor s in (0, 1] (default 1)\n"
     "  --render-scale F   per-eye resolution factor in (0, 4] (default 1: the display's pixels)\n"
+    "  --frequency-reading R  the lost-detail frequency the selector uses: narrow (default; the\n"
+    "                     thickness of the thickest feature Reddy's image analysis sees lost), long\n"
+    "                     (the longest lost chord) or geometric (R/eps, no rendering); docs/analysis.md\n"
     "  --quiet            no summary table on stdout\n";
 
 /* Parses the options replay and demo share; returns 0, or 1 after printing the message. */
@@ -53,6 +56,8 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
             o->display = val;
         else if (!strcmp(opt, "--selector"))
             o->selector = val;
+        else if (!strcmp(opt, "--frequency-reading"))
+            o->frequency_reading = val;
         else if (!strcmp(opt, "--out"))
             o->out_dir = val;
         else if (!strcmp(opt, "--rate")) {

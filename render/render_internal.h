@@ -16,4 +16,13 @@ int rnd_egl_create(struct rnd_egl *e, struct hl_error *err);
 int rnd_egl_make_current(const struct rnd_egl *e); /* no-op when already current */
 void rnd_egl_destroy(struct rnd_egl *e);
 
+/* ---- single-view draws for the offline analysis (renderer.c, used by analyze.c) ----------------
+ * rect_px = x, y (from the bottom-left, GL convention), width, height inside the FBO. */
+/* Clears the rectangle and draws one instance of the uploaded scene at one LOD into it with `view`
+ * (same shader and light as the stereo pass). Does not wait: the read-back does. */
+int rnd_renderer_draw_rect(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *view,
+                           uint32_t instance, uint8_t lod, const int rect_px[4]);
+/* Reads the rectangle into rgba (width·height·4 bytes), rows top to bottom. */
+int rnd_renderer_read_rect(struct rnd_renderer *r, const int rect_px[4], uint8_t *rgba, struct hl_error *err);
+
 #endif

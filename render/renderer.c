@@ -238,16 +238,44 @@ static void rnd_model_view(const struct scn_instance *in, const struct rnd_eye_v
         out[i] = (float)m[i];
 }
 
-int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *scene,
-                             const struct rnd_eye_view views[2], const uint32_t *index, const uint8_t *lod,
-                             size_t count, struct rnd_draw_stats *stats)
+/* Draws the listed instances with one view into the current viewport; returns the triangles drawn
+ * and adds the draw calls to *calls. The caller has bound the FBO, program and VAO. */
+static uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
+                              const uint32_t *index, const uint8_t *lod, size_t count, uint32_t *calls)
 {
-    if (stats)
-        *stats = (struct rnd_draw_stats){{0, 0}, 0};
-    if (!r || !scene || !views || (count > 0 && (!index || !lod)) || !r->has_scene ||
+    float proj[16], mv[16];
+    for (int i = 0; i < 16; ++i)
+        proj[i] = (float)v->projection[i];
+    glUniformMatrix4fv(r->u_proj, 1, GL_FALSE, proj);
+    hl_vec3d l = hl_q_rotate(hl_q_conj(v->orientation),
+                             hl_v3_normalize(hl_v3(rnd_light_world[0], rnd_light_world[1], rnd_light_world[2])));
+    glUniform3f(r->u_light, (float)l.x, (float)l.y, (float)l.z);
+    uint64_t tris = 0;
+    for (size_t k = 0; k < count; ++k) {
+        if (lod[k] == 255)
+            continue;
+        const struct scn_instance *in = &scene->instances[index[k]];
+        const struct scn_lod *L = &scene->chains[in->chain].lods[lod[k]];
+        if (L->index_count == 0)
+            continue;
+        rnd_model_view(in, v, mv);
+        glUniformMatrix4fv(r->u_mv, 1, GL_FALSE, mv);
+        glUniform3fv(r->u_color, 1, in->color);
+        glDrawElements(GL_TRIANGLES, (GLsizei)L->index_count, GL_UNSIGNED_INT,
+                       (const void *)((uintptr_t)L->first_index * sizeof(uint32_t)));
+        tris += L->triangle_count;
+        (*calls)++;
+    }
+    return tris;
+}
+
+/* Checks a draw list against the uploaded scene, so a bad entry draws nothing rather than half a frame. */
+static int rnd_check_draw(const struct rnd_renderer *r, const struct scn_scene *scene, const uint32_t *index,
+                          const uint8_t *lod, size_t count)
+{
+    if (!r || !scene || (count > 0 && (!index || !lod)) || !r->has_scene ||
         scene->vertex_count != r->scene_vertices || scene->index_count != r->scene_indices)
         return -1;
-    /* Validate the whole list first so a bad entry draws nothing rather than half a frame. */
     for (size_t k = 0; k < count; ++k) {
         if (index[k] >= scene->instance_count)
             return -1;
@@ -255,6 +283,17 @@ int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *sce
         if (c >= scene->chain_count || (lod[k] != 255 && lod[k] >= scene->chains[c].lod_count))
             return -1;
     }
+    return 0;
+}
+
+int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *scene,
+                             const struct rnd_eye_view views[2], const uint32_t *index, const uint8_t *lod,
+                             size_t count, struct rnd_draw_stats *stats)
+{
+    if (stats)
+        *stats = (struct rnd_draw_stats){{0, 0}, 0};
+    if (!views || rnd_check_draw(r, scene, index, lod, count) != 0)
+        return -1;
     if (rnd_egl_make_current(&r->egl) != 0)
         return -1;
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
@@ -264,31 +303,8 @@ int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *sce
     glBindVertexArray(r->vao);
     uint32_t calls = 0;
     for (int eye = 0; eye < 2; ++eye) {
-        const struct rnd_eye_view *v = &views[eye];
         glViewport(eye * r->eye_w, 0, r->eye_w, r->eye_h);
-        float proj[16], mv[16];
-        for (int i = 0; i < 16; ++i)
-            proj[i] = (float)v->projection[i];
-        glUniformMatrix4fv(r->u_proj, 1, GL_FALSE, proj);
-        hl_vec3d l = hl_q_rotate(hl_q_conj(v->orientation),
-                                 hl_v3_normalize(hl_v3(rnd_light_world[0], rnd_light_world[1], rnd_light_world[2])));
-        glUniform3f(r->u_light, (float)l.x, (float)l.y, (float)l.z);
-        uint64_t tris = 0;
-        for (size_t k = 0; k < count; ++k) {
-            if (lod[k] == 255)
-                continue;
-            const struct scn_instance *in = &scene->instances[index[k]];
-            const struct scn_lod *L = &scene->chains[in->chain].lods[lod[k]];
-            if (L->index_count == 0)
-                continue;
-            rnd_model_view(in, v, mv);
-            glUniformMatrix4fv(r->u_mv, 1, GL_FALSE, mv);
-            glUniform3fv(r->u_color, 1, in->color);
-            glDrawElements(GL_TRIANGLES, (GLsizei)L->index_count, GL_UNSIGNED_INT,
-                           (const void *)((uintptr_t)L->first_index * sizeof(uint32_t)));
-            tris += L->triangle_count;
-            calls++;
-        }
+        uint64_t tris = rnd_draw_view(r, scene, &views[eye], index, lod, count, &calls);
         if (stats)
             stats->triangles_per_eye[eye] = tris;
     }
@@ -299,24 +315,48 @@ int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *sce
     return glGetError() == GL_NO_ERROR ? 0 : -1;
 }
 
-int rnd_renderer_read_rgba(struct rnd_renderer *r, uint8_t *rgba, struct hl_error *err)
+int rnd_renderer_draw_rect(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *view,
+                           uint32_t instance, uint8_t lod, const int rect_px[4])
 {
-    if (!r || !rgba)
-        return hl_fail(err, "renderer: no renderer or buffer");
+    if (!r || !view || !rect_px || rect_px[0] < 0 || rect_px[1] < 0 || rect_px[2] < 1 || rect_px[3] < 1 ||
+        rect_px[0] + rect_px[2] > 2 * r->eye_w || rect_px[1] + rect_px[3] > r->eye_h ||
+        rnd_check_draw(r, scene, &instance, &lod, 1) != 0 || rnd_egl_make_current(&r->egl) != 0)
+        return -1;
+    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    glViewport(rect_px[0], rect_px[1], rect_px[2], rect_px[3]);
+    glScissor(rect_px[0], rect_px[1], rect_px[2], rect_px[3]); /* clear this rectangle only */
+    glEnable(GL_SCISSOR_TEST);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glDisable(GL_SCISSOR_TEST);
+    glUseProgram(r->program);
+    glBindVertexArray(r->vao);
+    uint32_t calls = 0;
+    rnd_draw_view(r, scene, view, &instance, &lod, 1, &calls);
+    glBindVertexArray(0);
+    return glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+int rnd_renderer_read_rect(struct rnd_renderer *r, const int rect_px[4], uint8_t *rgba, struct hl_error *err)
+{
+    if (!r || !rgba || !rect_px)
+        return hl_fail(err, "renderer: no renderer, rectangle or buffer");
+    int x = rect_px[0], y = rect_px[1], w = rect_px[2], h = rect_px[3];
+    if (x < 0 || y < 0 || w < 1 || h < 1 || x + w > 2 * r->eye_w || y + h > r->eye_h)
+        return hl_fail(err, "renderer: rectangle %d,%d %d×%d outside the %d×%d framebuffer", x, y, w, h,
+                       2 * r->eye_w, r->eye_h);
     if (rnd_egl_make_current(&r->egl) != 0)
         return hl_fail(err, "renderer: cannot make the context current");
-    int w = 2 * r->eye_w, h = r->eye_h;
     glBindFramebuffer(GL_READ_FRAMEBUFFER, r->fbo);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
+    glReadPixels(x, y, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba);
     GLenum e = glGetError();
     if (e != GL_NO_ERROR)
         return hl_fail(err, "renderer: glReadPixels failed: GL error 0x%x", (unsigned)e);
     /* GL's row 0 is the bottom; images want the top first. Swap in place: no allocation. */
     size_t stride = (size_t)w * 4;
-    for (int y = 0; y < h / 2; ++y) {
-        uint8_t *a = rgba + (size_t)y * stride, *b = rgba + (size_t)(h - 1 - y) * stride;
+    for (int row = 0; row < h / 2; ++row) {
+        uint8_t *a = rgba + (size_t)row * stride, *b = rgba + (size_t)(h - 1 - row) * stride;
         for (size_t i = 0; i < stride; ++i) {
             uint8_t t = a[i];
             a[i] = b[i];
@@ -324,4 +364,12 @@ int rnd_renderer_read_rgba(struct rnd_renderer *r, uint8_t *rgba, struct hl_erro
         }
     }
     return 0;
+}
+
+int rnd_renderer_read_rgba(struct rnd_renderer *r, uint8_t *rgba, struct hl_error *err)
+{
+    if (!r || !rgba)
+        return hl_fail(err, "renderer: no renderer or buffer");
+    const int rect[4] = {0, 0, 2 * r->eye_w, r->eye_h};
+    return rnd_renderer_read_rect(r, rect, rgba, err);
 }

@@ -8,6 +8,7 @@
 
 #include "base/base.h"
 #include "tracking/tracking.h"
+#include "replay/assets.h"
 
 /* ---- traces --------------------------------------------------------------------------------- */
 enum rpl_trace_format { RPL_TRACE_HMDLOD_CSV = 0, RPL_TRACE_CORBILLON = 1, RPL_TRACE_NASRABADI = 2 };
@@ -76,6 +77,7 @@ struct rpl_options {
     const char *scene;       /* built-in scene name */
     const char *display;     /* built-in name or JSON file */
     const char *selector;    /* "none" | "reddy" */
+    const char *frequency_reading; /* "narrow" (default) | "long" | "geometric" (replay/assets.h) */
     const char *out_dir;     /* created if missing */
     double rate_hz;          /* 0 → the display's refresh */
     long frames;             /* 0 → the whole trace */

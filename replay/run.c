@@ -14,6 +14,7 @@ void rpl_options_defaults(struct rpl_options *o)
     o->scene = "field";
     o->display = "vive";
     o->selector = "reddy";
+    o->frequency_reading = "narrow"; /* docs/analysis.md: why narrow */
     o->object_count = 100;
     o->seed = 1;
     o->acuity_scale = 1.0;
@@ -42,8 +43,11 @@ static int make_dirs(const char *dir, struct hl_error *err)
     return 0;
 }
 
-static int check_options(const struct rpl_options *o, enum rpl_selector *selector, struct hl_error *err)
+static int check_options(const struct rpl_options *o, enum rpl_selector *selector, enum rpl_freq_reading *reading,
+                         struct hl_error *err)
 {
+    if (rpl_freq_reading_parse(o->frequency_reading ? o->frequency_reading : "narrow", reading, err) != 0)
+        return -1;
     if (!strcmp(o->selector, "none"))
         *selector = RPL_SELECT_NONE;
     else if (!strcmp(o->selector, "reddy"))
@@ -84,6 +88,19 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     struct scn_scene_params params = {.object_count = o->object_count, .seed = o->seed};
     if (scn_scene_build(o->scene, &params, &s->scene, err) != 0)
         return -1;
+    /* The measured tables (cached after the first run); selector none and the geometric reading
+     * never read them. */
+    if (s->selector != RPL_SELECT_NONE && s->reading != RPL_READING_GEOMETRIC) {
+        struct rnd_analyze_params ap;
+        rpl_assets_params(&ap);
+        struct rpl_assets_report ar;
+        if (rpl_assets_prepare(&s->scene, &ap, s->reading, &ar, err) != 0)
+            return -1;
+        if (ar.chains_analysed > 0 && !o->quiet)
+            fprintf(stderr, "hmdlod: analysed %u chain%s of %s (%d views, %d px) in %.2f s%s\n", ar.chains_analysed,
+                    ar.chains_analysed == 1 ? "" : "s", o->scene, ap.views, ap.size_px, ar.analysis_s,
+                    ar.cache_unwritable ? "" : "; cached for later runs");
+    }
     uint32_t n = s->scene.instance_count;
     s->chains = calloc(s->scene.chain_count, sizeof *s->chains);
     s->arrays.visible = calloc(n ? n : 1, sizeof *s->arrays.visible);
@@ -161,7 +178,7 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     uint8_t *rgba = NULL;
     int rc = -1;
 
-    if (check_options(o, &s.selector, err) != 0 || make_dirs(o->out_dir, err) != 0 || session_open(&s, o, err) != 0)
+    if (check_options(o, &s.selector, &s.reading, err) != 0 || make_dirs(o->out_dir, err) != 0 || session_open(&s, o, err) != 0)
         goto done;
     double rate_hz = o->rate_hz > 0.0 ? o->rate_hz : s.display.refresh_hz;
     long frames = frame_count(o, s.source, rate_hz);

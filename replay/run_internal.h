@@ -39,6 +39,7 @@ struct rpl_session {
     struct rnd_renderer *renderer;
     struct rpl_frame_arrays arrays;
     enum rpl_selector selector;
+    enum rpl_freq_reading reading;
     int max_lods;
     double near_m, far_m;
     /* Unit normals (head frame) of the union frustum's four side planes, through the head centre;

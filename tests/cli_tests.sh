@@ -117,5 +117,47 @@ expect_ok "bench replay --quick" "\| \*\*none/reddy\*\* \| \| \*\*×[0-9.]+\*\*"
   "$bin" bench replay --quick --frames 20 --render-scale 0.25
 expect_error "bench replay bad --frames" "--frames: 'x' is not a whole number" -- "$bin" bench replay --frames x
 
+# lodgen: a mesh file → .lod; bad meshes and arguments give one message naming file and reason,
+# exit 1, and leave no .lod behind.
+expect_ok "lodgen --help" "usage: hmdlod lodgen" -- "$bin" lodgen --help
+expect_error "lodgen without mesh" "no mesh file" -- "$bin" lodgen --out "$tmp/x.lod"
+expect_error "lodgen without --out" "--out" -- "$bin" lodgen "$tmp/none.obj"
+expect_error "lodgen missing mesh" "none.obj: cannot open" -- "$bin" lodgen "$tmp/none.obj" --out "$tmp/x.lod"
+expect_error "lodgen bad simplifier" "--simplifier 'qslim'" -- "$bin" lodgen m.obj --simplifier qslim --out "$tmp/x.lod"
+expect_error "lodgen bad ratios" "the first ratio must be 1" -- "$bin" lodgen m.obj --ratios 0.5,0.25 --out "$tmp/x.lod"
+expect_error "lodgen rising ratios" "ratio 3 \\(0.6\\) must be > 0 and below 0.5" -- \
+  "$bin" lodgen m.obj --ratios 1,0.5,0.6 --out "$tmp/x.lod"
+expect_error "lodgen two modes" "choose one of" -- "$bin" lodgen m.obj --levels 3 --ratios 1,0.5 --out "$tmp/x.lod"
+expect_error "lodgen bad E@DIST" "E@DIST" -- "$bin" lodgen m.obj --max-error-px 2 --out "$tmp/x.lod"
+expect_error "lodgen levels range" "--levels: 9 is outside" -- "$bin" lodgen m.obj --levels 9 --out "$tmp/x.lod"
+printf 'v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n' >"$tmp/nan.obj"
+expect_error "lodgen NaN vertex" "nan.obj:3: vertex 3: coordinate y is NaN" -- "$bin" lodgen "$tmp/nan.obj" --out "$tmp/nan.lod"
+[ ! -e "$tmp/nan.lod" ] || fail "a failed lodgen left its .lod"
+: >"$tmp/empty.ply"
+expect_error "lodgen empty file" "empty.ply: empty file" -- "$bin" lodgen "$tmp/empty.ply" --out "$tmp/e.lod"
+printf 'v 0 0 0\n' >"$tmp/m.3ds"
+expect_error "lodgen unsupported extension" "unsupported extension '.3ds'" -- "$bin" lodgen "$tmp/m.3ds" --out "$tmp/e.lod"
+head -c 2000 /dev/urandom >"$tmp/junk.glb"
+expect_error "lodgen random .glb" "junk.glb: assimp cannot read it" -- "$bin" lodgen "$tmp/junk.glb" --out "$tmp/e.lod"
+if [ -f "$shared/data/meshes/suzanne.obj" ]; then
+  expect_ok "lodgen suzanne meshopt" "wrote .*suz.lod \\(3 levels" -- \
+    "$bin" lodgen "$shared/data/meshes/suzanne.obj" --simplifier meshopt --levels 3 --samples 20000 --out "$tmp/suz.lod"
+  [ -s "$tmp/suz.lod" ] || fail "lodgen wrote no .lod"
+fi
+
+# analyze: help and bad arguments (a .lod round trip through the command is in tests/test_analyze.c).
+expect_ok "analyze --help" "usage: hmdlod analyze" -- "$bin" analyze --help
+expect_error "analyze without a file" "a \.lod file is required" -- "$bin" analyze
+expect_error "analyze bad --views" "--views: 7 \(6 or 18\)" -- "$bin" analyze "$tmp/x.lod" --views 7
+expect_error "analyze bad --size" "--size: 4 is outside" -- "$bin" analyze "$tmp/x.lod" --size 4
+expect_error "analyze missing file" "no-such\.lod: cannot open" -- "$bin" analyze "$tmp/no-such.lod"
+expect_error "analyze a CSV" "turn\.csv: byte 0: bad magic" -- "$bin" analyze "$tmp/turn.csv"
+expect_error "replay bad reading" "unknown reading 'widest'" -- \
+  "$bin" replay --frequency-reading widest --out "$tmp/rd"
+if [ -s "$tmp/suz.lod" ]; then
+  expect_ok "analyze a lodgen .lod" "wrote .*suz\.lod" -- "$bin" analyze "$tmp/suz.lod" --views 6 --size 128
+  expect_ok "analyze again reads its own output" "narrow c/diam" -- "$bin" analyze "$tmp/suz.lod" --views 18 --size 64
+fi
+
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

@@ -1,0 +1,93 @@
+/* render/analyze.h: Reddy's offline spatial-frequency analysis (1998 §3.2–3.3; docs/analysis.md).
+ * Each level of a chain is rendered headless from the view sphere; successive levels are compared
+ * pixel by pixel in CIELUV; the regions that differ are the features the coarser level loses, and
+ * their extents give the frequencies the acuity selector compares against the eye's limit.
+ * Included by render/render.h. */
+#ifndef HMDLOD_RENDER_ANALYZE_H
+#define HMDLOD_RENDER_ANALYZE_H
+
+#include "scene/scene.h"
+
+struct rnd_renderer;
+
+/* ---- colour ------------------------------------------------------------------------------------
+ * 8-bit sRGB (IEC 61966-2-1, what the FBO's bytes mean on a display) → linear → CIE XYZ (D65,
+ * Y of white = 1) → CIE 1976 L*u*v* (L* in 0…100). */
+void rnd_srgb8_to_luv(const uint8_t rgb[3], double luv_out[3]);
+/* CIE 1976 ΔE*uv: the Euclidean distance in L*u*v*. */
+double rnd_delta_e_uv(const double luv_a[3], const double luv_b[3]);
+
+/* ---- comparing two renders -------------------------------------------------------------------- */
+enum { RND_ANALYZE_ORIENTATIONS = 4 }; /* extents measured at 0, 45, 90 and 135 degrees */
+
+struct rnd_image_diff {
+    uint64_t differing_px;     /* pixels whose ΔE*uv exceeds the threshold */
+    uint32_t components;       /* 8-connected regions of them at least min_component_px large */
+    uint32_t noise_components; /* smaller regions, dropped as rasterisation noise */
+    /* Over the kept components, in pixels (0 when none). A component's narrow extent is its
+     * thickness at its thickest point: the largest, over its pixels, of the shortest run of the
+     * component through that pixel over the 4 orientations (a 1-px sliver, straight or curved, is
+     * about 1). Its long extent is its longest chord: the longest such run. Diagonal runs count
+     * √2 px a pixel. These are the MAXIMA over components: the largest lost feature is the most
+     * visible one, the lowest frequency f = 1 / (2 L) cycles per pixel, and it governs (every lost
+     * feature must be above the eye's limit, Reddy 1998 §3.2). */
+    double narrow_extent_px, long_extent_px;
+};
+
+/* Compares two RGBA8 images of width × height (rows top to bottom; alpha ignored): marks pixels with
+ * ΔE*uv > threshold_de, labels 8-connected components (two-pass union-find), drops those under
+ * min_component_px pixels and measures the rest by run lengths at 0, 45, 90 and 135 degrees (one
+ * linear pass per orientation). Allocates its own work space (use
+ * rnd_analyze_lodset for many images). Returns 0, or −1 on bad arguments or no memory. */
+int rnd_image_compare(const uint8_t *rgba_a, const uint8_t *rgba_b, int width_px, int height_px,
+                      double threshold_de, int min_component_px, struct rnd_image_diff *out, struct hl_error *err);
+
+/* ---- analysing a chain ------------------------------------------------------------------------ */
+struct rnd_analyze_params {
+    int views;               /* 6 (±X, ±Y, ±Z) or 18 (plus the 12 cube-edge midpoints) */
+    int size_px;             /* the bounding-sphere diameter spans this many pixels, 16…2048 */
+    double threshold_de;     /* ΔE*uv above which a pixel differs, > 0 (default 2.3, a JND) */
+    int min_component_px;    /* regions smaller than this are noise, ≥ 1 (default 3) */
+    void (*progress)(void *user, double fraction); /* optional, called after each render */
+    void *progress_user;
+    const char *dump_dir; /* optional, an existing folder: every render and difference mask as PNG */
+};
+void rnd_analyze_params_defaults(struct rnd_analyze_params *p); /* 18 views, 256 px, 2.3, 3 px */
+/* Checks a parameter set; −1 with a message naming the parameter otherwise. */
+int rnd_analyze_params_check(const struct rnd_analyze_params *p, struct hl_error *err);
+
+/* What the analysis saw at one level (index l compares level l−1 with level l; index 0 unused). */
+struct rnd_analyze_level {
+    uint64_t differing_px;                  /* over all views */
+    uint32_t components, noise_components;  /* over all views */
+    /* The largest narrow extent (thickest lost feature) and the largest long extent (longest lost
+     * chord) over all kept components and views, in pixels: they set the narrow and long readings
+     * (the lowest frequencies lost, the most visible); 0 if none. */
+    double narrow_extent_px, long_extent_px;
+    int narrow_view, long_view;             /* the view they were seen from; −1 if none */
+    int invisible;      /* no kept component from any view: nothing visible is lost at this size */
+    int clamped;        /* a reading was lowered to keep the table strictly decreasing */
+};
+struct rnd_analyze_report {
+    int level_count;
+    struct rnd_analyze_level levels[SCN_LODSET_MAX_LEVELS];
+    uint32_t renders;
+    double render_s, compare_s, total_s; /* GPU draw + read-back, comparisons, whole call */
+};
+
+/* The view directions (unit, from the centre towards the camera) for 6 or 18 views; returns the
+ * count written to dirs_out (0 for another count). */
+int rnd_analyze_view_dirs(int views, double dirs_out[18][3]);
+
+/* Renders every level of `set` from the params' views with an orthographic camera (the bounding
+ * diameter spans size_px), compares successive levels and fills set->freq[l].narrow_cpdiam and
+ * .long_cpdiam (l ≥ 1; level 0 gets +INFINITY) = size_px / (2 · the level's largest narrow or long
+ * extent), cycles per object diameter, set->analysis_views and set->analysis_size_px.
+ * The tables come out strictly decreasing; a level that loses nothing visible gets the largest value
+ * below the previous level's, so the selector always takes it when it takes the previous one.
+ * r: a renderer whose eyes are at least size_px square, whose uploaded scene this replaces; NULL
+ * makes (and destroys) one. set is unchanged on failure. report may be NULL. */
+int rnd_analyze_lodset(struct rnd_renderer *r, struct scn_lodset *set, const struct rnd_analyze_params *p,
+                       struct rnd_analyze_report *report, struct hl_error *err);
+
+#endif

@@ -1,0 +1,361 @@
+/* The built-in chains' measured frequency tables: Reddy's offline analysis (render/analyze.c) run
+ * once per chain and cached in small text files keyed by the meshes and the parameters, and the
+ * reading the selectors use. docs/analysis.md describes the cache and the choice of reading. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "replay/replay.h"
+
+/* Bump when the analysis itself changes (shader, light, colour, orientations, extent rule): every
+ * cached table then misses and is measured again. 2: the largest lost feature governs, sized by run
+ * lengths (was the smallest, by projections). */
+enum { RPL_ANALYSIS_VERSION = 2, RPL_CACHE_FILE_MAX = 4096 };
+
+int rpl_freq_reading_parse(const char *name, enum rpl_freq_reading *out, struct hl_error *err)
+{
+    static const char *const names[] = {"long", "narrow", "geometric"};
+    for (int i = 0; i < 3; ++i)
+        if (name && !strcmp(name, names[i])) {
+            *out = (enum rpl_freq_reading)i;
+            return 0;
+        }
+    return hl_fail(err, "--frequency-reading: unknown reading '%s' (known: long, narrow, geometric)",
+                   name ? name : "(null)");
+}
+
+const char *rpl_freq_reading_name(enum rpl_freq_reading r)
+{
+    return r == RPL_READING_NARROW ? "narrow" : r == RPL_READING_GEOMETRIC ? "geometric" : "long";
+}
+
+void rpl_assets_params(struct rnd_analyze_params *p) { rnd_analyze_params_defaults(p); }
+
+int rpl_cache_dir(char *out, size_t size, struct hl_error *err)
+{
+    const char *env = getenv("HMDLOD_CACHE_DIR");
+    if (env && *env) {
+        if (snprintf(out, size, "%s", env) >= (int)size)
+            return hl_fail(err, "HMDLOD_CACHE_DIR: path too long");
+        return 0;
+    }
+    char exe[4096];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n <= 0 || (size_t)n >= sizeof exe - 1)
+        return hl_fail(err, "analysis cache: cannot find the executable (/proc/self/exe): %s", strerror(errno));
+    exe[n] = '\0';
+    char *slash = strrchr(exe, '/');
+    if (slash)
+        *slash = '\0';
+    if (snprintf(out, size, "%s/lodcache", slash ? exe : ".") >= (int)size)
+        return hl_fail(err, "analysis cache: path too long");
+    return 0;
+}
+
+int rpl_lodset_from_chain(const struct scn_scene *s, uint32_t chain, struct scn_lodset *out, struct hl_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!s || chain >= s->chain_count)
+        return hl_fail(err, "scene: chain %u of %u", chain, s ? s->chain_count : 0);
+    const struct scn_chain *c = &s->chains[chain];
+    out->level_count = c->lod_count;
+    for (int l = 0; l < c->lod_count; ++l) {
+        const struct scn_lod *L = &c->lods[l];
+        /* A level's vertices are one contiguous run of the packed array (scene.c packs level by
+         * level), so its index range's smallest and largest index bound it. */
+        uint32_t lo = UINT32_MAX, hi = 0;
+        for (uint32_t k = 0; k < L->index_count; ++k) {
+            uint32_t v = s->indices[L->first_index + k];
+            lo = v < lo ? v : lo;
+            hi = v > hi ? v : hi;
+        }
+        struct scn_mesh *m = &out->levels[l];
+        for (uint32_t v = lo; L->index_count && v <= hi; ++v) {
+            const float *p = s->positions + 3 * (size_t)v, *n = s->normals + 3 * (size_t)v;
+            scn_mesh_add_vertex(m, hl_v3(p[0], p[1], p[2]), hl_v3(n[0], n[1], n[2]));
+        }
+        for (uint32_t k = 0; k + 2 < L->index_count; k += 3) {
+            const uint32_t *t = s->indices + L->first_index + k;
+            scn_mesh_add_triangle(m, t[0] - lo, t[1] - lo, t[2] - lo);
+        }
+        if (m->failed) {
+            scn_lodset_free(out);
+            return hl_fail(err, "scene: chain %s: out of memory copying level %d", c->name, l);
+        }
+        out->error_m[l] = L->geometric_error_m;
+        out->error_rel[l] = c->bound_radius_m > 0 ? L->geometric_error_m / c->bound_radius_m : NAN;
+        out->freq[l] = L->freq;
+    }
+    memcpy(out->center_m, c->bound_center_m, sizeof out->center_m);
+    out->radius_m = c->bound_radius_m;
+    snprintf(out->simplifier, sizeof out->simplifier, "procedural");
+    return 0;
+}
+
+/* ---- the cache ------------------------------------------------------------------------------- */
+
+static uint64_t rpl_fnv1a(uint64_t h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; ++i) {
+        h ^= p[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+/* Key: the analysis version, the parameters and every level's content hash (scn_mesh_hash). */
+static uint64_t rpl_cache_key(const struct scn_lodset *set, const struct rnd_analyze_params *p)
+{
+    char text[256];
+    int n = snprintf(text, sizeof text, "v%d views %d size %d threshold %.17g min %d levels %d", RPL_ANALYSIS_VERSION,
+                     p->views, p->size_px, p->threshold_de, p->min_component_px, set->level_count);
+    uint64_t h = rpl_fnv1a(0xcbf29ce484222325ull, text, (size_t)n);
+    for (int l = 0; l < set->level_count; ++l) {
+        uint64_t m = scn_mesh_hash(&set->levels[l]);
+        h = rpl_fnv1a(h, &m, sizeof m);
+    }
+    return h;
+}
+
+static int rpl_cache_path(char *out, size_t size, const char *dir, const char *chain, uint64_t key)
+{
+    return snprintf(out, size, "%s/%s-%016llx.freq", dir, chain, (unsigned long long)key) < (int)size ? 0 : -1;
+}
+
+/* Format (docs/analysis.md): "hmdlod-freq 1", "key HEX", "views N size_px N levels N", one
+ * "level L NARROW LONG" line per level (%.17g, exact through strtod), then "check HEX", the
+ * FNV-1a 64 of every byte before that line. */
+static int rpl_cache_format(char *buf, size_t size, uint64_t key, const struct scn_lodset *set)
+{
+    size_t n = 0;
+    int k = snprintf(buf, size, "hmdlod-freq 1\nkey %016llx\nviews %d size_px %d levels %d\n", (unsigned long long)key,
+                     set->analysis_views, set->analysis_size_px, set->level_count);
+    if (k < 0 || (size_t)k >= size)
+        return -1;
+    n = (size_t)k;
+    for (int l = 0; l < set->level_count; ++l) {
+        k = snprintf(buf + n, size - n, "level %d %.17g %.17g\n", l, set->freq[l].narrow_cpdiam, set->freq[l].long_cpdiam);
+        if (k < 0 || (size_t)k >= size - n)
+            return -1;
+        n += (size_t)k;
+    }
+    k = snprintf(buf + n, size - n, "check %016llx\n", (unsigned long long)rpl_fnv1a(0xcbf29ce484222325ull, buf, n));
+    return k < 0 || (size_t)k >= size - n ? -1 : (int)(n + (size_t)k);
+}
+
+/* Reads a cache file into narrow[] / longr[]. 1 = absent, 0 = read, −1 = corrupt (why in *why). */
+static int rpl_cache_read(const char *path, uint64_t key, const struct scn_lodset *set,
+                          const struct rnd_analyze_params *p, double narrow[], double longr[], const char **why)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return 1;
+    char buf[RPL_CACHE_FILE_MAX + 1];
+    size_t len = fread(buf, 1, RPL_CACHE_FILE_MAX, f);
+    int toolong = !feof(f);
+    fclose(f);
+    buf[len] = '\0';
+    *why = "too long";
+    if (toolong)
+        return -1;
+    *why = "no check line";
+    char *check = strstr(buf, "check ");
+    if (!check || (check != buf && check[-1] != '\n'))
+        return -1;
+    unsigned long long sum = 0;
+    *why = "checksum mismatch";
+    if (sscanf(check, "check %16llx", &sum) != 1 ||
+        sum != rpl_fnv1a(0xcbf29ce484222325ull, buf, (size_t)(check - buf)))
+        return -1;
+    unsigned long long k = 0;
+    int views = 0, size = 0, levels = 0, used = 0;
+    *why = "bad header";
+    if (sscanf(buf, "hmdlod-freq 1\nkey %16llx\nviews %d size_px %d levels %d\n%n", &k, &views, &size, &levels, &used) != 4 ||
+        used == 0)
+        return -1;
+    *why = "key or parameters differ";
+    if (k != key || views != p->views || size != p->size_px || levels != set->level_count)
+        return -1;
+    const char *q = buf + used;
+    for (int l = 0; l < levels; ++l) {
+        int idx = -1, n = 0;
+        *why = "bad level line";
+        if (sscanf(q, "level %d %lf %lf\n%n", &idx, &narrow[l], &longr[l], &n) != 3 || idx != l || n == 0)
+            return -1;
+        q += n;
+        *why = "table not strictly decreasing from +inf";
+        if (l == 0 ? !(isinf(narrow[0]) && isinf(longr[0]))
+                   : !(narrow[l] > 0 && narrow[l] < narrow[l - 1] && longr[l] > 0 && longr[l] < longr[l - 1]))
+            return -1;
+    }
+    return 0;
+}
+
+static int rpl_make_dir(const char *dir)
+{
+    char path[4096];
+    if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path)
+        return -1;
+    for (char *s = path + 1;; ++s) {
+        if (*s == '/' || *s == '\0') {
+            char c = *s;
+            *s = '\0';
+            if (mkdir(path, 0777) != 0 && errno != EEXIST)
+                return -1;
+            *s = c;
+            if (c == '\0')
+                break;
+        }
+    }
+    struct stat st;
+    return stat(dir, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
+}
+
+/* Temporary file + rename: a reader never sees half a table. 0, or −1 with errno's reason. */
+static int rpl_cache_write(const char *dir, const char *path, uint64_t key, const struct scn_lodset *set)
+{
+    char buf[RPL_CACHE_FILE_MAX], tmp[4200];
+    int len = rpl_cache_format(buf, sizeof buf, key, set);
+    if (len < 0) {
+        errno = ENOSPC;
+        return -1;
+    }
+    if (rpl_make_dir(dir) != 0)
+        return -1;
+    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+    FILE *f = fopen(tmp, "wb");
+    if (!f)
+        return -1;
+    int ok = fwrite(buf, 1, (size_t)len, f) == (size_t)len;
+    ok = fflush(f) == 0 && ok;
+    ok = fsync(fileno(f)) == 0 && ok;
+    ok = fclose(f) == 0 && ok;
+    if (!ok || rename(tmp, path) != 0) {
+        int e = errno;
+        remove(tmp);
+        errno = e;
+        return -1;
+    }
+    return 0;
+}
+
+/* ---- preparing a scene ----------------------------------------------------------------------- */
+
+void rpl_assets_apply_reading(struct scn_scene *scene, enum rpl_freq_reading reading)
+{
+    for (uint32_t c = 0; c < scene->chain_count; ++c) {
+        struct scn_chain *ch = &scene->chains[c];
+        for (int l = 0; l < ch->lod_count; ++l) {
+            struct scn_lod *L = &ch->lods[l];
+            double f = reading == RPL_READING_NARROW ? L->freq.narrow_cpdiam
+                       : reading == RPL_READING_LONG ? L->freq.long_cpdiam
+                                                     : L->freq.geometric_cpdiam;
+            if (isnan(f))
+                f = L->freq.geometric_cpdiam;
+            if (l == 0)
+                f = INFINITY;
+            else if (!(f < ch->lods[l - 1].unique_freq_cpdiam)) /* the selector needs it falling */
+                f = nextafter(ch->lods[l - 1].unique_freq_cpdiam, 0.0);
+            if (!isnan(f))
+                L->unique_freq_cpdiam = f;
+        }
+    }
+}
+
+/* From the cache or by analysis (then stored): set->freq narrow and long readings. *r is the
+ * analysis renderer, made on the first miss and reused for later chains. */
+static int rpl_measure(struct scn_lodset *set, const char *name, const struct rnd_analyze_params *p,
+                       struct rnd_renderer **r, struct rpl_assets_report *rep, struct hl_error *err)
+{
+    static int rpl_cache_warned; /* "cannot write" is said once per process */
+    char dir[4096], path[4300] = "";
+    struct hl_error dir_err;
+    int have_dir = rpl_cache_dir(dir, sizeof dir, &dir_err) == 0;
+    uint64_t key = rpl_cache_key(set, p);
+    double narrow[SCN_LODSET_MAX_LEVELS], longr[SCN_LODSET_MAX_LEVELS];
+    int cached = 1;
+    const char *why = "";
+    if (have_dir && rpl_cache_path(path, sizeof path, dir, name, key) == 0) {
+        cached = rpl_cache_read(path, key, set, p, narrow, longr, &why);
+        if (cached < 0)
+            fprintf(stderr, "hmdlod: note: analysis cache %s is corrupt (%s); analysing %s again\n", path, why, name);
+    }
+    if (cached == 0) {
+        for (int l = 0; l < set->level_count; ++l)
+            set->freq[l].narrow_cpdiam = narrow[l], set->freq[l].long_cpdiam = longr[l];
+        set->analysis_views = p->views;
+        set->analysis_size_px = p->size_px;
+        rep->chains_cached++;
+        return 0;
+    }
+    double t0 = hl_clock_now_s();
+    if (!*r && rnd_renderer_create(p->size_px, p->size_px, r, err) != 0)
+        return -1;
+    if (rnd_analyze_lodset(*r, set, p, NULL, err) != 0)
+        return -1;
+    rep->analysis_s += hl_clock_now_s() - t0;
+    rep->chains_analysed++;
+    if (!have_dir || rpl_cache_write(dir, path, key, set) != 0) {
+        rep->cache_unwritable = 1;
+        if (!rpl_cache_warned++)
+            fprintf(stderr, "hmdlod: note: cannot write the analysis cache %s (%s); analysing on every run\n",
+                    have_dir ? dir : "", have_dir ? strerror(errno) : dir_err.msg);
+    }
+    return 0;
+}
+
+int rpl_assets_measure(struct scn_lodset *set, const char *name, const struct rnd_analyze_params *p,
+                       struct rpl_assets_report *report, struct hl_error *err)
+{
+    struct rpl_assets_report rep = {0};
+    if (rnd_analyze_params_check(p, err) != 0)
+        return -1;
+    if (!set || set->level_count < 2) { /* one level loses nothing: nothing to measure */
+        if (report)
+            *report = rep;
+        return set ? 0 : hl_fail(err, "analysis: no lodset");
+    }
+    struct rnd_renderer *r = NULL;
+    int rc = rpl_measure(set, name && *name ? name : "lodset", p, &r, &rep, err);
+    rnd_renderer_destroy(r);
+    if (report)
+        *report = rep;
+    return rc;
+}
+
+int rpl_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params *p, enum rpl_freq_reading reading,
+                       struct rpl_assets_report *report, struct hl_error *err)
+{
+    struct rpl_assets_report rep = {0};
+    if (rnd_analyze_params_check(p, err) != 0)
+        return -1;
+    struct rnd_renderer *r = NULL;
+    int rc = 0;
+    for (uint32_t c = 0; c < scene->chain_count && rc == 0; ++c) {
+        struct scn_chain *ch = &scene->chains[c];
+        if (ch->lod_count < 2)
+            continue;
+        struct scn_lodset set;
+        if (rpl_lodset_from_chain(scene, c, &set, err) != 0) {
+            rc = -1;
+            break;
+        }
+        rc = rpl_measure(&set, ch->name, p, &r, &rep, err);
+        for (int l = 0; rc == 0 && l < ch->lod_count; ++l) {
+            ch->lods[l].freq.narrow_cpdiam = set.freq[l].narrow_cpdiam;
+            ch->lods[l].freq.long_cpdiam = set.freq[l].long_cpdiam;
+        }
+        scn_lodset_free(&set);
+    }
+    rnd_renderer_destroy(r);
+    if (rc != 0)
+        return -1;
+    rpl_assets_apply_reading(scene, reading);
+    if (report)
+        *report = rep;
+    return 0;
+}

@@ -1,0 +1,53 @@
+/* replay/assets.h: the measured frequency tables of a scene's chains — Reddy's offline analysis
+ * (render/analyze.h) run on the built-in chains once and cached beside the program, and the choice
+ * of which reading the selectors use (docs/analysis.md). Included by replay/replay.h. */
+#ifndef HMDLOD_REPLAY_ASSETS_H
+#define HMDLOD_REPLAY_ASSETS_H
+
+#include "render/render.h"
+
+/* Which frequency of each level the selectors compare against the acuity limit. */
+enum rpl_freq_reading {
+    RPL_READING_LONG = 0,      /* image-based, the longest chord of the largest lost feature */
+    RPL_READING_NARROW = 1,    /* image-based, the thickness of the thickest lost feature (default) */
+    RPL_READING_GEOMETRIC = 2, /* R / ε from the geometric error (scene.c, no rendering) */
+};
+/* "long" | "narrow" | "geometric" → the enum; −1 naming the known ones otherwise. */
+int rpl_freq_reading_parse(const char *name, enum rpl_freq_reading *out, struct hl_error *err);
+const char *rpl_freq_reading_name(enum rpl_freq_reading r);
+
+/* The analysis the built-in chains get: 18 views, 256 px, the default threshold and minimum. */
+void rpl_assets_params(struct rnd_analyze_params *p);
+
+/* Where analysis results are cached: $HMDLOD_CACHE_DIR when set and not empty, else a folder
+ * `lodcache` beside the running executable (/proc/self/exe). −1 if neither can be found. */
+int rpl_cache_dir(char *out, size_t size, struct hl_error *err);
+
+/* Copies chain `chain` of a scene back into a lodset (each level's vertices and local indices, the
+ * chain's bounding sphere, errors and frequency tables). *out is zeroed first; free it with
+ * scn_lodset_free. */
+int rpl_lodset_from_chain(const struct scn_scene *s, uint32_t chain, struct scn_lodset *out, struct hl_error *err);
+
+struct rpl_assets_report {
+    uint32_t chains_analysed, chains_cached; /* chains with two or more levels */
+    double analysis_s;                       /* time spent analysing (0 when every chain was cached) */
+    int cache_unwritable;                    /* results could not be stored: analysed every run */
+};
+
+/* Gives every chain of `scene` with two or more levels its image-based tables: from the cache when
+ * a file with the same key exists (key = the levels' scn_mesh_hash and the analysis parameters, so
+ * a changed mesh or parameter never reads a stale table), else by analysis, then stored. A corrupt
+ * cache file is analysed again, with a note on stderr; a cache that cannot be written is noted once
+ * and is not an error. Then sets every level's unique_freq_cpdiam from `reading`. */
+int rpl_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params *p, enum rpl_freq_reading reading,
+                       struct rpl_assets_report *report, struct hl_error *err);
+/* The same for one lodset (e.g. what a scene file's asset resolver loaded): fills set->freq[*]
+ * .narrow_cpdiam and .long_cpdiam (and analysis_views/size_px) from the cache or by analysis. name
+ * labels the cache file (NULL: "lodset"). A lodset of one level is left as it is. report may be NULL. */
+int rpl_assets_measure(struct scn_lodset *set, const char *name, const struct rnd_analyze_params *p,
+                       struct rpl_assets_report *report, struct hl_error *err);
+/* Only the last step: unique_freq_cpdiam of every level from `reading` (a level whose image-based
+ * reading is NaN — not analysed — keeps the geometric one). */
+void rpl_assets_apply_reading(struct scn_scene *scene, enum rpl_freq_reading reading);
+
+#endif

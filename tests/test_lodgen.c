@@ -1,0 +1,690 @@
+/* scene/ import, decimation and chain building (scene/lodgen.h) on the shared meshes and on bad
+ * files written here: counts, refusals naming file and reason, feature lines kept, no folds, valid
+ * meshes from both simplifiers, and the chain's errors, bounds and frequencies checked against
+ * independent computations (lod_error.c's vertex distance, brute-force spheres). */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "scene/scene.h"
+#include "scene/lodgen_internal.h"
+#include "scene/scene_internal.h"
+#include "tests/test_util.h"
+
+static char tmpdir[256];
+
+static const char *tmp_path(const char *name)
+{
+    static char buf[512];
+    snprintf(buf, sizeof buf, "%s/%s", tmpdir, name);
+    return buf;
+}
+
+static void write_bytes(const char *name, const void *data, size_t n)
+{
+    FILE *f = fopen(tmp_path(name), "wb");
+    if (!f)
+        return;
+    fwrite(data, 1, n, f);
+    fclose(f);
+}
+
+static void write_text(const char *name, const char *text) { write_bytes(name, text, strlen(text)); }
+
+/* Indices in range, positions finite, normals unit length. */
+static int mesh_valid(const struct scn_mesh *m)
+{
+    if (m->failed || m->index_count == 0 || m->index_count % 3 || !m->normals)
+        return 0;
+    for (uint32_t i = 0; i < m->index_count; ++i)
+        if (m->indices[i] >= m->vertex_count)
+            return 0;
+    for (size_t i = 0; i < 3 * (size_t)m->vertex_count; i += 3) {
+        for (int k = 0; k < 3; ++k)
+            if (!isfinite(m->positions[i + k]) || !isfinite(m->normals[i + k]))
+                return 0;
+        double len = sqrt((double)m->normals[i] * m->normals[i] + (double)m->normals[i + 1] * m->normals[i + 1] +
+                          (double)m->normals[i + 2] * m->normals[i + 2]);
+        if (fabs(len - 1.0) > 1e-3 && len != 0.0)
+            return 0;
+    }
+    return 1;
+}
+
+/* ---- an independent edge analysis: dihedral angles between the two faces of each edge --------- */
+
+struct edge_ref {
+    uint64_t key;
+    uint32_t tri;
+};
+
+static int cmp_edge(const void *a, const void *b)
+{
+    const struct edge_ref *x = a, *y = b;
+    return x->key < y->key ? -1 : x->key > y->key ? 1 : (x->tri > y->tri) - (x->tri < y->tri);
+}
+
+static hl_vec3d tri_normal(const struct scn_mesh *m, uint32_t t)
+{
+    const uint32_t *i = m->indices + 3 * (size_t)t;
+    const float *a = m->positions + 3 * (size_t)i[0], *b = m->positions + 3 * (size_t)i[1],
+                *c = m->positions + 3 * (size_t)i[2];
+    hl_vec3d u = hl_v3((double)b[0] - a[0], (double)b[1] - a[1], (double)b[2] - a[2]);
+    hl_vec3d v = hl_v3((double)c[0] - a[0], (double)c[1] - a[1], (double)c[2] - a[2]);
+    return hl_v3_cross(u, v);
+}
+
+/* Over interior edges with exactly two faces: total length of edges sharper than sharp_deg, and the
+ * number of folds (faces more than fold_deg apart: one turned over onto the other). */
+static void edge_stats(const struct scn_mesh *m, double sharp_deg, double fold_deg, double *sharp_len_m,
+                       long *folds)
+{
+    size_t n = m->index_count;
+    struct edge_ref *e = malloc((n + 1) * sizeof *e);
+    *sharp_len_m = 0, *folds = 0;
+    if (!e)
+        return;
+    for (size_t t = 0; t < n; t += 3)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t a = m->indices[t + k], b = m->indices[t + (k + 1) % 3];
+            e[t + k].key = a < b ? ((uint64_t)a << 32 | b) : ((uint64_t)b << 32 | a);
+            e[t + k].tri = (uint32_t)(t / 3);
+        }
+    qsort(e, n, sizeof *e, cmp_edge);
+    for (size_t i = 0; i < n;) {
+        size_t j = i;
+        while (j < n && e[j].key == e[i].key)
+            ++j;
+        if (j - i == 2) {
+            double ang = hl_v3_angle_rad(tri_normal(m, e[i].tri), tri_normal(m, e[i + 1].tri)) * HL_DEG_PER_RAD;
+            uint32_t a = (uint32_t)(e[i].key >> 32), b = (uint32_t)e[i].key;
+            const float *p = m->positions + 3 * (size_t)a, *q = m->positions + 3 * (size_t)b;
+            if (ang > sharp_deg)
+                *sharp_len_m += hl_v3_length(hl_v3((double)p[0] - q[0], (double)p[1] - q[1], (double)p[2] - q[2]));
+            if (ang > fold_deg)
+                ++*folds;
+        }
+        i = j;
+    }
+    free(e);
+}
+
+/* Level 0's sharp edges (> sharp_deg) as segments; *count of them. */
+struct seg {
+    hl_vec3d a, b;
+};
+static struct seg *sharp_segments(const struct scn_mesh *m, double sharp_deg, size_t *count)
+{
+    size_t n = m->index_count, c = 0;
+    struct edge_ref *e = malloc((n + 1) * sizeof *e);
+    struct seg *out = malloc((n + 1) * sizeof *out);
+    if (!e || !out) {
+        free(e);
+        free(out);
+        *count = 0;
+        return NULL;
+    }
+    for (size_t t = 0; t < n; t += 3)
+        for (int k = 0; k < 3; ++k) {
+            uint32_t a = m->indices[t + k], b = m->indices[t + (k + 1) % 3];
+            e[t + k].key = a < b ? ((uint64_t)a << 32 | b) : ((uint64_t)b << 32 | a);
+            e[t + k].tri = (uint32_t)(t / 3);
+        }
+    qsort(e, n, sizeof *e, cmp_edge);
+    for (size_t i = 0; i < n;) {
+        size_t j = i;
+        while (j < n && e[j].key == e[i].key)
+            ++j;
+        if (j - i == 2 &&
+            hl_v3_angle_rad(tri_normal(m, e[i].tri), tri_normal(m, e[i + 1].tri)) * HL_DEG_PER_RAD > sharp_deg) {
+            const float *p = m->positions + 3 * (size_t)(e[i].key >> 32), *q = m->positions + 3 * (size_t)(uint32_t)e[i].key;
+            out[c].a = hl_v3(p[0], p[1], p[2]), out[c].b = hl_v3(q[0], q[1], q[2]);
+            ++c;
+        }
+        i = j;
+    }
+    free(e);
+    *count = c;
+    return out;
+}
+
+static double point_segment(hl_vec3d p, const struct seg *s)
+{
+    hl_vec3d d = hl_v3_sub(s->b, s->a), w = hl_v3_sub(p, s->a);
+    double dd = hl_v3_dot(d, d), t = dd > 0 ? hl_v3_dot(w, d) / dd : 0;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    return hl_v3_length(hl_v3_sub(w, hl_v3_scale(d, t)));
+}
+
+/* The share of level 0's feature-line length (edges sharper than 60°) that still lies within tol_m
+ * of a feature edge of `m` (4 points per edge): lines kept in place, not merely as long. */
+static double feature_coverage(const struct scn_mesh *m0, const struct scn_mesh *m, double tol_m)
+{
+    size_t na, nb;
+    struct seg *a = sharp_segments(m0, 60, &na), *b = sharp_segments(m, 60, &nb);
+    double total = 0, kept = 0;
+    for (size_t i = 0; a && b && i < na; ++i) {
+        double len = hl_v3_length(hl_v3_sub(a[i].b, a[i].a));
+        for (int s = 0; s < 4; ++s) {
+            hl_vec3d p = hl_v3_add(a[i].a, hl_v3_scale(hl_v3_sub(a[i].b, a[i].a), (s + 0.5) / 4));
+            double best = INFINITY;
+            for (size_t j = 0; j < nb && best > tol_m; ++j) {
+                double d = point_segment(p, &b[j]);
+                best = d < best ? d : best;
+            }
+            total += len / 4;
+            kept += best <= tol_m ? len / 4 : 0;
+        }
+    }
+    free(a);
+    free(b);
+    return total > 0 ? kept / total : 0;
+}
+
+/* Triangles of m facing away from level 0: the normal of the nearest level-0 vertex (brute force)
+ * and the triangle's normal more than 90° apart. */
+static long flipped_vs_level0(const struct scn_mesh *m0, const struct scn_mesh *m)
+{
+    long flipped = 0;
+    for (uint32_t t = 0; t < m->index_count / 3; ++t) {
+        const uint32_t *i = m->indices + 3 * (size_t)t;
+        double c[3];
+        for (int k = 0; k < 3; ++k)
+            c[k] = ((double)m->positions[3 * i[0] + k] + m->positions[3 * i[1] + k] + m->positions[3 * i[2] + k]) / 3;
+        double best = INFINITY;
+        uint32_t bv = 0;
+        for (uint32_t v = 0; v < m0->vertex_count; ++v) {
+            const float *p = m0->positions + 3 * (size_t)v;
+            double d = (p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) + (p[2] - c[2]) * (p[2] - c[2]);
+            if (d < best)
+                best = d, bv = v;
+        }
+        const float *nv = m0->normals + 3 * (size_t)bv;
+        if (hl_v3_dot(tri_normal(m, t), hl_v3(nv[0], nv[1], nv[2])) < 0)
+            ++flipped;
+    }
+    return flipped;
+}
+
+static double bbox_diagonal(const struct scn_mesh *m)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < 3 * (size_t)m->vertex_count; ++i) {
+        lo[i % 3] = m->positions[i] < lo[i % 3] ? m->positions[i] : lo[i % 3];
+        hi[i % 3] = m->positions[i] > hi[i % 3] ? m->positions[i] : hi[i % 3];
+    }
+    return hl_v3_length(hl_v3(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]));
+}
+
+/* ---- import ----------------------------------------------------------------------------------- */
+
+static int import_shared(const char *name, struct scn_mesh *m, struct scn_import_report *r)
+{
+    char rel[128];
+    snprintf(rel, sizeof rel, "data/meshes/%s", name);
+    const char *path = tu_shared_path(rel);
+    if (!path)
+        return -1;
+    struct hl_error err = {{0}};
+    int rc = scn_mesh_import(path, m, r, &err);
+    if (rc != 0)
+        fprintf(stderr, "import %s: %s\n", name, err.msg);
+    CHECK(rc == 0);
+    return rc;
+}
+
+static void test_shared_meshes(void)
+{
+    static const struct {
+        const char *name;
+        uint32_t faces, triangles;
+    } want[] = {{"stanford-bunny.obj", 69451, 69451}, {"fandisk.obj", 12946, 12946}, {"spot.obj", 2928, 5856},
+                {"suzanne.obj", 500, 968},           {"beetle.obj", 2053, 2053}};
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; ++i) {
+        struct scn_mesh m;
+        struct scn_import_report r;
+        if (import_shared(want[i].name, &m, &r) != 0)
+            continue;
+        CHECK(r.faces_read == want[i].faces);
+        CHECK(m.index_count / 3 == want[i].triangles);
+        CHECK(mesh_valid(&m));
+        CHECK(m.vertex_count > m.index_count / 3 / 3 && m.vertex_count <= m.index_count); /* ≈ T/2 for closed */
+        if (!strcmp(want[i].name, "spot.obj"))
+            CHECK(r.polygons_triangulated == 2928); /* all quads */
+        if (!strcmp(want[i].name, "beetle.obj"))
+            CHECK(r.nonmanifold_edges > 0); /* reported, not fatal */
+        if (!strcmp(want[i].name, "stanford-bunny.obj"))
+            CHECK(r.nonmanifold_edges == 0 && r.degenerate_dropped == 0);
+        printf("%s: %u faces, %u triangles, %u vertices, %u welded, %u degenerate, %u non-manifold edges\n",
+               want[i].name, r.faces_read, m.index_count / 3, m.vertex_count, r.vertices_welded, r.degenerate_dropped,
+               r.nonmanifold_edges);
+        scn_mesh_free(&m);
+    }
+}
+
+static void test_small_formats(void)
+{
+    /* OFF cube: 8 vertices, 6 quads → 12 triangles, every quad triangulated. */
+    write_text("cube.off", "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                           "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n");
+    struct scn_mesh m;
+    struct scn_import_report r;
+    struct hl_error err = {{0}};
+    CHECK(scn_mesh_import(tmp_path("cube.off"), &m, &r, &err) == 0);
+    CHECK(m.index_count == 36 && m.vertex_count == 8 && r.polygons_triangulated == 6 && r.nonmanifold_edges == 0);
+    CHECK(mesh_valid(&m));
+    /* outward normals on a closed cube: the corner (1,1,1) normal points along +x+y+z */
+    for (uint32_t v = 0; v < m.vertex_count; ++v)
+        if (m.positions[3 * v] == 1 && m.positions[3 * v + 1] == 1 && m.positions[3 * v + 2] == 1)
+            CHECK(m.normals[3 * v] > 0.2 && m.normals[3 * v + 1] > 0.2 && m.normals[3 * v + 2] > 0.2);
+    scn_mesh_free(&m);
+
+    /* ASCII STL tetrahedron: a triangle soup, 12 corners at 4 places. */
+    write_text("tet.stl", "solid t\n"
+                          "facet normal 0 0 -1\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n"
+                          "facet normal 0 -1 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n"
+                          "facet normal -1 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n"
+                          "facet normal 1 1 1\nouter loop\nvertex 1 0 0\nvertex 0 1 0\nvertex 0 0 1\nendloop\nendfacet\n"
+                          "endsolid t\n");
+    CHECK(scn_mesh_import(tmp_path("tet.stl"), &m, &r, &err) == 0);
+    CHECK(m.index_count == 12 && m.vertex_count == 4);
+    scn_mesh_free(&m);
+
+    /* OBJ: a square as two triangles with its shared corners written twice (welded: 2), plus one
+     * zero-area face (dropped: 1) and a quad. */
+    write_text("weld.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nv 3 0 0\n"
+                           "v 2 0 1\nv 3 0 1\nf 1 2 3\nf 4 5 6\nf 1 2 7\nf 7 8 10 9\n");
+    CHECK(scn_mesh_import(tmp_path("weld.obj"), &m, &r, &err) == 0);
+    CHECK(r.vertices_welded == 2 && r.degenerate_dropped == 1 && r.polygons_triangulated == 1);
+    CHECK(m.index_count == 12 && m.vertex_count == 8);
+    scn_mesh_free(&m);
+}
+
+/* Fails, and the message names the file and contains `reason`. */
+static void expect_refused(const char *path, const char *reason)
+{
+    struct scn_mesh m;
+    struct scn_import_report r;
+    struct hl_error err = {{0}};
+    int rc = scn_mesh_import(path, &m, &r, &err);
+    CHECK(rc != 0);
+    CHECK(m.vertex_count == 0 && m.positions == NULL);
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    int ok = strstr(err.msg, base) && strstr(err.msg, reason);
+    if (!ok)
+        fprintf(stderr, "refusal of %s: want '%s' in: %s\n", path, reason, err.msg);
+    CHECK(ok);
+    if (rc == 0)
+        scn_mesh_free(&m);
+}
+
+static void test_bad_inputs(void)
+{
+    write_text("empty.obj", "");
+    expect_refused(tmp_path("empty.obj"), "empty");
+    write_text("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
+    expect_refused(tmp_path("nan.obj"), ":3: vertex 3: coordinate y is NaN");
+    write_text("inf.obj", "v 0 0 0\nv 1 0 inf\nv 0 1 0\nf 1 2 3\n");
+    expect_refused(tmp_path("inf.obj"), "vertex 2: coordinate z is infinite");
+    write_text("novert.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n");
+    expect_refused(tmp_path("novert.obj"), "no faces");
+    write_text("degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 1 4\n");
+    expect_refused(tmp_path("degenerate.obj"), "faces are degenerate (zero area)");
+    write_text("badindex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n");
+    expect_refused(tmp_path("badindex.obj"), "face 2: refers to a vertex that does not exist");
+    expect_refused(tmp_path("missing.obj"), "cannot open");
+    mkdir(tmp_path("folder.obj"), 0700);
+    expect_refused(tmp_path("folder.obj"), "is a directory");
+    write_text("mesh.xyz", "v 0 0 0\n");
+    expect_refused(tmp_path("mesh.xyz"), "unsupported extension '.xyz'");
+    write_text("noext", "v 0 0 0\n");
+    expect_refused(tmp_path("noext"), "no file extension");
+    /* Random bytes, the same under every extension: refused, never a crash. */
+    unsigned char junk[4096];
+    struct scn_rng g = {12345};
+    for (size_t i = 0; i < sizeof junk; ++i)
+        junk[i] = (unsigned char)(scn_rng_next(&g) >> 56);
+    static const char *exts[] = {"obj", "ply", "off", "stl", "glb", "gltf"};
+    for (size_t i = 0; i < sizeof exts / sizeof exts[0]; ++i) {
+        char name[32];
+        snprintf(name, sizeof name, "random.%s", exts[i]);
+        write_bytes(name, junk, sizeof junk);
+        struct scn_mesh m;
+        struct hl_error err = {{0}};
+        int rc = scn_mesh_import(tmp_path(name), &m, NULL, &err);
+        if (rc == 0) { /* a binary STL reader can find "triangles" in any bytes; then they must be valid */
+            CHECK(mesh_valid(&m));
+            scn_mesh_free(&m);
+        } else {
+            CHECK(strstr(err.msg, name) != NULL);
+        }
+    }
+}
+
+/* Every prefix length of a file (in steps) either imports as a valid mesh or is refused naming the
+ * file: a truncated download must never crash the importer. */
+static void check_prefixes(const char *src, const char *name, size_t step)
+{
+    size_t size = 0;
+    char *data = tu_read_file(src, &size);
+    CHECK(data != NULL);
+    if (!data)
+        return;
+    int refused = 0, imported = 0;
+    for (size_t n = 1; n < size; n += step) {
+        write_bytes(name, data, n);
+        struct scn_mesh m;
+        struct hl_error err = {{0}};
+        if (scn_mesh_import(tmp_path(name), &m, NULL, &err) == 0) {
+            CHECK(mesh_valid(&m));
+            scn_mesh_free(&m);
+            ++imported;
+        } else {
+            CHECK(strstr(err.msg, name) != NULL);
+            ++refused;
+        }
+    }
+    printf("%s prefixes: %d imported, %d refused\n", name, imported, refused);
+    free(data);
+}
+
+static void test_truncated_and_glb(void)
+{
+    const char *spot = tu_shared_path("data/meshes/spot.obj");
+    if (spot) {
+        char src[1024];
+        snprintf(src, sizeof src, "%s", spot);
+        check_prefixes(src, "spot_part.obj", 4099);
+    }
+    const char *suz = tu_shared_path("data/meshes/suzanne.obj");
+    if (!suz)
+        return;
+    char src[1024];
+    snprintf(src, sizeof src, "%s", suz);
+    if (system("command -v assimp >/dev/null 2>&1") != 0) {
+        printf("skip: the assimp tool (assimp-utils) is absent: no .glb made to test\n");
+        return;
+    }
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "assimp export '%s' '%s' >/dev/null 2>&1", src, tmp_path("suzanne.glb"));
+    CHECK(system(cmd) == 0);
+    struct scn_mesh obj, glb;
+    struct scn_import_report ro, rg;
+    struct hl_error err = {{0}};
+    CHECK(scn_mesh_import(src, &obj, &ro, &err) == 0);
+    int rc = scn_mesh_import(tmp_path("suzanne.glb"), &glb, &rg, &err);
+    if (rc != 0)
+        fprintf(stderr, "glb: %s\n", err.msg);
+    CHECK(rc == 0);
+    if (rc == 0) {
+        CHECK(glb.index_count == obj.index_count);
+        CHECK(glb.vertex_count == obj.vertex_count);
+        CHECK(mesh_valid(&glb));
+        scn_mesh_free(&glb);
+    }
+    scn_mesh_free(&obj);
+    snprintf(src, sizeof src, "%s", tmp_path("suzanne.glb"));
+    char copy[1024];
+    snprintf(copy, sizeof copy, "%s", tmp_path("suzanne_src.glb"));
+    rename(src, copy);
+    check_prefixes(copy, "suzanne_part.glb", 997);
+}
+
+/* ---- decimation ---------------------------------------------------------------------------------- */
+
+static void test_fandisk_features(void)
+{
+    struct scn_mesh m;
+    struct scn_import_report r;
+    if (import_shared("fandisk.obj", &m, &r) != 0)
+        return;
+    double len0;
+    long folds0;
+    edge_stats(&m, 60, 150, &len0, &folds0);
+    CHECK(len0 > 0);
+    double tol = 0.005 * bbox_diagonal(&m);
+    uint32_t t0 = m.index_count / 3, targets[2] = {t0 / 2, t0 / 4};
+    for (int features = 1; features >= 0; --features) {
+        struct scn_mesh out[2];
+        struct hl_error err = {{0}};
+        int rc = scn_mesh_decimate_chain(&m, targets, 2, SCN_SIMPLIFIER_OPENMESH, features ? 60.0 : -1.0, out, NULL, &err);
+        CHECK(rc == 0);
+        if (rc != 0)
+            continue;
+        for (int k = 0; k < 2; ++k) {
+            double len, cover = feature_coverage(&m, &out[k], tol);
+            long folds;
+            edge_stats(&out[k], 60, 150, &len, &folds);
+            printf("fandisk openmesh %s feature lines, %u triangles: feature length %.1f %%, in place %.1f %%\n",
+                   features ? "with" : "without", out[k].index_count / 3, 100.0 * len / len0, 100.0 * cover);
+            if (features)
+                CHECK(len >= 0.9 * len0 && cover >= 0.9);
+            CHECK(mesh_valid(&out[k]));
+            scn_mesh_free(&out[k]);
+        }
+    }
+    /* The feature flags reach the Decimater: with every edge above 1° a feature line, collapses
+     * off the lines are illegal and the 10 % target is out of reach; without, it is met. */
+    uint32_t ten = t0 / 10;
+    struct scn_mesh a, b;
+    struct hl_error err = {{0}};
+    CHECK(scn_mesh_decimate(&m, ten, SCN_SIMPLIFIER_OPENMESH, 1.0, &a, &err) == 0);
+    CHECK(scn_mesh_decimate(&m, ten, SCN_SIMPLIFIER_OPENMESH, -1.0, &b, &err) == 0);
+    printf("fandisk openmesh to %u triangles: %u with 1° feature lines, %u without\n", ten, a.index_count / 3,
+           b.index_count / 3);
+    CHECK(a.index_count / 3 > ten + ten / 20);
+    CHECK(b.index_count / 3 <= ten + 2);
+    scn_mesh_free(&a);
+    scn_mesh_free(&b);
+    scn_mesh_free(&m);
+}
+
+/* Folds (faces turned over onto their neighbour) and validity, both simplifiers, on the meshes that
+ * stress them: fandisk (sharp), spot (curved), beetle (non-manifold, stops early). */
+static void test_simplifiers(void)
+{
+    static const char *names[] = {"fandisk.obj", "spot.obj", "beetle.obj"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+        struct scn_mesh m;
+        struct scn_import_report r;
+        if (import_shared(names[i], &m, &r) != 0)
+            continue;
+        double len0;
+        long folds0;
+        edge_stats(&m, 60, 150, &len0, &folds0);
+        uint32_t t0 = m.index_count / 3, targets[4] = {t0 / 2, t0 / 4, t0 / 10, t0 / 50};
+        for (int s = 0; s < 2; ++s) {
+            struct scn_mesh out[4];
+            struct hl_error err = {{0}};
+            int rc = scn_mesh_decimate_chain(&m, targets, 4, (enum scn_simplifier)s, 0, out, NULL, &err);
+            CHECK(rc == 0);
+            if (rc != 0)
+                continue;
+            uint32_t prev = t0;
+            for (int k = 0; k < 4; ++k) {
+                uint32_t tris = out[k].index_count / 3;
+                CHECK(mesh_valid(&out[k]));
+                CHECK(tris <= prev); /* never grows; beetle may stall (then equal) */
+                CHECK(tris >= targets[k] / 2);
+                prev = tris;
+                double len;
+                long folds;
+                edge_stats(&out[k], 60, 150, &len, &folds);
+                long flipped = k < 2 ? flipped_vs_level0(&m, &out[k]) : -1;
+                /* The normal-flipping module's promise, on the manifold meshes (by hand, without the
+                 * module: 64 folds and 110 flipped triangles on fandisk at 50 %). One in a thousand
+                 * flipped allows the nearest-vertex test's own misses along creases. */
+                if (s == SCN_SIMPLIFIER_OPENMESH && k < 2 && r.nonmanifold_edges == 0) {
+                    CHECK(folds <= folds0);
+                    CHECK(flipped <= (long)tris / 1000);
+                }
+                printf("%s %s level %d: %u triangles (target %u), %ld folds (level 0: %ld), %ld flipped\n",
+                       names[i], scn_simplifier_name(s), k + 1, tris, targets[k], folds, folds0, flipped);
+                scn_mesh_free(&out[k]);
+            }
+        }
+        /* The single-level API: the beetle's 2 % target is out of reach; what was reached comes back. */
+        struct scn_mesh one;
+        struct hl_error err = {{0}};
+        CHECK(scn_mesh_decimate(&m, t0 / 50, SCN_SIMPLIFIER_OPENMESH, 0, &one, &err) == 0);
+        CHECK(mesh_valid(&one) && one.index_count / 3 < t0);
+        scn_mesh_free(&one);
+        CHECK(scn_mesh_decimate(&m, t0 + 5, SCN_SIMPLIFIER_MESHOPT, 0, &one, &err) == 0); /* nothing to do */
+        CHECK(one.index_count == m.index_count);
+        scn_mesh_free(&one);
+        scn_mesh_free(&m);
+    }
+}
+
+/* ---- the chain ---------------------------------------------------------------------------------- */
+
+static double last_progress;
+static int progress_backwards;
+static void on_progress(void *user, double f)
+{
+    (void)user;
+    if (f < last_progress)
+        progress_backwards = 1;
+    last_progress = f;
+}
+
+static void check_lodset(const struct scn_mesh *src, const struct scn_lodset *set)
+{
+    CHECK(set->level_count >= 2);
+    CHECK(set->source_hash == scn_mesh_hash(src));
+    CHECK(set->error_m[0] == 0 && isinf(set->freq[0].geometric_cpdiam));
+    CHECK(set->levels[0].index_count == src->index_count);
+    for (int l = 0; l < set->level_count; ++l) {
+        const struct scn_mesh *m = &set->levels[l];
+        CHECK(mesh_valid(m));
+        /* the sphere holds every level's vertices */
+        for (uint32_t v = 0; v < m->vertex_count; ++v) {
+            const float *p = m->positions + 3 * (size_t)v;
+            double d = hl_v3_length(hl_v3(p[0] - set->center_m[0], p[1] - set->center_m[1], p[2] - set->center_m[2]));
+            if (d > set->radius_m * (1 + 1e-9)) {
+                CHECK(!"vertex outside the bounding sphere");
+                break;
+            }
+        }
+        CHECK(isnan(set->freq[l].narrow_cpdiam) && isnan(set->freq[l].long_cpdiam));
+        if (l == 0)
+            continue;
+        CHECK(m->index_count < set->levels[l - 1].index_count);
+        CHECK_NEAR(set->error_rel[l], set->error_m[l] / set->radius_m, 1e-12);
+        CHECK(set->freq[l].geometric_cpdiam < set->freq[l - 1].geometric_cpdiam);
+        CHECK(set->freq[l].geometric_cpdiam <= set->radius_m / set->error_m[l] * (1 + 1e-9));
+        /* Independent lower bound: the Hausdorff samples include every vertex, so the two-sided
+         * maximum is at least lod_error.c's brute-force distance from level 0's vertices. */
+        double vertex_err = scn_lod_geometric_error(&set->levels[0], m);
+        CHECK(set->error_m[l] >= vertex_err * (1 - 1e-6));
+        CHECK(set->error_m[l] > 0);
+    }
+    /* Tight: no worse than the sphere about the AABB centre through its farthest vertex. */
+    const struct scn_mesh *m0 = &set->levels[0];
+    hl_vec3d c = hl_v3(0.5 * (set->aabb_min_m[0] + set->aabb_max_m[0]), 0.5 * (set->aabb_min_m[1] + set->aabb_max_m[1]),
+                       0.5 * (set->aabb_min_m[2] + set->aabb_max_m[2]));
+    double r_box = 0;
+    for (int l = 0; l < set->level_count; ++l)
+        for (uint32_t v = 0; v < set->levels[l].vertex_count; ++v) {
+            const float *p = set->levels[l].positions + 3 * (size_t)v;
+            double d = hl_v3_length(hl_v3_sub(hl_v3(p[0], p[1], p[2]), c));
+            r_box = d > r_box ? d : r_box;
+        }
+    CHECK(set->radius_m <= r_box * (1 + 1e-9));
+    (void)m0;
+}
+
+static void test_chain(void)
+{
+    struct scn_mesh m;
+    struct scn_import_report r;
+    if (import_shared("spot.obj", &m, &r) != 0)
+        return;
+    for (int s = 0; s < 2; ++s) {
+        struct scn_lodgen_params p;
+        memset(&p, 0, sizeof p);
+        p.simplifier = (enum scn_simplifier)s;
+        p.ratio_count = 4;
+        p.ratios[0] = 1, p.ratios[1] = 0.5, p.ratios[2] = 0.25, p.ratios[3] = 0.1;
+        p.hausdorff_samples = 50000;
+        p.progress = on_progress;
+        last_progress = -1, progress_backwards = 0;
+        struct scn_lodset set;
+        struct hl_error err = {{0}};
+        int rc = scn_lodgen_build(&m, &p, &set, &err);
+        if (rc != 0)
+            fprintf(stderr, "lodgen: %s\n", err.msg);
+        CHECK(rc == 0);
+        if (rc != 0)
+            continue;
+        CHECK(set.level_count == 4);
+        CHECK(!strcmp(set.simplifier, scn_simplifier_name(p.simplifier)));
+        CHECK(!progress_backwards && last_progress == 1.0);
+        check_lodset(&m, &set);
+        for (int l = 1; l < set.level_count; ++l) /* targets met within a few triangles on spot */
+            CHECK(fabs((double)set.levels[l].index_count / 3 - p.ratios[l] * m.index_count / 3) <= 8);
+        scn_lodset_free(&set);
+    }
+    /* --max-error-px mode: every chosen level meets its budget at its distance. */
+    struct scn_lodgen_params p;
+    memset(&p, 0, sizeof p);
+    p.simplifier = SCN_SIMPLIFIER_MESHOPT;
+    p.max_error_px = 1, p.at_distance_m = 2;
+    p.hausdorff_samples = 50000;
+    struct scn_lodset set;
+    struct hl_error err = {{0}};
+    CHECK(scn_lodgen_build(&m, &p, &set, &err) == 0);
+    if (set.level_count > 0) {
+        check_lodset(&m, &set);
+        double px_per_rad = 1080.0 / (100.0 * HL_RAD_PER_DEG);
+        /* Level l was picked for a distance D·2^(j−1) whose budget its (screened) error meets; the
+         * distances grow with the level. Re-measured at full density, allow 25 % sampling slack. */
+        int prev_j = 0;
+        for (int l = 1; l < set.level_count; ++l) {
+            int j = 1;
+            while (j <= 40 && !(set.error_m[l] <= 1.25 * p.max_error_px / px_per_rad * p.at_distance_m * pow(2.0, j - 1)))
+                ++j;
+            CHECK(j <= 40 && j >= prev_j);
+            prev_j = j;
+        }
+        printf("max-error-px 1@2 on spot: %d levels:", set.level_count);
+        for (int l = 0; l < set.level_count; ++l)
+            printf(" %u (%.2f px at 2 m)", set.levels[l].index_count / 3, set.error_m[l] / 2 * px_per_rad);
+        printf("\n");
+        scn_lodset_free(&set);
+    }
+    /* Bad parameters are refused with a reason. */
+    memset(&p, 0, sizeof p);
+    p.ratio_count = 2, p.ratios[0] = 0.5, p.ratios[1] = 0.25;
+    CHECK(scn_lodgen_build(&m, &p, &set, &err) != 0 && strstr(err.msg, "ratio 1"));
+    p.ratios[0] = 1, p.ratios[1] = 1.5;
+    CHECK(scn_lodgen_build(&m, &p, &set, &err) != 0 && strstr(err.msg, "ratio 2"));
+    p.ratio_count = 9;
+    CHECK(scn_lodgen_build(&m, &p, &set, &err) != 0 && strstr(err.msg, "levels"));
+    scn_mesh_free(&m);
+}
+
+int main(void)
+{
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/hmdlod-test-lodgen-XXXXXX");
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    test_small_formats();
+    test_bad_inputs();
+    test_shared_meshes();
+    test_truncated_and_glb();
+    test_fandisk_features();
+    test_simplifiers();
+    test_chain();
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", tmpdir);
+    return tu_finish("test_lodgen");
+}

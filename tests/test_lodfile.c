@@ -331,6 +331,14 @@ static void test_not_files(void)
     CHECK(refused(d, "a directory"));
     CHECK(refused(tmp_path("missing.lod"), "cannot open"));
     CHECK(refused("/dev/null", "character device"));
+    /* Beyond the size limit: refused from fstat, before any allocation (a sparse file costs nothing). */
+    const char *huge = tmp_path("huge.lod");
+    FILE *hf = fopen(huge, "wb");
+    CHECK(hf && ftruncate(fileno(hf), ((off_t)1 << 31) + 1) == 0);
+    if (hf)
+        fclose(hf);
+    CHECK(refused(huge, "more than the 2 GiB"));
+    unlink(huge);
     /* Writing: into a missing directory, over a directory (the rename fails after the temporary
      * file was written), and a lodset the reader would refuse: each fails and leaves nothing. */
     struct scn_lodset set;

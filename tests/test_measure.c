@@ -117,7 +117,7 @@ static void test_against_brute_force(void)
     CHECK(fabs(h3.max_m - h.max_m) <= h.bound_m + h3.bound_m);
     /* Symmetric: swapping the meshes swaps the directions, not the maximum's meaning. */
     struct scn_hausdorff hs;
-    CHECK(scn_mesh_hausdorff(&coarse, &fine, 200000, seed, &hs, &err) == 0);
+    CHECK(scn_mesh_hausdorff(&coarse, &fine, 50000, seed, &hs, &err) == 0);
     CHECK(fabs(hs.max_m - h.max_m) <= h.bound_m + hs.bound_m);
     scn_mesh_free(&fine);
     scn_mesh_free(&coarse);
@@ -226,7 +226,7 @@ static void test_analytic(void)
     struct scn_mesh cube = {0}, ball = {0};
     scn_mesh_add_box(&cube, hl_v3(0, 0, 0), hl_v3(1, 1, 1), hl_q_identity());
     scn_mesh_add_sphere(&ball, 1.0, 47, 96, unit_shape);
-    CHECK(scn_mesh_hausdorff(&cube, &ball, 200000, 3, &h, &err) == 0);
+    CHECK(scn_mesh_hausdorff(&cube, &ball, 60000, 3, &h, &err) == 0);
     double sag = 1 - cos(HL_PI / 48) * cos(HL_PI / 96);
     printf("  cube vs inscribed sphere: max %.6f (√3−1 = %.6f, sag %.4f) bound %.5f\n", h.max_m, sqrt(3) - 1, sag,
            h.bound_m);

@@ -627,6 +627,23 @@ static void test_chain(void)
         check_lodset(&m, &set);
         for (int l = 1; l < set.level_count; ++l) /* targets met within a few triangles on spot */
             CHECK(fabs((double)set.levels[l].index_count / 3 - p.ratios[l] * m.index_count / 3) <= 8);
+        /* Through a .lod file and back (scene/lodfile.c): what lodgen made is what a reader gets. */
+        struct scn_lodset back;
+        CHECK(scn_lodfile_write(tmp_path("spot.lod"), &set, &err) == 0);
+        rc = scn_lodfile_read(tmp_path("spot.lod"), &back, &err);
+        if (rc != 0)
+            fprintf(stderr, "lodfile: %s\n", err.msg);
+        CHECK(rc == 0);
+        if (rc == 0) {
+            CHECK(back.level_count == set.level_count && back.source_hash == set.source_hash);
+            CHECK(back.radius_m == set.radius_m && !strcmp(back.simplifier, set.simplifier));
+            for (int l = 0; l < set.level_count && l < back.level_count; ++l) {
+                CHECK(back.levels[l].index_count == set.levels[l].index_count);
+                CHECK(back.error_m[l] == set.error_m[l]);
+                CHECK(back.freq[l].geometric_cpdiam == set.freq[l].geometric_cpdiam);
+            }
+            scn_lodset_free(&back);
+        }
         scn_lodset_free(&set);
     }
     /* --max-error-px mode: every chosen level meets its budget at its distance. */

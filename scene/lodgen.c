@@ -341,7 +341,8 @@ int scn_lodgen_build_timed(const struct scn_mesh *mesh, const struct scn_lodgen_
         out->levels[k + 1] = cand[j];
         memset(&cand[j], 0, sizeof cand[j]);
         st.target_triangles[k + 1] = targets[j];
-        st.decimate_s[k + 1] = cand_end_s[j] - (j == 0 ? start_s : cand_end_s[j - 1]);
+        /* the chain's time from the previous kept level (or the start) to this one */
+        st.decimate_s[k + 1] = cand_end_s[j] - (k == 0 ? start_s : cand_end_s[pick[k - 1]]);
         st.error_s[k + 1] = hl_clock_now_s() - t;
         clk.steps_done++;
         lodgen_report(&clk);

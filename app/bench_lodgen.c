@@ -184,7 +184,7 @@ int bench_lodgen(int argc, char **argv, int full_argc, char **full_argv)
     for (int i = 0; i < 6; ++i)
         bench_emit("| %s | %.3f | %.0f %% |\n", phase[i], med6[i], total > 0 ? 100 * med6[i] / total : 0);
     bench_emit("\nOpenMesh: DecimaterT + ModQuadricT (priority only) + ModNormalFlippingT, feature edges > 60° "
-               "(lines' ends and corners locked), shim built -O2 -DNDEBUG against Debian's assertion-enabled "
+               "(corners where three lines meet locked), open boundaries locked while the targets allow, shim built -O2 -DNDEBUG against Debian's assertion-enabled "
                "libOpenMeshCore (PLATFORM.md §7b). meshopt: meshopt_simplify 0.18 after meshopt_generateVertexRemap "
                "welding, target_error 1 (no limit), no border lock. Both weld and recompute area-weighted normals "
                "per level.\n");

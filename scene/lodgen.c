@@ -290,11 +290,13 @@ int scn_lodgen_build_timed(const struct scn_mesh *mesh, const struct scn_lodgen_
     st.stopped_early = reached < n;
     int rc = 0;
     int pick[SCN_LODSET_MAX_LEVELS], picks = 0;
+    double budget[SCN_LODSET_MAX_LEVELS] = {0};
     uint64_t samples = p->hausdorff_samples;
     if (error_mode) {
         /* Screen-space error budget (see lodgen.h): px per radian at the centre of the reference
          * display; level k is for distances from at_distance_m·2^(k−1). Candidates are screened
-         * with an eighth of the samples, the chosen ones measured again at full density. */
+         * with an eighth of the samples, the chosen ones measured again at full density; one that
+         * then exceeds its budget gives way to the next finer candidate. */
         double fov = (p->fov_deg > 0 ? p->fov_deg : LODGEN_DEFAULT_FOV_DEG) * HL_RAD_PER_DEG;
         double px_per_rad = (p->width_px > 0 ? p->width_px : LODGEN_DEFAULT_WIDTH_PX) / fov;
         uint64_t screen = samples ? samples / 8 : ((uint64_t)1 << 17);
@@ -313,7 +315,7 @@ int scn_lodgen_build_timed(const struct scn_mesh *mesh, const struct scn_lodgen_
                 if (cand_err_m[j] <= budget_m)
                     best = j;
             if (best >= 0)
-                pick[picks++] = last = best;
+                budget[picks] = budget_m, pick[picks++] = last = best;
         }
     } else {
         for (int j = 0; j < reached; ++j)
@@ -325,13 +327,22 @@ int scn_lodgen_build_timed(const struct scn_mesh *mesh, const struct scn_lodgen_
             rc = hl_fail(err, "lodgen: out of memory");
     }
     for (int k = 0; rc == 0 && k < picks; ++k) {
-        int j = pick[k];
+        int j = pick[k], finest = k > 0 ? pick[k - 1] + 1 : 0;
+        double t = hl_clock_now_s();
+        for (;;) {
+            rc = measure_error(mesh, &cand[j], samples, &out->error_m[k + 1], err);
+            if (rc != 0 || !error_mode || out->error_m[k + 1] <= budget[k] || j <= finest)
+                break;
+            --j;
+        }
+        if (rc != 0)
+            break;
+        pick[k] = j;
         out->levels[k + 1] = cand[j];
         memset(&cand[j], 0, sizeof cand[j]);
         st.target_triangles[k + 1] = targets[j];
-        st.decimate_s[k + 1] = cand_end_s[j] - (j == 0 ? start_s : cand_end_s[j - 1]);
-        double t = hl_clock_now_s();
-        rc = measure_error(&out->levels[0], &out->levels[k + 1], samples, &out->error_m[k + 1], err);
+        /* the chain's time from the previous kept level (or the start) to this one */
+        st.decimate_s[k + 1] = cand_end_s[j] - (k == 0 ? start_s : cand_end_s[pick[k - 1]]);
         st.error_s[k + 1] = hl_clock_now_s() - t;
         clk.steps_done++;
         lodgen_report(&clk);

@@ -23,7 +23,8 @@ int scn_mesh_import(const char *path, struct scn_mesh *out, struct scn_import_re
                     struct hl_error *err);
 /* Decimates `in` to about target_triangles (reports what it reached in out->index_count/3).
  * OpenMesh: quadric priority, normal-flip guard, edges sharper than feature_angle_deg kept as
- * feature lines (0 = 60°, negative = no feature lines). meshopt ignores feature_angle_deg. A target
+ * feature lines (0 = 60°, negative = no feature lines), open boundaries kept exactly unless that
+ * stops a level short of its target (then freed for it and the rest of the chain). meshopt ignores feature_angle_deg. A target
  * a simplifier cannot reach (non-manifold spots, all collapses illegal) is not an error: out holds
  * where it stopped. out: a new welded mesh with area-weighted normals, owned by the caller. */
 int scn_mesh_decimate(const struct scn_mesh *in, uint32_t target_triangles, enum scn_simplifier simplifier,

@@ -65,7 +65,8 @@ struct scn_chain_observer {
  * targets in turn (strictly decreasing triangle counts), garbage collection between levels
  * (PLATFORM.md §7b); outs[k] gets level k's welded mesh with area-weighted normals. Edges with
  * dihedral angle > feature_angle_deg are features (feature_angle_deg < 0: none); feature-line
- * ends and corners are locked. Stops early without error where no collapse is legal. */
+ * corners (three or more feature edges) are locked; so is the open boundary until a level cannot
+ * be reached with it, then it is freed for the rest of the chain. Stops early without error where no collapse is legal. */
 int scn_om_decimate_chain(const struct scn_mesh *in, const uint32_t *target_tris, int count,
                           double feature_angle_deg, struct scn_mesh *outs, struct scn_decimate_timing *timing,
                           const struct scn_chain_observer *obs, struct hl_error *err);

@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <iostream>
 #include <new>
 #include <sstream>
 #include <string>
@@ -79,25 +80,28 @@ class SoupImporter : public OpenMesh::IO::ImporterT<OmPolyMesh> {
 };
 
 // OpenMesh logs to std::cout/std::cerr through its own multiplexing streams ("[OBJReader] : ...").
-// While a read runs they go into a string instead, so `hmdlod` prints only its own messages.
+// While a read runs, omlog/omout are off and std::cerr's buffer is swapped for a string, so `hmdlod`
+// prints only its own messages and the reader's complaint can go into ours. (Not omerr().connect /
+// disconnect: OpenMesh 9's disconnect leaks its target.)
 class QuietOpenMesh {
   public:
     QuietOpenMesh()
     {
         ::omlog().disable();
         ::omout().disable();
-        ::omerr().disconnect(std::cerr);
-        ::omerr().connect(text);
+        saved = std::cerr.rdbuf(text.rdbuf());
     }
     ~QuietOpenMesh()
     {
         ::omerr().flush();
-        ::omerr().disconnect(text);
-        ::omerr().connect(std::cerr);
+        std::cerr.rdbuf(saved);
         ::omout().enable();
         ::omlog().enable();
     }
     std::ostringstream text;
+
+  private:
+    std::streambuf *saved;
 };
 
 // The first line of what OpenMesh complained about, for the message ("" if nothing).

@@ -117,7 +117,7 @@ static void test_against_brute_force(void)
     CHECK(fabs(h3.max_m - h.max_m) <= h.bound_m + h3.bound_m);
     /* Symmetric: swapping the meshes swaps the directions, not the maximum's meaning. */
     struct scn_hausdorff hs;
-    CHECK(scn_mesh_hausdorff(&coarse, &fine, 200000, seed, &hs, &err) == 0);
+    CHECK(scn_mesh_hausdorff(&coarse, &fine, 50000, seed, &hs, &err) == 0);
     CHECK(fabs(hs.max_m - h.max_m) <= h.bound_m + hs.bound_m);
     scn_mesh_free(&fine);
     scn_mesh_free(&coarse);
@@ -226,7 +226,7 @@ static void test_analytic(void)
     struct scn_mesh cube = {0}, ball = {0};
     scn_mesh_add_box(&cube, hl_v3(0, 0, 0), hl_v3(1, 1, 1), hl_q_identity());
     scn_mesh_add_sphere(&ball, 1.0, 47, 96, unit_shape);
-    CHECK(scn_mesh_hausdorff(&cube, &ball, 200000, 3, &h, &err) == 0);
+    CHECK(scn_mesh_hausdorff(&cube, &ball, 60000, 3, &h, &err) == 0);
     double sag = 1 - cos(HL_PI / 48) * cos(HL_PI / 96);
     printf("  cube vs inscribed sphere: max %.6f (√3−1 = %.6f, sag %.4f) bound %.5f\n", h.max_m, sqrt(3) - 1, sag,
            h.bound_m);
@@ -353,6 +353,72 @@ static void test_add_lodset(void)
     scn_scene_free(&s);
 }
 
+/* The bunny (if ../shared is there): against its 50 % level the BVH agrees with brute force on a
+ * subset of samples; against itself translated by t the distance is |t| (the support point in t's
+ * direction moves |t| off the other copy, and nothing moves more). HMDLOD_MEASURE_SAMPLES sets the
+ * samples per mesh of the timed run (default 200000); the time is printed, never checked. */
+static void test_bunny(void)
+{
+    const char *path = tu_shared_path("data/meshes/stanford-bunny.obj");
+    if (!path)
+        return;
+    struct hl_error err = {""};
+    struct scn_mesh bunny = {0}, half = {0}, moved = {0};
+    CHECK(scn_mesh_import(path, &bunny, NULL, &err) == 0);
+    CHECK(scn_mesh_decimate(&bunny, bunny.index_count / 6, SCN_SIMPLIFIER_MESHOPT, 0, &half, &err) == 0);
+    if (bunny.index_count == 0 || half.index_count == 0) {
+        printf("  bunny: %s\n", err.msg);
+        scn_mesh_free(&bunny), scn_mesh_free(&half);
+        return;
+    }
+    const char *env = getenv("HMDLOD_MEASURE_SAMPLES");
+    uint64_t n = env && *env ? strtoull(env, NULL, 10) : 200000;
+    struct scn_hausdorff h;
+    double t0 = hl_clock_now_s();
+    CHECK(scn_mesh_hausdorff(&bunny, &half, n, 1, &h, &err) == 0);
+    double t1 = hl_clock_now_s();
+    printf("  bunny %u vs %u tris, %llu samples per mesh: max %.4g m mean %.4g m bound %.4g m, %llu samples, "
+           "%.3f s\n", bunny.index_count / 3, half.index_count / 3, (unsigned long long)n, h.max_m, h.mean_m,
+           h.bound_m, (unsigned long long)h.samples, t1 - t0);
+    CHECK(h.max_m > 0 && h.max_m < 0.005);
+    /* 300 samples of the bunny, brute force over the half level's triangles. */
+    struct scn_surface_samples s;
+    struct scn_tri_bvh bvh;
+    CHECK(scn_surface_sample(&bunny, 300, 5, &s, &err) == 0 && scn_tri_bvh_build(&half, &bvh, &err) == 0);
+    int mism = 0;
+    uint32_t hint = UINT32_MAX;
+    for (uint64_t i = 0; i < s.count; i += s.count / 300) {
+        hl_vec3d p = hl_v3(s.points[3 * i], s.points[3 * i + 1], s.points[3 * i + 2]);
+        double best2 = INFINITY;
+        for (uint32_t t = 0; t < half.index_count; t += 3) {
+            hl_vec3d d = hl_v3_sub(p, scn_closest_on_triangle(p, vtx(&half, half.indices[t]), vtx(&half, half.indices[t + 1]),
+                                                              vtx(&half, half.indices[t + 2])));
+            best2 = hl_v3_dot(d, d) < best2 ? hl_v3_dot(d, d) : best2;
+        }
+        mism += scn_tri_bvh_distance(&bvh, p, &hint) != sqrt(best2);
+    }
+    CHECK(mism == 0);
+    scn_surface_samples_free(&s);
+    scn_tri_bvh_free(&bvh);
+    /* Translated copy. */
+    moved = bunny;
+    moved.positions = malloc(12 * (size_t)bunny.vertex_count);
+    moved.normals = malloc(12 * (size_t)bunny.vertex_count);
+    moved.indices = malloc(4 * (size_t)bunny.index_count);
+    memcpy(moved.positions, bunny.positions, 12 * (size_t)bunny.vertex_count);
+    memcpy(moved.normals, bunny.normals, 12 * (size_t)bunny.vertex_count);
+    memcpy(moved.indices, bunny.indices, 4 * (size_t)bunny.index_count);
+    hl_vec3d t = hl_v3(0.002, -0.001, 0.0015);
+    translate(&moved, t);
+    CHECK(scn_mesh_hausdorff(&bunny, &moved, 100000, 2, &h, &err) == 0);
+    printf("  bunny vs itself moved %.5f m: max %.6f bound %.6f\n", hl_v3_length(t), h.max_m, h.bound_m);
+    CHECK(h.max_m <= hl_v3_length(t) + 1e-6 && h.max_m + h.bound_m >= hl_v3_length(t) - 1e-6);
+    CHECK_NEAR(h.max_m, hl_v3_length(t), 1e-6); /* float rounding of the moved vertices only */
+    CHECK(scn_mesh_hausdorff(&bunny, &bunny, 100000, 2, &h, &err) == 0);
+    CHECK(h.max_m < 1e-9);
+    scn_mesh_free(&bunny), scn_mesh_free(&half), scn_mesh_free(&moved);
+}
+
 int main(void)
 {
     test_hash();
@@ -360,5 +426,6 @@ int main(void)
     test_sampling_bound();
     test_analytic();
     test_add_lodset();
+    test_bunny();
     return tu_finish("measure");
 }

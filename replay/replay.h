@@ -113,4 +113,12 @@ struct rpl_summary {
 int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_error *err);
 void rpl_summary_print(FILE *f, const struct rpl_summary *s);
 
+/* ---- motion (replay/motion_step.c) ----------------------------------------------------------- */
+struct scn_scene;
+/* Moves the scene to time t_s (scene/motion.h): instance poses, bounding-sphere centres, group
+ * spheres and frames. Returns the instances' world velocities (3 per instance, m/s) for
+ * acu_compute_geometry, or NULL for a static scene (s->motion == NULL), which it leaves untouched.
+ * Allocates nothing. */
+const double *rpl_motion_step(struct scn_scene *s, double t_s);
+
 #endif

@@ -25,6 +25,7 @@ struct scn_chain {
     int lod_count;
     struct scn_lod lods[SCN_MAX_LODS];
     double bound_radius_m; /* bounding sphere about the model origin, at scale 1 */
+    int null_impostor; /* 1: drawing nothing (lod 255) is a legal choice for its instances (Mason & Blake §8) */
 };
 
 struct scn_instance {
@@ -66,6 +67,7 @@ struct scn_scene {
     struct scn_group *groups; /* parents before children */
     uint32_t group_count;
     uint32_t *group_children, *group_instances; /* index lists the groups' ranges point into */
+    struct scn_motion_set *motion; /* motion paths and rest poses (scene/motion.h); NULL = static */
 };
 
 struct scn_scene_params {
@@ -83,6 +85,7 @@ const char *const *scn_scene_builtin_names(void); /* NULL-terminated */
 
 #include "scene/lodgen.h"
 #include "scene/measure.h"
+#include "scene/motion.h"
 #include "scene/scenefile.h"
 
 #endif

@@ -39,6 +39,7 @@ void scn_scene_set_instance(struct scn_scene *s, uint32_t i, uint32_t chain, hl_
 
 int scn_scene_build_field(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err);
 int scn_scene_build_auditorium(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err);
+int scn_scene_build_domes(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err);
 
 /* ---- LOD analysis (lod_error.c) --------------------------------------------------------------- */
 /* Max over the fine mesh's vertices of the distance to the nearest triangle of the coarse mesh. */

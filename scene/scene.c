@@ -22,6 +22,7 @@ void scn_scene_free(struct scn_scene *s)
     free(s->center_m);
     free(s->radius_m);
     free(s->chain_of_instance);
+    free(s->importance);
     free(s->groups);
     free(s->group_children);
     free(s->group_instances);

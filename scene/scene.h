@@ -64,6 +64,7 @@ struct scn_scene {
     double *center_m; /* world bounding-sphere centres, 3 per instance (structure of arrays for acuity) */
     double *radius_m; /* world bounding-sphere radii, 1 per instance */
     uint32_t *chain_of_instance;
+    double *importance; /* 1 per instance, Funkhouser's Importance; NULL (built-in scenes): all 1 */
     struct scn_group *groups; /* parents before children */
     uint32_t group_count;
     uint32_t *group_children, *group_instances; /* index lists the groups' ranges point into */
@@ -87,5 +88,6 @@ const char *const *scn_scene_builtin_names(void); /* NULL-terminated */
 #include "scene/measure.h"
 #include "scene/motion.h"
 #include "scene/scenefile.h"
+#include "scene/cull.h"
 
 #endif

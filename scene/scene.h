@@ -87,6 +87,7 @@ const char *const *scn_scene_builtin_names(void); /* NULL-terminated */
 #include "scene/lodgen.h"
 #include "scene/measure.h"
 #include "scene/motion.h"
+#include "scene/impostor.h"
 #include "scene/scenefile.h"
 #include "scene/cull.h"
 

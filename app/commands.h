@@ -12,7 +12,8 @@ int cmd_bench(int argc, char **argv);   /* app/cmd_bench.c: measurements (bench 
 int cmd_record(int argc, char **argv);  /* app/cmd_record.c: tracker → raw recording */
 int cmd_convert(int argc, char **argv); /* app/cmd_convert.c: raw recording → trace CSV */
 int cmd_devices(int argc, char **argv); /* app/cmd_devices.c: supported trackers present, openable or why not */
-int cmd_lodgen_group(int argc, char **argv); /* app/cmd_lodgen_group.c: a group's impostor as a .lod (lodgen --group) */
+int cmd_lodgen(int argc, char **argv);  /* app/cmd_lodgen.c: mesh file → LOD chain (.lod) */
+int cmd_lodgen_group(int argc, char **argv); /* app/cmd_lodgen_group.c: lodgen --group (the scenes helper) */
 
 /* Shared argument helpers (app/args.c): strict numeric parsing that names the option. */
 int app_parse_double(const char *option, const char *text, double *out);

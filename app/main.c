@@ -19,6 +19,7 @@ static const struct command commands[] = {
     {"bench", cmd_bench, "measure and print figures with their context (bench tracking: tracker accuracy, speed)"},
     {"record", cmd_record, "record a head tracker's raw reports (with host times, CRC) to a raw recording"},
     {"convert", cmd_convert, "convert a raw recording into a head-motion trace CSV (same parser and fusion)"},
+    {"lodgen", cmd_lodgen, "import a mesh (OBJ/PLY/OFF/STL/glTF), decimate it into an LOD chain, write a .lod file"},
     {"devices", cmd_devices, "list the supported head trackers present, whether they can be opened, and why not"},
 };
 

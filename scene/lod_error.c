@@ -5,9 +5,9 @@
 
 #include <math.h>
 
-/* Closest point on triangle abc to p (Ericson, Real-Time Collision Detection §5.1.5): Voronoi
- * regions of the vertices, then the edges, else the face. Exact for degenerate slivers too. */
-static hl_vec3d scn_closest_on_triangle(hl_vec3d p, hl_vec3d a, hl_vec3d b, hl_vec3d c)
+/* Ericson, Real-Time Collision Detection §5.1.5: Voronoi regions of the vertices, then the edges,
+ * else the face. Exact for degenerate slivers too. Shared with the Hausdorff measure (hausdorff.c). */
+hl_vec3d scn_closest_on_triangle(hl_vec3d p, hl_vec3d a, hl_vec3d b, hl_vec3d c)
 {
     hl_vec3d ab = hl_v3_sub(b, a), ac = hl_v3_sub(c, a), ap = hl_v3_sub(p, a);
     double d1 = hl_v3_dot(ab, ap), d2 = hl_v3_dot(ac, ap);

@@ -11,10 +11,21 @@ enum scn_simplifier { SCN_SIMPLIFIER_OPENMESH = 0, SCN_SIMPLIFIER_MESHOPT = 1 };
 struct scn_import_report {
     uint32_t faces_read, polygons_triangulated, vertices_welded, degenerate_dropped, nonmanifold_edges;
 };
-/* Imports OBJ/PLY/OFF/STL (OpenMesh IO) or glTF 2.0 .gltf/.glb (assimp) into one welded triangle mesh. */
+/* Imports OBJ/PLY/OFF/STL (OpenMesh IO) or glTF 2.0 .gltf/.glb (assimp) into one welded triangle mesh.
+ * Polygons are triangulated (quads along the shorter diagonal), vertices at bit-identical positions
+ * merged, zero-area faces dropped and counted; normals are the file's when every vertex has one,
+ * else area-weighted. Refused, with "path: vertex/face N: reason" (1-based, file order): a missing,
+ * empty or unreadable file, an unsupported extension, no faces, NaN/Inf coordinates, a face naming
+ * a missing vertex, only degenerate faces. Non-manifold edges (more than two faces) are a warning:
+ * counted in report->nonmanifold_edges, the mesh kept as the file has it. out is owned by the caller
+ * (scn_mesh_free); report may be NULL. */
 int scn_mesh_import(const char *path, struct scn_mesh *out, struct scn_import_report *report,
                     struct hl_error *err);
-/* Decimates `in` to about target_triangles (reports what it reached in out->index_count/3). */
+/* Decimates `in` to about target_triangles (reports what it reached in out->index_count/3).
+ * OpenMesh: quadric priority, normal-flip guard, edges sharper than feature_angle_deg kept as
+ * feature lines (0 = 60°, negative = no feature lines). meshopt ignores feature_angle_deg. A target
+ * a simplifier cannot reach (non-manifold spots, all collapses illegal) is not an error: out holds
+ * where it stopped. out: a new welded mesh with area-weighted normals, owned by the caller. */
 int scn_mesh_decimate(const struct scn_mesh *in, uint32_t target_triangles, enum scn_simplifier simplifier,
                       double feature_angle_deg, struct scn_mesh *out, struct hl_error *err);
 
@@ -29,8 +40,33 @@ struct scn_lodgen_params {
     void *progress_user;
 };
 /* Builds the chain (levels, errors via scn_mesh_hausdorff, bounds, hash, geometric frequencies;
- * image frequencies NaN until analysed). */
+ * image frequencies NaN until analysed). Level k ≥ 1 is decimated from level k − 1 (one OpenMesh
+ * decimater, or meshopt from the previous level's output).
+ * Levels: ratios[k]·T0 triangles (ratios[0] = 1, strictly decreasing, > 0), or in --max-error-px mode
+ * (max_error_px > 0, at_distance_m > 0): a candidate chain at ratios 2^(−j/2) down to 16 triangles
+ * is measured and level k is the coarsest candidate whose error_m, seen from at_distance_m·2^(k−1),
+ * spans ≤ max_error_px on the reference display: width_px pixels across fov_deg (defaults 1080 px
+ * over 100°, about one HTC Vive eye); error_px = error_m / distance · width_px / fov_rad.
+ * A level the simplifier could not make coarser than the previous one ends the chain there.
+ * Bounds: the smaller of Ritter's sphere and the AABB-centred sphere of level 0, grown to hold every
+ * level; model coordinates are kept (center_m). freq[k] = {NaN, NaN, R/ε} made strictly decreasing
+ * as scene.c does. progress (may be NULL) gets fractions 0…1. out owned by the caller
+ * (scn_lodset_free); zeroed on failure. */
 int scn_lodgen_build(const struct scn_mesh *mesh, const struct scn_lodgen_params *p, struct scn_lodset *out,
                      struct hl_error *err);
+
+/* What scn_lodgen_build_timed measured, per level of the result (index 0: nothing), seconds. */
+struct scn_lodgen_stats {
+    uint32_t target_triangles[SCN_LODSET_MAX_LEVELS]; /* what was asked for each kept level */
+    double decimate_s[SCN_LODSET_MAX_LEVELS];         /* share of the chain's decimation time */
+    double error_s[SCN_LODSET_MAX_LEVELS];            /* the Hausdorff measure of that level */
+    int candidates;                                   /* --max-error-px mode: candidate levels made */
+    int stopped_early;                                /* 1: a level could not get coarser; chain cut */
+};
+/* scn_lodgen_build and its timings (stats may be NULL). */
+int scn_lodgen_build_timed(const struct scn_mesh *mesh, const struct scn_lodgen_params *p,
+                           struct scn_lodset *out, struct scn_lodgen_stats *stats, struct hl_error *err);
+/* "openmesh" / "meshopt"; NULL for an unknown value. */
+const char *scn_simplifier_name(enum scn_simplifier s);
 
 #endif

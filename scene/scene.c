@@ -65,8 +65,8 @@ static int scn_scene_reserve(void **p, size_t count, size_t elem)
     return 0;
 }
 
-int scn_scene_add_chain(struct scn_scene *s, const char *name, struct scn_mesh *meshes, int count,
-                        struct hl_error *err)
+int scn_scene_pack_chain(struct scn_scene *s, const char *name, const struct scn_mesh *meshes, int count,
+                         struct hl_error *err)
 {
     if (count < 1 || count > SCN_MAX_LODS)
         return hl_fail(err, "scene %s: chain %s: %d levels (1…%d)", s->name, name, count, SCN_MAX_LODS);
@@ -89,13 +89,6 @@ int scn_scene_add_chain(struct scn_scene *s, const char *name, struct scn_mesh *
     memset(c, 0, sizeof *c);
     snprintf(c->name, sizeof c->name, "%s", name);
     c->lod_count = count;
-    double r2 = 0;
-    for (uint32_t i = 0; i < meshes[0].vertex_count; ++i) {
-        const float *q = meshes[0].positions + 3 * (size_t)i;
-        double d2 = (double)q[0] * q[0] + (double)q[1] * q[1] + (double)q[2] * q[2];
-        r2 = d2 > r2 ? d2 : r2;
-    }
-    c->bound_radius_m = sqrt(r2);
     for (int l = 0; l < count; ++l) {
         const struct scn_mesh *m = &meshes[l];
         struct scn_lod *lod = &c->lods[l];
@@ -109,7 +102,27 @@ int scn_scene_add_chain(struct scn_scene *s, const char *name, struct scn_mesh *
             s->indices[s->index_count + k] = m->indices[k] + s->vertex_count;
         s->vertex_count += m->vertex_count;
         s->index_count += m->index_count;
-        lod->geometric_error_m = l == 0 ? 0.0 : scn_lod_geometric_error(&meshes[0], m);
+    }
+    s->chain_count++;
+    return 0;
+}
+
+int scn_scene_add_chain(struct scn_scene *s, const char *name, struct scn_mesh *meshes, int count,
+                        struct hl_error *err)
+{
+    if (scn_scene_pack_chain(s, name, meshes, count, err) != 0)
+        return -1;
+    struct scn_chain *c = &s->chains[s->chain_count - 1];
+    double r2 = 0;
+    for (uint32_t i = 0; i < meshes[0].vertex_count; ++i) {
+        const float *q = meshes[0].positions + 3 * (size_t)i;
+        double d2 = (double)q[0] * q[0] + (double)q[1] * q[1] + (double)q[2] * q[2];
+        r2 = d2 > r2 ? d2 : r2;
+    }
+    c->bound_radius_m = sqrt(r2);
+    for (int l = 0; l < count; ++l) {
+        struct scn_lod *lod = &c->lods[l];
+        lod->geometric_error_m = l == 0 ? 0.0 : scn_lod_geometric_error(&meshes[0], &meshes[l]);
         lod->unique_freq_cpdiam = scn_lod_unique_freq(lod->geometric_error_m, c->bound_radius_m);
         /* The acuity step needs f strictly decreasing with the level: a coarser level loses larger
          * features, i.e. lower frequencies. A level that happens to be no worse than the previous
@@ -118,7 +131,6 @@ int scn_scene_add_chain(struct scn_scene *s, const char *name, struct scn_mesh *
             lod->unique_freq_cpdiam = c->lods[l - 1].unique_freq_cpdiam * (1.0 - 1e-6);
         lod->freq = (struct scn_level_freq){NAN, NAN, lod->unique_freq_cpdiam};
     }
-    s->chain_count++;
     return 0;
 }
 
@@ -143,10 +155,13 @@ void scn_scene_set_instance(struct scn_scene *s, uint32_t i, uint32_t chain, hl_
     in->rotation = rotation;
     in->scale = scale;
     memcpy(in->color, color, sizeof in->color);
-    /* Chains are centred on their model origin, so the bounding sphere's centre is the position. */
-    s->center_m[3 * (size_t)i] = position.x;
-    s->center_m[3 * (size_t)i + 1] = position.y;
-    s->center_m[3 * (size_t)i + 2] = position.z;
+    /* The chain's sphere centre (model space; 0 for the built-ins) goes through the instance's
+     * scale and rotation like any model point. */
+    const double *o = s->chains[chain].bound_center_m;
+    hl_vec3d c = hl_v3_add(position, hl_q_rotate(rotation, hl_v3_scale(hl_v3(o[0], o[1], o[2]), scale)));
+    s->center_m[3 * (size_t)i] = c.x;
+    s->center_m[3 * (size_t)i + 1] = c.y;
+    s->center_m[3 * (size_t)i + 2] = c.z;
     s->radius_m[i] = s->chains[chain].bound_radius_m * scale;
     s->chain_of_instance[i] = chain;
 }

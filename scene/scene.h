@@ -24,7 +24,8 @@ struct scn_chain {
     char name[SCN_NAME_MAX];
     int lod_count;
     struct scn_lod lods[SCN_MAX_LODS];
-    double bound_radius_m; /* bounding sphere about the model origin, at scale 1 */
+    double bound_center_m[3]; /* bounding-sphere centre, model space (the origin for the built-ins) */
+    double bound_radius_m;    /* bounding-sphere radius about bound_center_m, at scale 1 */
     int null_impostor; /* 1: drawing nothing (lod 255) is a legal choice for its instances (Mason & Blake §8) */
 };
 

@@ -45,16 +45,24 @@ const double *rpl_motion_step(struct scn_scene *s, double t_s)
         set->group_rotation[g] = q;
     }
     for (uint32_t i = 0; i < s->instance_count; ++i) {
-        hl_vec3d p, v;
-        hl_quatd q;
-        scn_motion_eval(&set->instance_motion[i], t_s, set->rest_position_m[i], set->rest_rotation[i], &p, &q, &v);
-        carry_by_groups(s, set->group_of_instance[i], &p, &q, &v);
         struct scn_instance *in = &s->instances[i];
+        hl_vec3d p = set->rest_position_m[i];
+        hl_quatd q = set->rest_rotation[i];
+        /* The bounding-sphere centre (the chain's centre through the instance's scale and rotation;
+         * the origin for the built-ins) rides the same maps, which also give its exact velocity. */
+        const double *o = s->chains[in->chain].bound_center_m;
+        hl_vec3d c = hl_v3_add(p, hl_q_rotate(q, hl_v3_scale(hl_v3(o[0], o[1], o[2]), in->scale)));
+        hl_vec3d v = hl_v3(0, 0, 0);
+        struct scn_rigid own; /* the instance's own motion turns it about its position by default */
+        scn_motion_rigid(&set->instance_motion[i], t_s, p, &own);
+        scn_rigid_apply(&own, &p, &q, NULL);
+        scn_rigid_apply(&own, &c, NULL, &v);
+        carry_by_groups(s, set->group_of_instance[i], &p, &q, NULL);
+        carry_by_groups(s, set->group_of_instance[i], &c, NULL, &v);
         in->position_m[0] = p.x, in->position_m[1] = p.y, in->position_m[2] = p.z;
         in->rotation = q;
-        /* Chains are centred on their model origin: the sphere's centre is the position. */
-        double *c = s->center_m + 3 * (size_t)i, *vel = set->velocity_mps + 3 * (size_t)i;
-        c[0] = p.x, c[1] = p.y, c[2] = p.z;
+        double *cm = s->center_m + 3 * (size_t)i, *vel = set->velocity_mps + 3 * (size_t)i;
+        cm[0] = c.x, cm[1] = c.y, cm[2] = c.z;
         vel[0] = v.x, vel[1] = v.y, vel[2] = v.z;
     }
     /* Group spheres, children before parents (groups are stored parents first): about the moved

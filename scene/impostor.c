@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { IMPOSTOR_HAUSDORFF_SAMPLES = 1u << 18 };
+enum { IMPOSTOR_HAUSDORFF_SAMPLES = 1u << 20 }; /* per mesh: measure's default */
 
 uint32_t scn_scene_find_group(const struct scn_scene *s, const char *name)
 {
@@ -191,7 +191,9 @@ int scn_impostor_build_report(const struct scn_scene *s, uint32_t group, enum sc
         hl_fail(err, "impostor: group %s: nothing below it to stand for", gr->name);
         goto done;
     }
-    if (scn_mesh_decimate(&merged, target_triangles, simplifier, 0.0, &decimated, err) != 0)
+    /* No feature lines (negative angle): they would lock every strut's cap rims, and an impostor is
+     * a distant stand-in, where the silhouette matters and creases do not. */
+    if (scn_mesh_decimate(&merged, target_triangles, simplifier, -1.0, &decimated, err) != 0)
         goto done;
     r->impostor_triangles = decimated.index_count / 3;
     r->impostor_vertices = decimated.vertex_count;
@@ -204,11 +206,16 @@ int scn_impostor_build_report(const struct scn_scene *s, uint32_t group, enum sc
     r->cheaper = r->impostor_triangles < r->children_triangles_coarsest &&
                  r->impostor_vertices < r->children_vertices_coarsest;
     if (!r->cheaper) {
+        char why[160];
+        if (target_triangles < r->children_triangles_coarsest)
+            snprintf(why, sizeof why, "the simplifier stopped above the %u asked for", target_triangles);
+        else
+            snprintf(why, sizeof why, "ask for fewer than %llu triangles", (unsigned long long)r->children_triangles_coarsest);
         hl_fail(err,
                 "impostor: group %s: %u triangles / %u vertices do not cost less than its children at their "
-                "coarsest (%llu / %llu): Mason & Blake's requirement; ask for fewer than %llu triangles",
+                "coarsest (%llu / %llu), Mason & Blake's requirement: %s",
                 gr->name, r->impostor_triangles, r->impostor_vertices, (unsigned long long)r->children_triangles_coarsest,
-                (unsigned long long)r->children_vertices_coarsest, (unsigned long long)r->children_triangles_coarsest);
+                (unsigned long long)r->children_vertices_coarsest, why);
         goto done;
     }
     /* ... and worth less: it must lose something (measured, so the cheap cost check comes first)

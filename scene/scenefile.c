@@ -500,7 +500,7 @@ static int sf_read_root(struct sf_file *f, const char *dir, const cJSON *root, s
         return hl_fail(err, "%s: out of memory", f->file);
     for (const cJSON *c = v[K_MESHES]->child; c; c = c->next) {
         struct sf_mesh *m = &f->meshes[f->mesh_count];
-        snprintf(m->where, sizeof m->where, "meshes.%.40s", c->string ? c->string : "");
+        snprintf(m->where, sizeof m->where, "meshes.%.100s", c->string ? c->string : "");
         size_t name_len = c->string ? strlen(c->string) : 0;
         if (name_len == 0 || name_len >= SCN_NAME_MAX)
             return hl_fail(err, "%s: %s: a mesh name must have 1 to %d bytes", f->file, m->where, SCN_NAME_MAX - 1);

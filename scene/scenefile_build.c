@@ -30,12 +30,11 @@ static int sf_default_resolve(void *user, const char *path, struct scn_lodset *o
     return rc;
 }
 
-/* One chain per mesh entry; *center / *radius get its bounding sphere in model space. */
+/* One chain per mesh entry. */
 static int sf_add_mesh(const struct sf_file *f, const struct sf_mesh *m, const struct scn_asset_resolver *resolver,
-                       struct scn_scene *s, double center[3], double *radius, struct hl_error *err)
+                       struct scn_scene *s, struct hl_error *err)
 {
     uint32_t chain = s->chain_count;
-    center[0] = center[1] = center[2] = 0.0;
     int rc = 0;
     switch (m->builtin) {
     case SF_FIELD_OBJECT:
@@ -80,8 +79,6 @@ static int sf_add_mesh(const struct sf_file *f, const struct sf_mesh *m, const s
         rc = scn_scene_add_lodset(s, m->name, &set, &inner);
         if (rc != 0)
             hl_fail(err, "%s: %s: mesh \"%s\": %s", f->file, m->where, m->name, inner.msg);
-        memcpy(center, set.center_m, sizeof set.center_m);
-        *radius = set.radius_m;
         scn_lodset_free(&set);
         if (rc != 0)
             return -1;
@@ -90,10 +87,7 @@ static int sf_add_mesh(const struct sf_file *f, const struct sf_mesh *m, const s
         return 0;
     }
     }
-    if (rc != 0)
-        return -1;
-    *radius = s->chains[chain].bound_radius_m; /* built-ins are centred on their model origin */
-    return 0;
+    return rc != 0 ? -1 : 0;
 }
 
 /* Parents before children (what scn_scene and the cull expect): breadth first from the roots in file
@@ -193,15 +187,14 @@ int sf_file_build(const struct sf_file *f, const struct scn_asset_resolver *reso
     memset(s, 0, sizeof *s);
     snprintf(s->name, sizeof s->name, "%s", f->name);
     uint32_t *mesh_chain = malloc(f->mesh_count * sizeof *mesh_chain);
-    double *mesh_sphere = malloc(4 * (size_t)f->mesh_count * sizeof *mesh_sphere); /* centre, radius */
     int rc = -1;
-    if (!mesh_chain || !mesh_sphere) {
+    if (!mesh_chain) {
         hl_fail(err, "%s: out of memory", f->file);
         goto done;
     }
     for (uint32_t m = 0; m < f->mesh_count; ++m) {
         mesh_chain[m] = s->chain_count;
-        if (sf_add_mesh(f, &f->meshes[m], resolver, s, &mesh_sphere[4 * m], &mesh_sphere[4 * m + 3], err) != 0)
+        if (sf_add_mesh(f, &f->meshes[m], resolver, s, err) != 0)
             goto done;
     }
     uint32_t ni = f->instance_count;
@@ -214,14 +207,9 @@ int sf_file_build(const struct sf_file *f, const struct scn_asset_resolver *reso
     }
     for (uint32_t i = 0; i < ni; ++i) {
         const struct sf_instance *in = &f->instances[i];
-        const double *ms = &mesh_sphere[4 * in->mesh];
+        /* The world sphere follows the chain's own (an imported model need not be centred on its
+         * origin): centre p + R·(s·c), radius s·r, as scn_scene_set_instance computes it. */
         scn_scene_set_instance(s, i, mesh_chain[in->mesh], in->position_m, in->rotation, in->scale, in->color);
-        /* The world sphere from the mesh's own sphere (an imported mesh need not be centred on its
-         * origin): centre p + R·(s·c), radius s·r. */
-        hl_vec3d c = hl_v3_add(in->position_m, hl_q_rotate(in->rotation, hl_v3(in->scale * ms[0], in->scale * ms[1],
-                                                                               in->scale * ms[2])));
-        s->center_m[3 * (size_t)i] = c.x, s->center_m[3 * (size_t)i + 1] = c.y, s->center_m[3 * (size_t)i + 2] = c.z;
-        s->radius_m[i] = in->scale * ms[3];
         s->importance[i] = in->importance;
     }
     if (f->group_count > 0) {
@@ -237,7 +225,6 @@ int sf_file_build(const struct sf_file *f, const struct scn_asset_resolver *reso
     rc = 0;
 done:
     free(mesh_chain);
-    free(mesh_sphere);
     if (rc != 0)
         scn_scene_free(s);
     return rc;

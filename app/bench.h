@@ -8,6 +8,7 @@
 /* One sub-bench: argv[0] is its name; full_argc/full_argv start at "bench" (for the context). */
 int bench_tracking(int argc, char **argv, int full_argc, char **full_argv); /* app/bench_tracking.c */
 int bench_replay(int argc, char **argv, int full_argc, char **full_argv);   /* app/bench_replay.c */
+int bench_cull(int argc, char **argv, int full_argc, char **full_argv);     /* app/bench_cull.c */
 
 /* printf to stdout, and to the results copy while one is open. */
 void bench_emit(const char *fmt, ...)

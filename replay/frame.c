@@ -6,30 +6,30 @@
 #include "replay/run_internal.h"
 
 /* The right eye mirrors the left, so the union of both frusta spans max(L, R) to either side; the
- * eyes sit ±ipd/2 off the head centre, which culling adds to each radius. A point p is inside a side
- * plane when n·p ≥ 0 with n the plane's inward normal. */
-void rpl_cull_planes_init(struct rpl_session *s)
+ * eyes sit ±ipd/2 off the head centre, which culling adds to each radius (the planes move out by it).
+ * A point p is inside a side plane when n·p ≥ 0 with n the plane's inward normal. */
+void rpl_cull_frustum_init(struct rpl_cull_frustum *f, const struct hmd_profile *display, double near_m)
 {
-    const struct hmd_eye *e = &s->eyes[HMD_EYE_LEFT];
-    double side = fmax(e->tan_left, e->tan_right);
-    s->cull_normals[0] = hl_v3_normalize(hl_v3(1, 0, -side));            /* left: x ≥ side·z */
-    s->cull_normals[1] = hl_v3_normalize(hl_v3(-1, 0, -side));           /* right */
-    s->cull_normals[2] = hl_v3_normalize(hl_v3(0, -1, -e->tan_up));      /* top */
-    s->cull_normals[3] = hl_v3_normalize(hl_v3(0, 1, -e->tan_down));     /* bottom */
+    struct hmd_eye e = hmd_eye_frustum(display, HMD_EYE_LEFT);
+    double side = fmax(e.tan_left, e.tan_right);
+    f->normals_head[0] = hl_v3_normalize(hl_v3(1, 0, -side));        /* left: x ≥ side·z */
+    f->normals_head[1] = hl_v3_normalize(hl_v3(-1, 0, -side));       /* right */
+    f->normals_head[2] = hl_v3_normalize(hl_v3(0, -1, -e.tan_up));   /* top */
+    f->normals_head[3] = hl_v3_normalize(hl_v3(0, 1, -e.tan_down));  /* bottom */
+    f->near_m = near_m;
+    f->margin_m = 0.5 * display->ipd_m;
 }
 
-/* The union frustum as world-space planes for scn_cull: the head-frame side normals rotated into
- * the world and the near plane, each moved out by the eye margin so a sphere is kept when any part
- * of it is within reach of either eye. Per frame: five rotations, no allocation. */
-static int union_frustum_planes(const struct rpl_session *s, const struct trk_pose *pose, struct scn_plane planes[5])
+/* The head-frame normals rotated into the world, through the head centre, and the near plane near_m
+ * in front of it; each moved out by the eye margin so a sphere is kept when any part of it is within
+ * reach of either eye. Five rotations, no allocation. */
+int rpl_cull_frustum_planes(const struct rpl_cull_frustum *f, const struct trk_pose *pose, struct scn_plane *planes)
 {
-    double eye_margin_m = 0.5 * s->display.ipd_m;
     for (int k = 0; k < 5; ++k) {
-        hl_vec3d n_head = k < 4 ? s->cull_normals[k] : hl_v3(0, 0, -1);
+        hl_vec3d n_head = k < 4 ? f->normals_head[k] : hl_v3(0, 0, -1);
         hl_vec3d n = hl_q_rotate(pose->orientation, n_head);
         planes[k].normal[0] = n.x, planes[k].normal[1] = n.y, planes[k].normal[2] = n.z;
-        /* Through the head centre; the near plane near_m in front of it. */
-        planes[k].offset_m = -hl_v3_dot(n, pose->position_m) + eye_margin_m - (k < 4 ? 0.0 : s->near_m);
+        planes[k].offset_m = -hl_v3_dot(n, pose->position_m) + f->margin_m - (k < 4 ? 0.0 : f->near_m);
     }
     return 5;
 }
@@ -37,7 +37,7 @@ static int union_frustum_planes(const struct rpl_session *s, const struct trk_po
 static uint32_t cull_scene(struct rpl_session *s, const struct trk_pose *pose, struct scn_cull_stats *stats)
 {
     struct scn_plane planes[5];
-    int count = union_frustum_planes(s, pose, planes);
+    int count = rpl_cull_frustum_planes(&s->cull_frustum, pose, planes);
     return scn_cull(&s->scene, planes, count, &s->culler, s->arrays.visible, stats);
 }
 

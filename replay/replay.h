@@ -117,6 +117,19 @@ struct rpl_summary {
     char selector[16], scene[256], display[64];
 };
 
+/* The visible-set test of a frame (DESIGN.md step 3): the union of both eyes' frusta of a display
+ * as world-space planes for scn_cull (scene/cull.h). Init once per display; the planes per pose. */
+struct hmd_profile;
+struct scn_plane;
+struct rpl_cull_frustum {
+    hl_vec3d normals_head[4]; /* unit inward normals of the side planes, head frame, through its centre */
+    double near_m, margin_m;  /* near plane; half the IPD, by which every plane moves out */
+};
+void rpl_cull_frustum_init(struct rpl_cull_frustum *f, const struct hmd_profile *display, double near_m);
+/* Writes the five planes (left, right, top, bottom, near) for a head pose (position, body-to-world
+ * orientation) and returns 5. */
+int rpl_cull_frustum_planes(const struct rpl_cull_frustum *f, const struct trk_pose *pose, struct scn_plane *planes);
+
 /* Runs the replay and writes DIR/frames.csv, DIR/summary.json and PNG captures. */
 int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_error *err);
 void rpl_summary_print(FILE *f, const struct rpl_summary *s);

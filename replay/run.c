@@ -76,9 +76,9 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
         return -1;
     s->eyes[0] = hmd_eye_frustum(&s->display, HMD_EYE_LEFT);
     s->eyes[1] = hmd_eye_frustum(&s->display, HMD_EYE_RIGHT);
-    rpl_cull_planes_init(s);
-    acu_limits_init(&s->limits, hmd_compute_xi(&s->display).used_cpd, o->acuity_scale);
     s->near_m = 0.05;
+    rpl_cull_frustum_init(&s->cull_frustum, &s->display, s->near_m);
+    acu_limits_init(&s->limits, hmd_compute_xi(&s->display).used_cpd, o->acuity_scale);
     s->far_m = 2000.0;
 
     struct rpl_trace trace;

@@ -42,12 +42,9 @@ struct rpl_session {
     enum rpl_selector selector;
     int max_lods;
     double near_m, far_m;
-    /* Unit normals (head frame) of the union frustum's four side planes, through the head centre;
-     * computed once per session so culling does no square roots per object. */
-    hl_vec3d cull_normals[4];
+    struct rpl_cull_frustum cull_frustum; /* computed once per session: no square roots per frame */
     struct scn_culler culler; /* the hierarchical cull's scratch, sized when the scene loads */
 };
-void rpl_cull_planes_init(struct rpl_session *s);
 
 /* Culls, computes viewing geometry, selects and draws one frame at `time_s`. */
 int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_frame_record *rec,

@@ -91,6 +91,20 @@ static void test_domes_counts(void)
     }
     check_groups(&s, "t = 0");
     CHECK(s.motion != NULL);
+    /* The 2V geodesic sphere against its published chord factors (Kenner, Geodesic Math, 1976):
+     * A = 0.546533, B = 0.618034 of the radius; a strut's midpoint then lies sqrt(1 − (L/2)²) out. */
+    for (uint32_t k = 0; k < 120; ++k) {
+        uint32_t i = s.group_instances[s.groups[0].first_instance + k];
+        double chord = s.chain_of_instance[i] == 0 ? 0.546533 : 0.618034;
+        hl_vec3d c = hl_v3(s.groups[0].center_m[0], s.groups[0].center_m[1], s.groups[0].center_m[2]);
+        double scale = s.instances[i].scale;
+        CHECK_NEAR(hl_v3_length(hl_v3_sub(center_of(&s, i), c)) / scale, sqrt(1 - 0.25 * chord * chord), 2e-6);
+        /* and the strut lies along the chord: its +Y axis is perpendicular to the radius */
+        hl_vec3d axis = hl_q_rotate(s.instances[i].rotation, hl_v3(0, 1, 0));
+        CHECK_NEAR(hl_v3_dot(axis, hl_v3_normalize(hl_v3_sub(center_of(&s, i), c))), 0, 1e-9);
+    }
+    CHECK_NEAR(s.chains[0].bound_radius_m, sqrt(0.25 * 0.546533 * 0.546533 + 0.025 * 0.025), 1e-6);
+    CHECK_NEAR(s.chains[1].bound_radius_m, sqrt(0.25 * 0.618034 * 0.618034 + 0.025 * 0.025), 1e-6);
 
     /* Motion keeps the hierarchy consistent, and a dome's struts move with their dome. */
     double radius0 = s.groups[1].radius_m;

@@ -117,5 +117,16 @@ expect_ok "bench replay --quick" "\| \*\*none/reddy\*\* \| \| \*\*×[0-9.]+\*\*"
   "$bin" bench replay --quick --frames 20 --render-scale 0.25
 expect_error "bench replay bad --frames" "--frames: 'x' is not a whole number" -- "$bin" bench replay --frames x
 
+# Scene files: one that needs no files replays; a bad one is one message naming the file and the
+# JSON path, and leaves no output; bench cull prints its ratio column.
+src=${HMDLOD_SOURCE:-$(dirname "$0")/..}
+expect_ok "replay a scene file" "nested-groups.json on vive" -- \
+  "$bin" replay --scene "$src/tests/scenes/nested-groups.json" --frames 10 --render-scale 0.1 --out "$tmp/sf"
+printf '{"version": 1, "meshes": {"o": {"builtin": "box", "size_m": [1, 1, 1]}}, "instances": [{"mesh": "chair", "position_m": [0, 0, 0]}]}' >"$tmp/bad-scene.json"
+expect_error "replay a bad scene file" "bad-scene.json: instances\[0\]\.mesh: no mesh named \"chair\"" -- \
+  "$bin" replay --scene "$tmp/bad-scene.json" --out "$tmp/sfbad"
+[ ! -e "$tmp/sfbad/frames.csv" ] || fail "a failed scene-file replay left frames.csv"
+expect_ok "bench cull --quick" "\| 100000 \| [0-9]+ \| .*\*\*×[0-9.]+\*\*" -- "$bin" bench cull --quick --frames 50
+
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

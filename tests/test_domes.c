@@ -211,6 +211,13 @@ static void test_motion_eval(void)
     CHECK_NEAR(v.y, 0, 1e-12);
     CHECK_NEAR(v.z, 0, 1e-12);
     CHECK_NEAR(hl_q_angle_rad(q, hl_q_from_axis_angle(hl_v3(0, 1, 0), w)), 0, 1e-7);
+    /* 1e6 m from the origin (DESIGN.md): the arm is formed before rotating, so millimetres stay. */
+    struct scn_motion far = spin;
+    far.spin_pivot_m = hl_v3(1e6 + 1, 0, 0);
+    scn_motion_eval(&far, 1.0, hl_v3(1e6 + 2, 0, 0), hl_q_identity(), &p, NULL, &v);
+    CHECK_NEAR(p.x - 1e6, 1, 1e-9);
+    CHECK_NEAR(p.z, -1, 1e-9);
+    CHECK_NEAR(v.x, -w, 1e-12);
     /* At t = 0 the base pose comes back; without a pivot it turns in place. */
     scn_motion_eval(&spin, 0.0, hl_v3(2, 0, 0), hl_q_identity(), &p, &q, NULL);
     CHECK_NEAR(p.x, 2, 1e-12);

@@ -235,6 +235,7 @@ void scn_motion_set_free(struct scn_motion_set *set)
     free(set->velocity_mps);
     free(set->group_rigid);
     free(set->group_rotation);
+    free(set->group_frame);
     free(set);
 }
 
@@ -255,9 +256,10 @@ int scn_scene_motion_create(struct scn_scene *s, struct hl_error *err)
     set->velocity_mps = calloc(n ? 3 * (size_t)n : 1, sizeof(double));
     set->group_rigid = calloc(g ? g : 1, sizeof *set->group_rigid);
     set->group_rotation = calloc(g ? g : 1, sizeof *set->group_rotation);
+    set->group_frame = calloc(g ? g : 1, sizeof *set->group_frame);
     if (!set->instance_motion || !set->group_motion || !set->rest_position_m || !set->rest_rotation ||
         !set->rest_group_center_m || !set->rest_group_radius_m || !set->group_of_instance || !set->velocity_mps ||
-        !set->group_rigid || !set->group_rotation) {
+        !set->group_rigid || !set->group_rotation || !set->group_frame) {
         scn_motion_set_free(set);
         s->motion = NULL;
         return hl_fail(err, "scene %s: out of memory for motion", s->name);

@@ -73,6 +73,16 @@ int scn_motion_parse(const struct cJSON *node, const char *json_path, struct scn
  * start from each frame (no drift); the velocity array is what the frame loop hands the acuity
  * step. Sized once: moving a scene allocates nothing. */
 struct scn_scene;
+/* Where a group's frame is at one time, its own motion and its ancestors' composed: a rest point x
+ * goes to center_m + M·(x − rest_center_m) and moves at omega × (x' − center_m) + center_velocity
+ * (a rigid motion's velocity field; arms stay local, so far-from-origin scenes keep precision). */
+struct scn_group_frame {
+    double m[9];                 /* the composed rotation, row-major */
+    hl_quatd rotation;           /* the same as a unit quaternion */
+    hl_vec3d rest_center_m, center_m;
+    hl_vec3d omega_radps, center_velocity_mps;
+    int moving;                  /* 0: identity at rest (no motion on the group or above it) */
+};
 struct scn_motion_set {
     struct scn_motion *instance_motion; /* instance_count entries, flags 0 = still */
     struct scn_motion *group_motion;    /* group_count entries */
@@ -85,7 +95,8 @@ struct scn_motion_set {
     hl_quatd *group_rotation;           /* group_count: world rotation of each group's frame at the last
                                          * move (its origin is the group's rest centre, moved: center_m);
                                          * an impostor chain, modelled in that frame, is drawn with it */
-    struct scn_rigid *group_rigid;      /* group_count: scratch for one move */
+    struct scn_rigid *group_rigid;      /* group_count: scratch for one move (each group's own map) */
+    struct scn_group_frame *group_frame; /* group_count: scratch for one move (composed) */
 };
 /* Creates s->motion with every instance and group still, capturing the current instance poses and
  * group spheres as the rest poses: call once the instances and groups are final, then fill

@@ -302,12 +302,16 @@ static void test_motion_nested(void)
     s.center_m = calloc(6, sizeof(double));
     s.radius_m = calloc(2, sizeof(double));
     s.chain_of_instance = calloc(2, sizeof(uint32_t));
+    /* An off-origin chain sphere (as lodsets have): the centre is p + R·(scale·o), not p. */
+    const hl_vec3d o = hl_v3(0.05, 0.02, -0.03);
+    s.chains[0].bound_center_m[0] = o.x, s.chains[0].bound_center_m[1] = o.y, s.chains[0].bound_center_m[2] = o.z;
     for (int i = 0; i < 2; ++i) {
-        s.instances[i].rotation = hl_q_identity();
-        s.instances[i].scale = 1;
+        s.instances[i].rotation = hl_q_from_axis_angle(hl_v3(1, 1, 0), 0.3 + i);
+        s.instances[i].scale = 1 + i;
         s.instances[i].position_m[0] = 10.0 + 2 * i;
-        s.center_m[3 * i] = 10.0 + 2 * i;
-        s.radius_m[i] = 0.1;
+        hl_vec3d c = hl_v3_add(hl_v3(10.0 + 2 * i, 0, 0), hl_q_rotate(s.instances[i].rotation, hl_v3_scale(o, 1 + i)));
+        s.center_m[3 * i] = c.x, s.center_m[3 * i + 1] = c.y, s.center_m[3 * i + 2] = c.z;
+        s.radius_m[i] = 0.1 * (1 + i);
     }
     s.group_count = 2;
     s.groups = calloc(2, sizeof *s.groups);
@@ -341,6 +345,13 @@ static void test_motion_nested(void)
         for (int c = 0; c < 6; ++c)
             CHECK_NEAR((after[c] - before[c]) / (2 * h), v[c], 1e-6);
         check_groups(&s, "nested");
+        for (int i = 0; i < 2; ++i) {
+            const struct scn_instance *in = &s.instances[i];
+            hl_vec3d c = hl_v3_add(hl_v3(in->position_m[0], in->position_m[1], in->position_m[2]),
+                                   hl_q_rotate(in->rotation, hl_v3_scale(o, in->scale)));
+            CHECK_NEAR(hl_v3_length(hl_v3_sub(c, center_of(&s, (uint32_t)i))), 0, 1e-12);
+            CHECK_NEAR(hl_q_norm(in->rotation), 1, 1e-12);
+        }
         /* The child's own swing of 3 m takes it out of its rest sphere; the group grows to hold it. */
         const struct scn_group *root = &s.groups[0], *child = &s.groups[1];
         double reach = hl_v3_length(hl_v3_sub(hl_v3(child->center_m[0], child->center_m[1], child->center_m[2]),

@@ -64,21 +64,24 @@ int scn_auditorium_add_chair_chain(struct scn_scene *s, const char *name, struct
     return rc;
 }
 
-/* The hierarchy (Funkhouser & Séquin 1993 §7 treat each row as a unit; Mason & Blake 1997 §2): a
- * "seating" group whose children are the rows, one group per row of AUD_SEATS chairs, and a "room"
- * group for the walls, floor, ceiling and stage. Groups 0 seating, 1 room, 2… the rows; instance
- * order is unchanged (chairs row by row, then the surfaces). */
+/* The hierarchy (Funkhouser & Séquin 1993 §7 treat each row as a unit; Mason & Blake 1997 §2):
+ * "seating" holds the rows, each row its two halves either side of the viewer's seat (seats 0…6 and
+ * 7…14), and "room" the walls, floor, ceiling and stage. A whole row always reaches the viewer, who
+ * sits among the rows, so only halves can fall wholly outside the view. Groups: 0 seating, 1 room,
+ * 2… the rows, then the halves (row r: 2 + AUD_ROWS + 2r, +1). Instance order is unchanged (chairs
+ * row by row, then the surfaces). */
 static int aud_build_groups(struct scn_scene *s, uint32_t nsurf, struct hl_error *err)
 {
-    uint32_t ng = 2 + AUD_ROWS;
+    const uint32_t ng = 2 + 3 * AUD_ROWS, first_half = 2 + AUD_ROWS, left_seats = AUD_VIEWER_SEAT;
     s->groups = calloc(ng, sizeof *s->groups);
-    s->group_children = calloc(AUD_ROWS, sizeof *s->group_children);
+    s->group_children = calloc(3 * AUD_ROWS, sizeof *s->group_children);
     s->group_instances = calloc(s->instance_count, sizeof *s->group_instances);
     if (!s->groups || !s->group_children || !s->group_instances)
         return hl_fail(err, "scene auditorium: out of memory for groups");
     s->group_count = ng;
     for (uint32_t g = 0; g < ng; ++g)
-        s->groups[g] = (struct scn_group){.parent = g < 2 ? SCN_NONE : 0, .impostor_chain = SCN_NONE, .importance = 1.0};
+        s->groups[g] = (struct scn_group){.parent = g < 2 ? SCN_NONE : g < first_half ? 0 : 2 + (g - first_half) / 2,
+                                          .impostor_chain = SCN_NONE, .importance = 1.0};
     snprintf(s->groups[0].name, SCN_NAME_MAX, "seating");
     s->groups[0].first_child = 0;
     s->groups[0].child_count = AUD_ROWS;
@@ -88,9 +91,17 @@ static int aud_build_groups(struct scn_scene *s, uint32_t nsurf, struct hl_error
     for (uint32_t r = 0; r < AUD_ROWS; ++r) {
         struct scn_group *row = &s->groups[2 + r];
         snprintf(row->name, SCN_NAME_MAX, "row%u", r);
-        row->first_instance = r * AUD_SEATS;
-        row->instance_count = AUD_SEATS;
+        row->first_child = AUD_ROWS + 2 * r;
+        row->child_count = 2;
         s->group_children[r] = 2 + r;
+        for (uint32_t h = 0; h < 2; ++h) {
+            uint32_t g = first_half + 2 * r + h;
+            struct scn_group *half = &s->groups[g];
+            snprintf(half->name, SCN_NAME_MAX, "row%u_%s", r, h ? "right" : "left");
+            half->first_instance = r * AUD_SEATS + (h ? left_seats : 0);
+            half->instance_count = h ? AUD_SEATS - left_seats : left_seats;
+            s->group_children[AUD_ROWS + 2 * r + h] = g;
+        }
     }
     for (uint32_t i = 0; i < s->instance_count; ++i)
         s->group_instances[i] = i;

@@ -277,7 +277,7 @@ static void test_auditorium_groups(void)
     CHECK(scn_scene_build("auditorium", NULL, &s, &err) == 0);
     CHECK(s.instance_count == 157); /* 10 rows of 15 chairs, 7 room surfaces: unchanged */
     CHECK(s.chain_count == 8);
-    CHECK(s.group_count == 12);
+    CHECK(s.group_count == 32); /* seating, room, 10 rows, 20 half rows */
     CHECK(scn_scene_check_groups(&s, &err) == 0);
     CHECK(bounds_contain(&s));
     uint32_t held = 0;
@@ -286,6 +286,8 @@ static void test_auditorium_groups(void)
     CHECK(held == s.instance_count); /* every instance in one group */
     CHECK(strcmp(s.groups[0].name, "seating") == 0 && s.groups[0].child_count == 10);
     CHECK(strcmp(s.groups[1].name, "room") == 0 && s.groups[1].instance_count == 7);
+    CHECK(s.groups[2].child_count == 2 && s.groups[2].instance_count == 0);
+    CHECK(s.groups[12].instance_count == 7 && s.groups[13].instance_count == 8 && s.groups[13].parent == 2);
     uint64_t tris = 0;
     for (uint32_t i = 0; i < s.instance_count; ++i)
         tris += s.chains[s.chain_of_instance[i]].lods[0].triangle_count;

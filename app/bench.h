@@ -9,6 +9,7 @@
 int bench_tracking(int argc, char **argv, int full_argc, char **full_argv); /* app/bench_tracking.c */
 int bench_replay(int argc, char **argv, int full_argc, char **full_argv);   /* app/bench_replay.c */
 int bench_lodgen(int argc, char **argv, int full_argc, char **full_argv);   /* app/bench_lodgen.c */
+int bench_cull(int argc, char **argv, int full_argc, char **full_argv);     /* app/bench_cull.c */
 
 /* printf to stdout, and to the results copy while one is open. */
 void bench_emit(const char *fmt, ...)

@@ -17,6 +17,7 @@ static const struct bench benches[] = {
     {"tracking", bench_tracking, "tracker accuracy and parse+fuse speed on the shared IMU streams, per device"},
     {"replay", bench_replay, "frame time and triangles, selector none vs reddy, on head-motion traces (Vive)"},
     {"lodgen", bench_lodgen, "LOD chain of the bunny: OpenMesh vs meshoptimizer time, triangles, Hausdorff error"},
+    {"cull", bench_cull, "culling time, flat vs hierarchical, on 1k/10k/100k-object scenes under real head motion"},
 };
 #define N_BENCHES (sizeof benches / sizeof benches[0])
 

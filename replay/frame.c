@@ -6,42 +6,39 @@
 #include "replay/run_internal.h"
 
 /* The right eye mirrors the left, so the union of both frusta spans max(L, R) to either side; the
- * eyes sit ±ipd/2 off the head centre, which culling adds to each radius. A point p is inside a side
- * plane when n·p ≥ 0 with n the plane's inward normal. */
-void rpl_cull_planes_init(struct rpl_session *s)
+ * eyes sit ±ipd/2 off the head centre, which culling adds to each radius (the planes move out by it).
+ * A point p is inside a side plane when n·p ≥ 0 with n the plane's inward normal. */
+void rpl_cull_frustum_init(struct rpl_cull_frustum *f, const struct hmd_profile *display, double near_m)
 {
-    const struct hmd_eye *e = &s->eyes[HMD_EYE_LEFT];
-    double side = fmax(e->tan_left, e->tan_right);
-    s->cull_normals[0] = hl_v3_normalize(hl_v3(1, 0, -side));            /* left: x ≥ side·z */
-    s->cull_normals[1] = hl_v3_normalize(hl_v3(-1, 0, -side));           /* right */
-    s->cull_normals[2] = hl_v3_normalize(hl_v3(0, -1, -e->tan_up));      /* top */
-    s->cull_normals[3] = hl_v3_normalize(hl_v3(0, 1, -e->tan_down));     /* bottom */
+    struct hmd_eye e = hmd_eye_frustum(display, HMD_EYE_LEFT);
+    double side = fmax(e.tan_left, e.tan_right);
+    f->normals_head[0] = hl_v3_normalize(hl_v3(1, 0, -side));        /* left: x ≥ side·z */
+    f->normals_head[1] = hl_v3_normalize(hl_v3(-1, 0, -side));       /* right */
+    f->normals_head[2] = hl_v3_normalize(hl_v3(0, -1, -e.tan_up));   /* top */
+    f->normals_head[3] = hl_v3_normalize(hl_v3(0, 1, -e.tan_down));  /* bottom */
+    f->near_m = near_m;
+    f->margin_m = 0.5 * display->ipd_m;
 }
 
-static int sphere_in_union_frustum(const struct rpl_session *s, hl_vec3d p, double radius_m)
+/* The head-frame normals rotated into the world, through the head centre, and the near plane near_m
+ * in front of it; each moved out by the eye margin so a sphere is kept when any part of it is within
+ * reach of either eye. Five rotations, no allocation. */
+int rpl_cull_frustum_planes(const struct rpl_cull_frustum *f, const struct trk_pose *pose, struct scn_plane *planes)
 {
-    if (-p.z < s->near_m - radius_m)
-        return 0;
-    for (int k = 0; k < 4; ++k)
-        if (hl_v3_dot(s->cull_normals[k], p) < -radius_m)
-            return 0;
-    return 1;
-}
-
-static uint32_t cull_scene(const struct rpl_session *s, const struct trk_pose *pose)
-{
-    const struct scn_scene *sc = &s->scene;
-    hl_quatd world_to_head = hl_q_conj(pose->orientation);
-    double eye_margin_m = 0.5 * s->display.ipd_m;
-    uint32_t n = 0;
-    for (uint32_t i = 0; i < sc->instance_count; ++i) {
-        /* Eye-relative in double before rotating: far-from-origin scenes keep their precision. */
-        hl_vec3d rel = hl_v3_sub(hl_v3(sc->center_m[3 * i], sc->center_m[3 * i + 1], sc->center_m[3 * i + 2]),
-                                 pose->position_m);
-        if (sphere_in_union_frustum(s, hl_q_rotate(world_to_head, rel), sc->radius_m[i] + eye_margin_m))
-            s->arrays.visible[n++] = i;
+    for (int k = 0; k < 5; ++k) {
+        hl_vec3d n_head = k < 4 ? f->normals_head[k] : hl_v3(0, 0, -1);
+        hl_vec3d n = hl_q_rotate(pose->orientation, n_head);
+        planes[k].normal[0] = n.x, planes[k].normal[1] = n.y, planes[k].normal[2] = n.z;
+        planes[k].offset_m = -hl_v3_dot(n, pose->position_m) + f->margin_m - (k < 4 ? 0.0 : f->near_m);
     }
-    return n;
+    return 5;
+}
+
+static uint32_t cull_scene(struct rpl_session *s, const struct trk_pose *pose, struct scn_cull_stats *stats)
+{
+    struct scn_plane planes[5];
+    int count = rpl_cull_frustum_planes(&s->cull_frustum, pose, planes);
+    return scn_cull(&s->scene, planes, count, &s->culler, s->arrays.visible, stats);
 }
 
 static void eye_views(const struct rpl_session *s, const struct trk_pose *pose, struct rnd_eye_view views[2])
@@ -71,9 +68,13 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
     if (!pose.has_position)
         pose.position_m = hl_v3(0, 0, 0);
     rec->head_speed_degps = hl_v3_length(pose.angular_velocity_radps) * HL_DEG_PER_RAD;
+    const double *object_velocity_mps = rpl_motion_step(&s->scene, time_s); /* NULL: static scene */
 
-    uint32_t n = cull_scene(s, &pose);
+    struct scn_cull_stats cull = {0};
+    uint32_t n = cull_scene(s, &pose, &cull);
     rec->visible = n;
+    rec->cull_groups_tested = cull.groups_tested;
+    rec->cull_instances_tested = cull.instances_tested;
     struct acu_viewer viewer = {
         .eye_position_m = pose.position_m,
         .gaze_dir = hl_v3_normalize(hl_q_rotate(pose.orientation, pose.has_gaze ? pose.gaze_dir_head
@@ -81,7 +82,7 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
         .angular_velocity_radps = pose.angular_velocity_radps,
         .linear_velocity_mps = hl_v3(0, 0, 0),
     };
-    acu_compute_geometry(&viewer, s->scene.center_m, s->scene.radius_m, NULL, a->visible, n,
+    acu_compute_geometry(&viewer, s->scene.center_m, s->scene.radius_m, object_velocity_mps, a->visible, n,
                          a->eccentricity_deg, a->velocity_degps, a->diameter_deg);
     int64_t t1 = hl_clock_now_ns();
 

@@ -61,6 +61,25 @@ void rpl_output_abort(struct rpl_output *o)
     }
 }
 
+/* VmHWM is the peak resident set (high-water mark) over the process's life, VmRSS the current one;
+ * both in kB (= KiB) in proc(5). Read at the end of a run, so the peak covers loading and frames. */
+void rpl_resident_memory(long *vm_hwm_kib, long *vm_rss_kib)
+{
+    *vm_hwm_kib = *vm_rss_kib = -1;
+    FILE *f = fopen("/proc/self/status", "r");
+    if (!f)
+        return;
+    char line[256];
+    while (fgets(line, sizeof line, f)) {
+        long v;
+        if (sscanf(line, "VmHWM: %ld kB", &v) == 1)
+            *vm_hwm_kib = v;
+        else if (sscanf(line, "VmRSS: %ld kB", &v) == 1)
+            *vm_rss_kib = v;
+    }
+    fclose(f);
+}
+
 const double rpl_speed_band_lower_degps[RPL_SPEED_BAND_COUNT] = {0.0, 10.0, 30.0, 60.0, 120.0};
 
 static int speed_band(double speed_degps)
@@ -126,6 +145,8 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
     a->select_sum += r->select_us;
     a->evals_sum += (double)r->acuity_evaluations;
     a->visible_sum += r->visible;
+    a->cull_groups_sum += r->cull_groups_tested;
+    a->cull_instances_sum += r->cull_instances_tested;
     a->triangles_sum += (double)r->triangles_per_eye;
     a->finest_sum += (double)r->triangles_finest;
     a->deadlines_met += r->deadline_met;
@@ -150,6 +171,8 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     s->select_us_mean = a->select_sum / n;
     s->acuity_evaluations_mean = a->evals_sum / n;
     s->visible_mean = a->visible_sum / n;
+    s->cull_groups_tested_mean = a->cull_groups_sum / n;
+    s->cull_instances_tested_mean = a->cull_instances_sum / n;
     s->triangles_per_eye_mean = a->triangles_sum / n;
     s->triangles_relative_to_none = a->finest_sum > 0 ? a->triangles_sum / a->finest_sum : 1.0;
     s->deadline_met_fraction = (double)a->deadlines_met / n;
@@ -181,6 +204,18 @@ int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddNumberToObject(root, "select_us_mean", s->select_us_mean);
     cJSON_AddNumberToObject(root, "acuity_evaluations_mean", s->acuity_evaluations_mean);
     cJSON_AddNumberToObject(root, "visible_mean", s->visible_mean);
+    cJSON_AddNumberToObject(root, "scene_instances", (double)s->scene_instances);
+    cJSON_AddNumberToObject(root, "scene_groups", (double)s->scene_groups);
+    cJSON_AddNumberToObject(root, "cull_groups_tested_mean", s->cull_groups_tested_mean);
+    cJSON_AddNumberToObject(root, "cull_instances_tested_mean", s->cull_instances_tested_mean);
+    if (s->vm_hwm_kib >= 0)
+        cJSON_AddNumberToObject(root, "vm_hwm_kib", (double)s->vm_hwm_kib);
+    else
+        cJSON_AddNullToObject(root, "vm_hwm_kib");
+    if (s->vm_rss_kib >= 0)
+        cJSON_AddNumberToObject(root, "vm_rss_kib", (double)s->vm_rss_kib);
+    else
+        cJSON_AddNullToObject(root, "vm_rss_kib");
     cJSON_AddNumberToObject(root, "triangles_per_eye_mean", s->triangles_per_eye_mean);
     cJSON_AddNumberToObject(root, "triangles_relative_to_none", s->triangles_relative_to_none);
     cJSON_AddNumberToObject(root, "deadline_met_fraction", s->deadline_met_fraction);
@@ -232,9 +267,14 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
     fprintf(f, "  %-34s %10.1f us\n", "selection mean", s->select_us_mean);
     fprintf(f, "  %-34s %10.1f of %.1f visible\n", "acuity model evaluations / frame", s->acuity_evaluations_mean,
             s->visible_mean);
+    fprintf(f, "  %-34s %10.1f groups, %.1f objects\n", "cull sphere tests / frame", s->cull_groups_tested_mean,
+            s->cull_instances_tested_mean);
     fprintf(f, "  %-34s %10.0f\n", "triangles per eye mean", s->triangles_per_eye_mean);
     fprintf(f, "  %-34s %10.3f\n", "triangles relative to none", s->triangles_relative_to_none);
     fprintf(f, "  %-34s %10.1f %%\n", "frames within the budget", 100.0 * s->deadline_met_fraction);
+    if (s->vm_hwm_kib >= 0 && s->vm_rss_kib >= 0)
+        fprintf(f, "  %-34s %10.1f / %.1f MiB\n", "resident memory peak / at the end", s->vm_hwm_kib / 1024.0,
+                s->vm_rss_kib / 1024.0);
     fprintf(f, "  share of finest triangles drawn, by head speed:\n");
     for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
         if (s->band_frames[b] == 0)

@@ -71,10 +71,12 @@ void rpl_trace_sample(const struct rpl_trace *trace, double time_s, struct trk_p
 int rpl_trace_source_create(struct rpl_trace *trace, struct trk_pose_source **out, struct hl_error *err);
 
 /* ---- the frame loop ------------------------------------------------------------------------- */
+struct scn_asset_resolver;
 struct rpl_options {
     const char *trace_path;  /* NULL → built-in clip */
     const char *raw_path;    /* raw tracker recording fused into the trace (excludes trace_path) */
-    const char *scene;       /* built-in scene name */
+    const char *scene;       /* built-in scene name, or a scene file (rpl_scene_is_file) */
+    const struct scn_asset_resolver *resolver; /* scene files' meshes; NULL = scene/'s default */
     const char *display;     /* built-in name or JSON file */
     const char *selector;    /* "none" | "reddy" */
     const char *frequency_reading; /* "narrow" (default) | "long" | "geometric" (replay/assets.h) */
@@ -89,6 +91,9 @@ struct rpl_options {
     int quiet;               /* no summary table on stdout */
 };
 void rpl_options_defaults(struct rpl_options *o);
+/* 1 when a --scene value names a scene file (docs/scene-format.md): it ends in .json or is an
+ * existing regular file; otherwise it is a built-in scene's name. */
+int rpl_scene_is_file(const char *scene);
 
 /* Head-speed bands of the summary, deg/s: [0,10) [10,30) [30,60) [60,120) [120,∞). */
 enum { RPL_SPEED_BAND_COUNT = 5 };
@@ -104,15 +109,42 @@ struct rpl_summary {
     double deadline_met_fraction;
     double acuity_evaluations_mean;
     double visible_mean;
+    double cull_groups_tested_mean, cull_instances_tested_mean; /* scn_cull's sphere tests per frame */
+    uint32_t scene_instances, scene_groups;
+    long vm_hwm_kib, vm_rss_kib; /* resident memory at the end (/proc/self/status VmHWM, VmRSS); −1 unknown */
     double budget_ms;
     long band_frames[RPL_SPEED_BAND_COUNT];
     double band_triangle_share[RPL_SPEED_BAND_COUNT]; /* triangles drawn / finest, per band */
     char renderer[128];
-    char selector[16], scene[32], display[64];
+    char selector[16], scene[256], display[64];
 };
+
+/* The visible-set test of a frame (DESIGN.md step 3): the union of both eyes' frusta of a display
+ * as world-space planes for scn_cull (scene/cull.h). Init once per display; the planes per pose. */
+struct hmd_profile;
+struct scn_plane;
+struct rpl_cull_frustum {
+    hl_vec3d normals_head[4]; /* unit inward normals of the side planes, head frame, through its centre */
+    double near_m, margin_m;  /* near plane; half the IPD, by which every plane moves out */
+};
+void rpl_cull_frustum_init(struct rpl_cull_frustum *f, const struct hmd_profile *display, double near_m);
+/* Writes the five planes (left, right, top, bottom, near) for a head pose (position, body-to-world
+ * orientation) and returns 5. */
+int rpl_cull_frustum_planes(const struct rpl_cull_frustum *f, const struct trk_pose *pose, struct scn_plane *planes);
 
 /* Runs the replay and writes DIR/frames.csv, DIR/summary.json and PNG captures. */
 int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_error *err);
 void rpl_summary_print(FILE *f, const struct rpl_summary *s);
+
+/* ---- motion (replay/motion_step.c) ----------------------------------------------------------- */
+struct scn_scene;
+/* Moves the scene to time t_s (scene/motion.h): instance poses, bounding-sphere centres, group
+ * spheres and frames. Returns the instances' world velocities (3 per instance, m/s) for
+ * acu_compute_geometry, or NULL for a static scene (s->motion == NULL), which it leaves untouched.
+ * Allocates nothing. */
+const double *rpl_motion_step(struct scn_scene *s, double t_s);
+/* Peak and current resident set of this process in KiB (VmHWM, VmRSS of /proc/self/status); −1 each
+ * where the file or the line is missing (not Linux). */
+void rpl_resident_memory(long *vm_hwm_kib, long *vm_rss_kib);
 
 #endif

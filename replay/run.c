@@ -67,15 +67,22 @@ static int check_options(const struct rpl_options *o, enum rpl_selector *selecto
     return 0;
 }
 
+int rpl_scene_is_file(const char *scene)
+{
+    size_t len = scene ? strlen(scene) : 0;
+    struct stat st;
+    return (len > 5 && strcmp(scene + len - 5, ".json") == 0) || (len > 0 && stat(scene, &st) == 0 && S_ISREG(st.st_mode));
+}
+
 static int session_open(struct rpl_session *s, const struct rpl_options *o, struct hl_error *err)
 {
     if (hmd_profile_load(o->display, &s->display, err) != 0)
         return -1;
     s->eyes[0] = hmd_eye_frustum(&s->display, HMD_EYE_LEFT);
     s->eyes[1] = hmd_eye_frustum(&s->display, HMD_EYE_RIGHT);
-    rpl_cull_planes_init(s);
-    acu_limits_init(&s->limits, hmd_compute_xi(&s->display).used_cpd, o->acuity_scale);
     s->near_m = 0.05;
+    rpl_cull_frustum_init(&s->cull_frustum, &s->display, s->near_m);
+    acu_limits_init(&s->limits, hmd_compute_xi(&s->display).used_cpd, o->acuity_scale);
     s->far_m = 2000.0;
 
     struct rpl_trace trace;
@@ -85,8 +92,17 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     if (rc != 0 || rpl_trace_source_create(&trace, &s->source, err) != 0)
         return -1;
 
-    struct scn_scene_params params = {.object_count = o->object_count, .seed = o->seed};
-    if (scn_scene_build(o->scene, &params, &s->scene, err) != 0)
+    if (rpl_scene_is_file(o->scene)) {
+        /* The resolver turns each mesh entry into a lodset: NULL is scene/'s default (.lod files
+         * read, mesh files decimated); a caller that analyses and caches passes its own. */
+        if (scn_scenefile_load(o->scene, o->resolver, &s->scene, err) != 0)
+            return -1;
+    } else {
+        struct scn_scene_params params = {.object_count = o->object_count, .seed = o->seed};
+        if (scn_scene_build(o->scene, &params, &s->scene, err) != 0)
+            return -1;
+    }
+    if (scn_culler_init(&s->culler, &s->scene, err) != 0)
         return -1;
     /* The measured tables (cached after the first run); selector none and the geometric reading
      * never read them. */
@@ -133,6 +149,7 @@ static void session_close(struct rpl_session *s)
     if (s->renderer)
         rnd_renderer_destroy(s->renderer);
     trk_source_destroy(s->source);
+    scn_culler_free(&s->culler);
     scn_scene_free(&s->scene);
     free(s->chains);
     free(s->arrays.visible);
@@ -219,6 +236,9 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     snprintf(summary->renderer, sizeof summary->renderer, "%s", rnd_renderer_name(s.renderer));
     snprintf(summary->selector, sizeof summary->selector, "%s", o->selector);
     snprintf(summary->scene, sizeof summary->scene, "%s", o->scene);
+    summary->scene_instances = s.scene.instance_count;
+    summary->scene_groups = s.scene.group_count;
+    rpl_resident_memory(&summary->vm_hwm_kib, &summary->vm_rss_kib);
     snprintf(summary->display, sizeof summary->display, "%s", s.display.name);
     rc = rpl_summary_write_json(o->out_dir, summary, err);
     if (rc == 0 && !o->quiet)

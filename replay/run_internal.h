@@ -22,6 +22,7 @@ struct rpl_frame_record {
     double time_s;
     double head_speed_degps;
     uint32_t visible;
+    uint32_t cull_groups_tested, cull_instances_tested; /* scn_cull_stats (summary only, not the CSV) */
     uint64_t acuity_evaluations;
     uint64_t triangles_per_eye, triangles_finest;
     uint32_t lod_histogram[SCN_MAX_LODS];
@@ -42,11 +43,9 @@ struct rpl_session {
     enum rpl_freq_reading reading;
     int max_lods;
     double near_m, far_m;
-    /* Unit normals (head frame) of the union frustum's four side planes, through the head centre;
-     * computed once per session so culling does no square roots per object. */
-    hl_vec3d cull_normals[4];
+    struct rpl_cull_frustum cull_frustum; /* computed once per session: no square roots per frame */
+    struct scn_culler culler; /* the hierarchical cull's scratch, sized when the scene loads */
 };
-void rpl_cull_planes_init(struct rpl_session *s);
 
 /* Culls, computes viewing geometry, selects and draws one frame at `time_s`. */
 int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_frame_record *rec,
@@ -69,6 +68,7 @@ struct rpl_accumulator {
     long n;
     double frame_mean, frame_m2, frame_max;
     double draw_sum, acuity_sum, select_sum, evals_sum, visible_sum;
+    double cull_groups_sum, cull_instances_sum;
     double triangles_sum, finest_sum;
     long deadlines_met;
     /* Per head-speed band (rpl_speed_band_lower_degps): what share of the finest triangles was drawn,

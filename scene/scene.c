@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const scn_builtin_names[] = {"field", "auditorium", NULL};
+static const char *const scn_builtin_names[] = {"field", "auditorium", "domes", NULL};
 
 const char *const *scn_scene_builtin_names(void) { return scn_builtin_names; }
 
@@ -22,9 +22,11 @@ void scn_scene_free(struct scn_scene *s)
     free(s->center_m);
     free(s->radius_m);
     free(s->chain_of_instance);
+    free(s->importance);
     free(s->groups);
     free(s->group_children);
     free(s->group_instances);
+    scn_motion_set_free(s->motion);
     *s = (struct scn_scene){0};
 }
 
@@ -42,8 +44,10 @@ int scn_scene_build(const char *name, const struct scn_scene_params *params, str
         rc = scn_scene_build_field(&p, out, err);
     else if (name && strcmp(name, "auditorium") == 0)
         rc = scn_scene_build_auditorium(&p, out, err);
+    else if (name && strcmp(name, "domes") == 0)
+        rc = scn_scene_build_domes(&p, out, err);
     else
-        return hl_fail(err, "scene: unknown built-in scene '%s' (built-in: field, auditorium)", name ? name : "(null)");
+        return hl_fail(err, "scene: unknown built-in scene '%s' (built-in: field, auditorium, domes)", name ? name : "(null)");
     if (rc != 0) {
         scn_scene_free(out);
         return rc;

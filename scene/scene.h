@@ -26,6 +26,7 @@ struct scn_chain {
     struct scn_lod lods[SCN_MAX_LODS];
     double bound_center_m[3]; /* bounding-sphere centre, model space (the origin for the built-ins) */
     double bound_radius_m;    /* bounding-sphere radius about bound_center_m, at scale 1 */
+    int null_impostor; /* 1: drawing nothing (lod 255) is a legal choice for its instances (Mason & Blake §8) */
 };
 
 struct scn_instance {
@@ -64,9 +65,11 @@ struct scn_scene {
     double *center_m; /* world bounding-sphere centres, 3 per instance (structure of arrays for acuity) */
     double *radius_m; /* world bounding-sphere radii, 1 per instance */
     uint32_t *chain_of_instance;
+    double *importance; /* 1 per instance, Funkhouser's Importance; NULL (built-in scenes): all 1 */
     struct scn_group *groups; /* parents before children */
     uint32_t group_count;
     uint32_t *group_children, *group_instances; /* index lists the groups' ranges point into */
+    struct scn_motion_set *motion; /* motion paths and rest poses (scene/motion.h); NULL = static */
 };
 
 struct scn_scene_params {
@@ -84,6 +87,9 @@ const char *const *scn_scene_builtin_names(void); /* NULL-terminated */
 
 #include "scene/lodgen.h"
 #include "scene/measure.h"
+#include "scene/motion.h"
+#include "scene/impostor.h"
 #include "scene/scenefile.h"
+#include "scene/cull.h"
 
 #endif

@@ -4,6 +4,7 @@
 #include "scene/scene_internal.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 enum { AUD_ROWS = 10, AUD_SEATS = 15, AUD_VIEWER_ROW = 6, AUD_VIEWER_SEAT = 7 };
 
@@ -52,6 +53,62 @@ static void aud_chair(struct scn_mesh *m, int level)
     }
 }
 
+int scn_auditorium_add_chair_chain(struct scn_scene *s, const char *name, struct hl_error *err)
+{
+    struct scn_mesh chair[4] = {{0}};
+    for (int l = 0; l < 4; ++l)
+        aud_chair(&chair[l], l);
+    int rc = scn_scene_add_chain(s, name, chair, 4, err);
+    for (int l = 0; l < 4; ++l)
+        scn_mesh_free(&chair[l]);
+    return rc;
+}
+
+/* The hierarchy (Funkhouser & Séquin 1993 §7 treat each row as a unit; Mason & Blake 1997 §2):
+ * "seating" holds the rows, each row its two halves either side of the viewer's seat (seats 0…6 and
+ * 7…14), and "room" the walls, floor, ceiling and stage. A whole row always reaches the viewer, who
+ * sits among the rows, so only halves can fall wholly outside the view. Groups: 0 seating, 1 room,
+ * 2… the rows, then the halves (row r: 2 + AUD_ROWS + 2r, +1). Instance order is unchanged (chairs
+ * row by row, then the surfaces). */
+static int aud_build_groups(struct scn_scene *s, uint32_t nsurf, struct hl_error *err)
+{
+    const uint32_t ng = 2 + 3 * AUD_ROWS, first_half = 2 + AUD_ROWS, left_seats = AUD_VIEWER_SEAT;
+    s->groups = calloc(ng, sizeof *s->groups);
+    s->group_children = calloc(3 * AUD_ROWS, sizeof *s->group_children);
+    s->group_instances = calloc(s->instance_count, sizeof *s->group_instances);
+    if (!s->groups || !s->group_children || !s->group_instances)
+        return hl_fail(err, "scene auditorium: out of memory for groups");
+    s->group_count = ng;
+    for (uint32_t g = 0; g < ng; ++g)
+        s->groups[g] = (struct scn_group){.parent = g < 2 ? SCN_NONE : g < first_half ? 0 : 2 + (g - first_half) / 2,
+                                          .impostor_chain = SCN_NONE, .importance = 1.0};
+    snprintf(s->groups[0].name, SCN_NAME_MAX, "seating");
+    s->groups[0].first_child = 0;
+    s->groups[0].child_count = AUD_ROWS;
+    snprintf(s->groups[1].name, SCN_NAME_MAX, "room");
+    s->groups[1].first_instance = AUD_ROWS * AUD_SEATS;
+    s->groups[1].instance_count = nsurf;
+    for (uint32_t r = 0; r < AUD_ROWS; ++r) {
+        struct scn_group *row = &s->groups[2 + r];
+        snprintf(row->name, SCN_NAME_MAX, "row%u", r);
+        row->first_child = AUD_ROWS + 2 * r;
+        row->child_count = 2;
+        s->group_children[r] = 2 + r;
+        for (uint32_t h = 0; h < 2; ++h) {
+            uint32_t g = first_half + 2 * r + h;
+            struct scn_group *half = &s->groups[g];
+            snprintf(half->name, SCN_NAME_MAX, "row%u_%s", r, h ? "right" : "left");
+            half->first_instance = r * AUD_SEATS + (h ? left_seats : 0);
+            half->instance_count = h ? AUD_SEATS - left_seats : left_seats;
+            s->group_children[AUD_ROWS + 2 * r + h] = g;
+        }
+    }
+    for (uint32_t i = 0; i < s->instance_count; ++i)
+        s->group_instances[i] = i;
+    scn_scene_group_bounds(s);
+    return scn_scene_check_groups(s, err);
+}
+
 struct aud_surface {
     const char *name;
     hl_vec3d center, half;
@@ -61,12 +118,7 @@ struct aud_surface {
 int scn_scene_build_auditorium(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err)
 {
     snprintf(s->name, sizeof s->name, "auditorium");
-    struct scn_mesh chair[4] = {{0}};
-    for (int l = 0; l < 4; ++l)
-        aud_chair(&chair[l], l);
-    int rc = scn_scene_add_chain(s, "chair", chair, 4, err);
-    for (int l = 0; l < 4; ++l)
-        scn_mesh_free(&chair[l]);
+    int rc = scn_auditorium_add_chair_chain(s, "chair", err);
     if (rc != 0)
         return -1;
 
@@ -112,5 +164,5 @@ int scn_scene_build_auditorium(const struct scn_scene_params *p, struct scn_scen
     }
     for (uint32_t i = 0; i < nsurf; ++i)
         scn_scene_set_instance(s, k++, 1 + i, surf[i].center, hl_q_identity(), 1.0, surf[i].color);
-    return 0;
+    return aud_build_groups(s, nsurf, err);
 }

@@ -28,6 +28,17 @@ static const float field_palette[8][3] = {
     {0.68f, 0.51f, 0.79f}, {0.40f, 0.76f, 0.71f}, {0.91f, 0.58f, 0.71f}, {0.78f, 0.74f, 0.65f},
 };
 
+int scn_field_add_object_chain(struct scn_scene *s, const char *name, struct hl_error *err)
+{
+    struct scn_mesh levels[4] = {{0}};
+    for (int l = 0; l < 4; ++l)
+        scn_mesh_add_sphere(&levels[l], field_base_radius_m, field_levels[l][0], field_levels[l][1], field_shape);
+    int rc = scn_scene_add_chain(s, name, levels, 4, err);
+    for (int l = 0; l < 4; ++l)
+        scn_mesh_free(&levels[l]);
+    return rc;
+}
+
 int scn_scene_build_field(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err)
 {
     int n = p->object_count == 0 ? FIELD_DEFAULT_COUNT : p->object_count;
@@ -35,13 +46,7 @@ int scn_scene_build_field(const struct scn_scene_params *p, struct scn_scene *s,
         return hl_fail(err, "scene field: object_count %d out of range (1…%d, 0 = %d)", p->object_count,
                        FIELD_MAX_COUNT, FIELD_DEFAULT_COUNT);
     snprintf(s->name, sizeof s->name, "field");
-    struct scn_mesh levels[4] = {{0}};
-    for (int l = 0; l < 4; ++l)
-        scn_mesh_add_sphere(&levels[l], field_base_radius_m, field_levels[l][0], field_levels[l][1], field_shape);
-    int rc = scn_scene_add_chain(s, "bumpy_sphere", levels, 4, err);
-    for (int l = 0; l < 4; ++l)
-        scn_mesh_free(&levels[l]);
-    if (rc != 0 || scn_scene_alloc_instances(s, (uint32_t)n, err) != 0)
+    if (scn_field_add_object_chain(s, "bumpy_sphere", err) != 0 || scn_scene_alloc_instances(s, (uint32_t)n, err) != 0)
         return -1;
 
     struct scn_rng g = {p->seed};

@@ -42,8 +42,14 @@ int scn_scene_alloc_instances(struct scn_scene *s, uint32_t n, struct hl_error *
 void scn_scene_set_instance(struct scn_scene *s, uint32_t i, uint32_t chain, hl_vec3d position,
                             hl_quatd rotation, double scale, const float color[3]);
 
+/* The built-in objects as chains (scene files name them as {"builtin": …}): the field's bumpy
+ * sphere (4 levels, 3906…78 triangles) and the auditorium's chair (4 levels, 600…12). */
+int scn_field_add_object_chain(struct scn_scene *s, const char *name, struct hl_error *err);
+int scn_auditorium_add_chair_chain(struct scn_scene *s, const char *name, struct hl_error *err);
+
 int scn_scene_build_field(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err);
 int scn_scene_build_auditorium(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err);
+int scn_scene_build_domes(const struct scn_scene_params *p, struct scn_scene *s, struct hl_error *err);
 
 /* ---- LOD analysis (lod_error.c) --------------------------------------------------------------- */
 /* Max over the fine mesh's vertices of the distance to the nearest triangle of the coarse mesh. */

@@ -158,6 +158,16 @@ if [ -s "$tmp/suz.lod" ]; then
   expect_ok "analyze a lodgen .lod" "wrote .*suz\.lod" -- "$bin" analyze "$tmp/suz.lod" --views 6 --size 128
   expect_ok "analyze again reads its own output" "narrow c/diam" -- "$bin" analyze "$tmp/suz.lod" --views 18 --size 64
 fi
+# Scene files: one that needs no files replays; a bad one is one message naming the file and the
+# JSON path, and leaves no output; bench cull prints its ratio column.
+src=${HMDLOD_SOURCE:-$(dirname "$0")/..}
+expect_ok "replay a scene file" "nested-groups.json on vive" -- \
+  "$bin" replay --scene "$src/tests/scenes/nested-groups.json" --frames 10 --render-scale 0.1 --out "$tmp/sf"
+printf '{"version": 1, "meshes": {"o": {"builtin": "box", "size_m": [1, 1, 1]}}, "instances": [{"mesh": "chair", "position_m": [0, 0, 0]}]}' >"$tmp/bad-scene.json"
+expect_error "replay a bad scene file" "bad-scene.json: instances\[0\]\.mesh: no mesh named \"chair\"" -- \
+  "$bin" replay --scene "$tmp/bad-scene.json" --out "$tmp/sfbad"
+[ ! -e "$tmp/sfbad/frames.csv" ] || fail "a failed scene-file replay left frames.csv"
+expect_ok "bench cull --quick" "\| 100000 \| [0-9]+ \| .*\*\*×[0-9.]+\*\*" -- "$bin" bench cull --quick --frames 50
 
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

@@ -112,6 +112,10 @@ static void print_report(const char *path, const struct scn_import_report *r, co
 
 int cmd_lodgen(int argc, char **argv)
 {
+    /* A group's impostor is built from a scene, not from a mesh file: its own command file. */
+    for (int i = 1; i < argc; ++i)
+        if (!strcmp(argv[i], "--group"))
+            return cmd_lodgen_group(argc, argv);
     if (app_wants_help(argc, argv)) {
         print_lodgen_usage(stdout);
         return 0;

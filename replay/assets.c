@@ -195,7 +195,7 @@ static int rpl_cache_read(const char *path, uint64_t key, const struct scn_lodse
     return 0;
 }
 
-static int rpl_make_dir(const char *dir)
+int rpl_cache_make_dir(const char *dir)
 {
     char path[4096];
     if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path)
@@ -224,7 +224,7 @@ static int rpl_cache_write(const char *dir, const char *path, uint64_t key, cons
         errno = ENOSPC;
         return -1;
     }
-    if (rpl_make_dir(dir) != 0)
+    if (rpl_cache_make_dir(dir) != 0)
         return -1;
     snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
     FILE *f = fopen(tmp, "wb");

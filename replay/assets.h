@@ -22,6 +22,15 @@ void rpl_assets_params(struct rnd_analyze_params *p);
 /* Where analysis results are cached: $HMDLOD_CACHE_DIR when set and not empty, else a folder
  * `lodcache` beside the running executable (/proc/self/exe). −1 if neither can be found. */
 int rpl_cache_dir(char *out, size_t size, struct hl_error *err);
+/* Creates the cache folder and its parents if missing; 0 when it exists afterwards, else −1 (errno). */
+int rpl_cache_make_dir(const char *dir);
+
+/* The resolver replays give scene files: a .lod is read as it is; a mesh file is imported and its
+ * chain (scene/'s default lodgen) is kept in the cache as a .lod named after the file and keyed by
+ * scn_mesh_hash of the imported mesh, so a later load reads it instead of decimating again; a
+ * changed mesh gets a new key, a corrupt cache file is rebuilt with a note, an unwritable cache is
+ * not an error. `user` is unused. */
+int rpl_resolve_cached(void *user, const char *path, struct scn_lodset *out, struct hl_error *err);
 
 /* Copies chain `chain` of a scene back into a lodset (each level's vertices and local indices, the
  * chain's bounding sphere, errors and frequency tables). *out is zeroed first; free it with

@@ -3,7 +3,7 @@
 #ifndef HMDLOD_SCENE_SCENEFILE_H
 #define HMDLOD_SCENE_SCENEFILE_H
 
-#include "scene/lodset.h"
+#include "scene/lodgen.h"
 
 struct scn_scene;
 
@@ -15,5 +15,12 @@ struct scn_asset_resolver {
 };
 int scn_scenefile_load(const char *path, const struct scn_asset_resolver *resolver /* NULL = default */,
                        struct scn_scene *out, struct hl_error *err);
+
+/* The default resolver: a path ending in .lod (scn_scenefile_path_is_lod) is read as it is; any
+ * other file is imported and decimated with scn_scenefile_lodgen_params (meshopt, 4 levels at 1,
+ * 1/4, 1/16, 1/64 of the triangles). `user` is unused. */
+int scn_scenefile_resolve_default(void *user, const char *path, struct scn_lodset *out, struct hl_error *err);
+void scn_scenefile_lodgen_params(struct scn_lodgen_params *p);
+int scn_scenefile_path_is_lod(const char *path);
 
 #endif

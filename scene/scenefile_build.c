@@ -9,22 +9,32 @@
 #include <strings.h>
 #include <sys/stat.h>
 
-/* The default resolver (scene/ only): a .lod file is read as it is; any other file is imported and
- * decimated to four levels (1, 1/4, 1/16, 1/64 of the triangles: the spacing of Reddy's field
- * object, 3928 → 76) with meshoptimizer, which is fast enough to run at every load (PLATFORM.md §7);
- * `hmdlod lodgen` makes a .lod once with OpenMesh when the quality matters. */
-static int sf_default_resolve(void *user, const char *path, struct scn_lodset *out, struct hl_error *err)
+void scn_scenefile_lodgen_params(struct scn_lodgen_params *p)
+{
+    /* 1, 1/4, 1/16, 1/64 of the triangles: the spacing of Reddy's field object, 3928 → 76; meshopt is
+     * fast enough to run at load (PLATFORM.md §7); `hmdlod lodgen` makes a .lod with OpenMesh when
+     * the quality matters. */
+    *p = (struct scn_lodgen_params){.simplifier = SCN_SIMPLIFIER_MESHOPT, .ratio_count = 4,
+                                    .ratios = {1.0, 1.0 / 4, 1.0 / 16, 1.0 / 64}};
+}
+
+int scn_scenefile_path_is_lod(const char *path)
+{
+    size_t n = strlen(path);
+    return n > 4 && strcasecmp(path + n - 4, ".lod") == 0;
+}
+
+int scn_scenefile_resolve_default(void *user, const char *path, struct scn_lodset *out, struct hl_error *err)
 {
     (void)user;
-    size_t n = strlen(path);
-    if (n > 4 && strcasecmp(path + n - 4, ".lod") == 0)
+    if (scn_scenefile_path_is_lod(path))
         return scn_lodfile_read(path, out, err);
     struct scn_mesh mesh = {0};
     struct scn_import_report report;
     if (scn_mesh_import(path, &mesh, &report, err) != 0)
         return -1;
-    struct scn_lodgen_params p = {.simplifier = SCN_SIMPLIFIER_MESHOPT, .ratio_count = 4,
-                                  .ratios = {1.0, 1.0 / 4, 1.0 / 16, 1.0 / 64}};
+    struct scn_lodgen_params p;
+    scn_scenefile_lodgen_params(&p);
     int rc = scn_lodgen_build(&mesh, &p, out, err);
     scn_mesh_free(&mesh);
     return rc;
@@ -181,7 +191,7 @@ done:
 int sf_file_build(const struct sf_file *f, const struct scn_asset_resolver *resolver, struct scn_scene *s,
                   struct hl_error *err)
 {
-    static const struct scn_asset_resolver default_resolver = {sf_default_resolve, NULL};
+    static const struct scn_asset_resolver default_resolver = {scn_scenefile_resolve_default, NULL};
     if (!resolver)
         resolver = &default_resolver;
     memset(s, 0, sizeof *s);

@@ -1,0 +1,111 @@
+/* Scene files' mesh entries through replay's caching resolver (replay/asset_resolver.c): the first
+ * load makes the chain and keeps it as a .lod in the cache, a later load reads that file (proved by
+ * planting a marked copy), a corrupt or foreign cache file is rebuilt, an unwritable cache is not an
+ * error, and a .lod entry passes straight through. */
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "replay/replay.h"
+#include "test_util.h"
+
+/* The one cache file for suzanne in dir, or "" when there is none. */
+static int find_cached(const char *dir, char *out, size_t size)
+{
+    DIR *d = opendir(dir);
+    int found = 0;
+    if (!d)
+        return 0;
+    for (struct dirent *e; (e = readdir(d));)
+        if (!strncmp(e->d_name, "mesh-suzanne-", 13) && strstr(e->d_name, ".lod") && !strstr(e->d_name, ".tmp")) {
+            snprintf(out, size, "%s/%s", dir, e->d_name);
+            ++found;
+        }
+    closedir(d);
+    return found;
+}
+
+int main(void)
+{
+    const char *mesh = tu_shared_path("data/meshes/suzanne.obj");
+    if (!mesh)
+        return 77;
+    char mesh_path[4096];
+    snprintf(mesh_path, sizeof mesh_path, "%s", mesh);
+    char dir[] = "/tmp/hmdlod-test-resolver-XXXXXX";
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    setenv("HMDLOD_CACHE_DIR", dir, 1);
+    struct hl_error err = {{0}};
+
+    /* First load: built and kept. */
+    struct scn_lodset first = {0};
+    CHECK(rpl_resolve_cached(NULL, mesh_path, &first, &err) == 0);
+    CHECK(first.level_count == 4);
+    char cached[4600] = "";
+    CHECK(find_cached(dir, cached, sizeof cached) == 1);
+
+    /* A marked copy planted in its place is what the next load returns: the cache is read. */
+    struct scn_lodset marked = {0};
+    CHECK(scn_lodfile_read(cached, &marked, &err) == 0);
+    CHECK(marked.source_hash == first.source_hash);
+    marked.error_m[1] = 0.123456;
+    CHECK(scn_lodfile_write(cached, &marked, &err) == 0);
+    struct scn_lodset second = {0};
+    CHECK(rpl_resolve_cached(NULL, mesh_path, &second, &err) == 0);
+    CHECK(second.error_m[1] == 0.123456);
+    CHECK(second.level_count == first.level_count);
+    for (int l = 0; l < first.level_count && l < second.level_count; ++l)
+        CHECK(second.levels[l].index_count == first.levels[l].index_count &&
+              !memcmp(second.levels[l].positions, first.levels[l].positions,
+                      3 * sizeof(float) * first.levels[l].vertex_count));
+    scn_lodset_free(&second);
+
+    /* A cache file from another mesh (another source hash) is rebuilt, not trusted. */
+    marked.source_hash ^= 1;
+    CHECK(scn_lodfile_write(cached, &marked, &err) == 0);
+    CHECK(rpl_resolve_cached(NULL, mesh_path, &second, &err) == 0);
+    CHECK(second.error_m[1] == first.error_m[1]);
+    scn_lodset_free(&second);
+    scn_lodset_free(&marked);
+
+    /* A corrupt one (a flipped byte fails the CRC) is rebuilt and rewritten valid. */
+    FILE *f = fopen(cached, "r+b");
+    CHECK(f != NULL);
+    if (f) {
+        fseek(f, 200, SEEK_SET);
+        int c = fgetc(f);
+        fseek(f, 200, SEEK_SET);
+        fputc(c ^ 0x40, f);
+        fclose(f);
+    }
+    CHECK(rpl_resolve_cached(NULL, mesh_path, &second, &err) == 0);
+    CHECK(second.error_m[1] == first.error_m[1]);
+    scn_lodset_free(&second);
+    CHECK(scn_lodfile_read(cached, &second, &err) == 0);
+    scn_lodset_free(&second);
+
+    /* A .lod entry is read as it is (the cache file itself will do). */
+    CHECK(rpl_resolve_cached(NULL, cached, &second, &err) == 0);
+    CHECK(second.source_hash == first.source_hash);
+    scn_lodset_free(&second);
+
+    /* A cache that cannot be made is not an error: the chain is built anyway. */
+    setenv("HMDLOD_CACHE_DIR", "/proc/hmdlod-no-such-dir/cache", 1);
+    CHECK(rpl_resolve_cached(NULL, mesh_path, &second, &err) == 0);
+    CHECK(second.level_count == first.level_count);
+    scn_lodset_free(&second);
+
+    /* A missing mesh names itself. */
+    CHECK(rpl_resolve_cached(NULL, "/tmp/hmdlod-no-such-mesh.obj", &second, &err) != 0);
+    CHECK(strstr(err.msg, "hmdlod-no-such-mesh.obj") != NULL);
+
+    scn_lodset_free(&first);
+    remove(cached);
+    rmdir(dir);
+    return tu_finish("resolver");
+}

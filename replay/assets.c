@@ -327,6 +327,15 @@ int rpl_assets_measure(struct scn_lodset *set, const char *name, const struct rn
     return rc;
 }
 
+/* Every coarser level carries both image-based readings (NaN = not measured). */
+static int rpl_chain_has_tables(const struct scn_chain *ch)
+{
+    for (int l = 1; l < ch->lod_count; ++l)
+        if (isnan(ch->lods[l].freq.narrow_cpdiam) || isnan(ch->lods[l].freq.long_cpdiam))
+            return 0;
+    return 1;
+}
+
 int rpl_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params *p, enum rpl_freq_reading reading,
                        struct rpl_assets_report *report, struct hl_error *err)
 {
@@ -339,6 +348,10 @@ int rpl_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params 
         struct scn_chain *ch = &scene->chains[c];
         if (ch->lod_count < 2)
             continue;
+        if (rpl_chain_has_tables(ch)) { /* a .lod that `hmdlod analyze` measured: its own tables */
+            rep.chains_from_file++;
+            continue;
+        }
         struct scn_lodset set;
         if (rpl_lodset_from_chain(scene, c, &set, err) != 0) {
             rc = -1;

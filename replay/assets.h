@@ -39,11 +39,13 @@ int rpl_lodset_from_chain(const struct scn_scene *s, uint32_t chain, struct scn_
 
 struct rpl_assets_report {
     uint32_t chains_analysed, chains_cached; /* chains with two or more levels */
+    uint32_t chains_from_file;               /* chains whose .lod already held measured tables */
     double analysis_s;                       /* time spent analysing (0 when every chain was cached) */
     int cache_unwritable;                    /* results could not be stored: analysed every run */
 };
 
-/* Gives every chain of `scene` with two or more levels its image-based tables: from the cache when
+/* Gives every chain of `scene` with two or more levels its image-based tables: a chain that already
+ * has them (a .lod written by `hmdlod analyze`) keeps its own; others come from the cache when
  * a file with the same key exists (key = the levels' scn_mesh_hash and the analysis parameters, so
  * a changed mesh or parameter never reads a stale table), else by analysis, then stored. A corrupt
  * cache file is analysed again, with a note on stderr; a cache that cannot be written is noted once

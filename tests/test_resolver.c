@@ -1,8 +1,9 @@
 /* Scene files' mesh entries through replay's caching resolver (replay/asset_resolver.c): the first
  * load makes the chain and keeps it as a .lod in the cache, a later load reads that file (proved by
  * planting a marked copy), a corrupt or foreign cache file is rebuilt, an unwritable cache is not an
- * error, and a .lod entry passes straight through. */
+ * error, a .lod entry passes straight through, and a .lod's own measured tables are used as they are. */
 #include <dirent.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -103,6 +104,20 @@ int main(void)
     /* A missing mesh names itself. */
     CHECK(rpl_resolve_cached(NULL, "/tmp/hmdlod-no-such-mesh.obj", &second, &err) != 0);
     CHECK(strstr(err.msg, "hmdlod-no-such-mesh.obj") != NULL);
+
+    /* A chain whose .lod already holds measured tables keeps them: nothing is analysed again. */
+    for (int l = 1; l < first.level_count; ++l)
+        first.freq[l].narrow_cpdiam = 40.0 / l, first.freq[l].long_cpdiam = 20.0 / l;
+    first.freq[0].narrow_cpdiam = first.freq[0].long_cpdiam = INFINITY;
+    struct scn_scene scene = {0};
+    CHECK(scn_scene_add_lodset(&scene, "measured", &first, &err) == 0);
+    struct rnd_analyze_params ap;
+    rpl_assets_params(&ap);
+    struct rpl_assets_report rep;
+    CHECK(rpl_assets_prepare(&scene, &ap, RPL_READING_NARROW, &rep, &err) == 0);
+    CHECK(rep.chains_from_file == 1 && rep.chains_analysed == 0 && rep.chains_cached == 0);
+    CHECK(scene.chains[0].lods[2].unique_freq_cpdiam == 20.0);
+    scn_scene_free(&scene);
 
     scn_lodset_free(&first);
     remove(cached);

@@ -25,12 +25,11 @@ int rpl_cache_dir(char *out, size_t size, struct hl_error *err);
 /* Creates the cache folder and its parents if missing; 0 when it exists afterwards, else −1 (errno). */
 int rpl_cache_make_dir(const char *dir);
 
-/* The resolver replays give scene files: a .lod is read as it is; a mesh file is imported and its
- * chain (scene/'s default lodgen) is kept in the cache as a .lod named after the file and keyed by
- * scn_mesh_hash of the imported mesh, so a later load reads it instead of decimating again; a
- * changed mesh gets a new key, a corrupt cache file is rebuilt with a note, an unwritable cache is
- * not an error. `user` is unused. */
-int rpl_resolve_cached(void *user, const char *path, struct scn_lodset *out, struct hl_error *err);
+/* The resolver replays give scene files: scene/'s default with a chain store in the cache, so a
+ * mesh file's chain is kept as a .lod named after the file and keyed by scn_mesh_hash of the
+ * imported mesh, and a later load reads it instead of decimating again; a changed mesh gets a new
+ * key, a corrupt or foreign cache file is rebuilt with a note, an unwritable cache is not an error. */
+const struct scn_asset_resolver *rpl_cached_resolver(void);
 
 /* Copies chain `chain` of a scene back into a lodset (each level's vertices and local indices, the
  * chain's bounding sphere, errors and frequency tables). *out is zeroed first; free it with

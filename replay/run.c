@@ -95,8 +95,7 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     if (rpl_scene_is_file(o->scene)) {
         /* The resolver turns each mesh entry into a lodset: by default replay's, which keeps mesh
          * files' chains in the cache (replay/asset_resolver.c); a caller may pass its own. */
-        static const struct scn_asset_resolver cached = {rpl_resolve_cached, NULL};
-        if (scn_scenefile_load(o->scene, o->resolver ? o->resolver : &cached, &s->scene, err) != 0)
+        if (scn_scenefile_load(o->scene, o->resolver ? o->resolver : rpl_cached_resolver(), &s->scene, err) != 0)
             return -1;
     } else {
         struct scn_scene_params params = {.object_count = o->object_count, .seed = o->seed};

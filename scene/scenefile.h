@@ -16,11 +16,19 @@ struct scn_asset_resolver {
 int scn_scenefile_load(const char *path, const struct scn_asset_resolver *resolver /* NULL = default */,
                        struct scn_scene *out, struct hl_error *err);
 
+/* Where the default resolver may keep the chains it makes from mesh files, so that a later load
+ * skips the decimation (replay/ keeps them on disk). load fills *out with a chain made earlier from
+ * the mesh at `path` whose imported mesh has scn_mesh_hash `hash` and returns 0, else −1 (*out
+ * zeroed); save keeps one (failures are the store's to report: never an error of the load). */
+struct scn_chain_store {
+    int (*load)(void *user, const char *path, uint64_t hash, struct scn_lodset *out);
+    void (*save)(void *user, const char *path, uint64_t hash, const struct scn_lodset *set);
+    void *user;
+};
 /* The default resolver: a path ending in .lod (scn_scenefile_path_is_lod) is read as it is; any
- * other file is imported and decimated with scn_scenefile_lodgen_params (meshopt, 4 levels at 1,
- * 1/4, 1/16, 1/64 of the triangles). `user` is unused. */
+ * other file is imported and decimated (meshopt, 4 levels at 1, 1/4, 1/16, 1/64 of the triangles)
+ * unless `user`, NULL or a const struct scn_chain_store *, holds the chain already. */
 int scn_scenefile_resolve_default(void *user, const char *path, struct scn_lodset *out, struct hl_error *err);
-void scn_scenefile_lodgen_params(struct scn_lodgen_params *p);
 int scn_scenefile_path_is_lod(const char *path);
 
 #endif

@@ -9,15 +9,6 @@
 #include <strings.h>
 #include <sys/stat.h>
 
-void scn_scenefile_lodgen_params(struct scn_lodgen_params *p)
-{
-    /* 1, 1/4, 1/16, 1/64 of the triangles: the spacing of Reddy's field object, 3928 → 76; meshopt is
-     * fast enough to run at load (PLATFORM.md §7); `hmdlod lodgen` makes a .lod with OpenMesh when
-     * the quality matters. */
-    *p = (struct scn_lodgen_params){.simplifier = SCN_SIMPLIFIER_MESHOPT, .ratio_count = 4,
-                                    .ratios = {1.0, 1.0 / 4, 1.0 / 16, 1.0 / 64}};
-}
-
 int scn_scenefile_path_is_lod(const char *path)
 {
     size_t n = strlen(path);
@@ -26,17 +17,27 @@ int scn_scenefile_path_is_lod(const char *path)
 
 int scn_scenefile_resolve_default(void *user, const char *path, struct scn_lodset *out, struct hl_error *err)
 {
-    (void)user;
+    const struct scn_chain_store *store = user;
     if (scn_scenefile_path_is_lod(path))
         return scn_lodfile_read(path, out, err);
     struct scn_mesh mesh = {0};
     struct scn_import_report report;
     if (scn_mesh_import(path, &mesh, &report, err) != 0)
         return -1;
-    struct scn_lodgen_params p;
-    scn_scenefile_lodgen_params(&p);
+    uint64_t hash = scn_mesh_hash(&mesh);
+    if (store && store->load(store->user, path, hash, out) == 0) {
+        scn_mesh_free(&mesh);
+        return 0;
+    }
+    /* 1, 1/4, 1/16, 1/64 of the triangles: the spacing of Reddy's field object, 3928 → 76; meshopt is
+     * fast enough to run at load (PLATFORM.md §7); `hmdlod lodgen` makes a .lod with OpenMesh when
+     * the quality matters. */
+    struct scn_lodgen_params p = {.simplifier = SCN_SIMPLIFIER_MESHOPT, .ratio_count = 4,
+                                  .ratios = {1.0, 1.0 / 4, 1.0 / 16, 1.0 / 64}};
     int rc = scn_lodgen_build(&mesh, &p, out, err);
     scn_mesh_free(&mesh);
+    if (rc == 0 && store)
+        store->save(store->user, path, hash, out);
     return rc;
 }
 

@@ -28,6 +28,12 @@ static int find_cached(const char *dir, char *out, size_t size)
     return found;
 }
 
+static int resolve(const char *path, struct scn_lodset *out, struct hl_error *err)
+{
+    const struct scn_asset_resolver *r = rpl_cached_resolver();
+    return r->resolve(r->user, path, out, err);
+}
+
 int main(void)
 {
     const char *mesh = tu_shared_path("data/meshes/suzanne.obj");
@@ -45,7 +51,7 @@ int main(void)
 
     /* First load: built and kept. */
     struct scn_lodset first = {0};
-    CHECK(rpl_resolve_cached(NULL, mesh_path, &first, &err) == 0);
+    CHECK(resolve(mesh_path, &first, &err) == 0);
     CHECK(first.level_count == 4);
     char cached[4600] = "";
     CHECK(find_cached(dir, cached, sizeof cached) == 1);
@@ -57,7 +63,7 @@ int main(void)
     marked.error_m[1] = 0.123456;
     CHECK(scn_lodfile_write(cached, &marked, &err) == 0);
     struct scn_lodset second = {0};
-    CHECK(rpl_resolve_cached(NULL, mesh_path, &second, &err) == 0);
+    CHECK(resolve(mesh_path, &second, &err) == 0);
     CHECK(second.error_m[1] == 0.123456);
     CHECK(second.level_count == first.level_count);
     for (int l = 0; l < first.level_count && l < second.level_count; ++l)
@@ -69,7 +75,7 @@ int main(void)
     /* A cache file from another mesh (another source hash) is rebuilt, not trusted. */
     marked.source_hash ^= 1;
     CHECK(scn_lodfile_write(cached, &marked, &err) == 0);
-    CHECK(rpl_resolve_cached(NULL, mesh_path, &second, &err) == 0);
+    CHECK(resolve(mesh_path, &second, &err) == 0);
     CHECK(second.error_m[1] == first.error_m[1]);
     scn_lodset_free(&second);
     scn_lodset_free(&marked);
@@ -84,25 +90,25 @@ int main(void)
         fputc(c ^ 0x40, f);
         fclose(f);
     }
-    CHECK(rpl_resolve_cached(NULL, mesh_path, &second, &err) == 0);
+    CHECK(resolve(mesh_path, &second, &err) == 0);
     CHECK(second.error_m[1] == first.error_m[1]);
     scn_lodset_free(&second);
     CHECK(scn_lodfile_read(cached, &second, &err) == 0);
     scn_lodset_free(&second);
 
     /* A .lod entry is read as it is (the cache file itself will do). */
-    CHECK(rpl_resolve_cached(NULL, cached, &second, &err) == 0);
+    CHECK(resolve(cached, &second, &err) == 0);
     CHECK(second.source_hash == first.source_hash);
     scn_lodset_free(&second);
 
     /* A cache that cannot be made is not an error: the chain is built anyway. */
     setenv("HMDLOD_CACHE_DIR", "/proc/hmdlod-no-such-dir/cache", 1);
-    CHECK(rpl_resolve_cached(NULL, mesh_path, &second, &err) == 0);
+    CHECK(resolve(mesh_path, &second, &err) == 0);
     CHECK(second.level_count == first.level_count);
     scn_lodset_free(&second);
 
     /* A missing mesh names itself. */
-    CHECK(rpl_resolve_cached(NULL, "/tmp/hmdlod-no-such-mesh.obj", &second, &err) != 0);
+    CHECK(resolve("/tmp/hmdlod-no-such-mesh.obj", &second, &err) != 0);
     CHECK(strstr(err.msg, "hmdlod-no-such-mesh.obj") != NULL);
 
     /* A chain whose .lod already holds measured tables keeps them: nothing is analysed again. */

@@ -327,9 +327,13 @@ int rpl_assets_measure(struct scn_lodset *set, const char *name, const struct rn
     return rc;
 }
 
-/* Every coarser level carries both image-based readings (NaN = not measured). */
+/* The chain's asset (a .lod written by `hmdlod analyze`) came with both image-based readings for
+ * every coarser level (NaN = not measured). Tables an earlier rpl_assets_prepare put there do not
+ * count: they are the cache's, keyed by their parameters. */
 static int rpl_chain_has_tables(const struct scn_chain *ch)
 {
+    if (ch->analysis_views <= 0)
+        return 0;
     for (int l = 1; l < ch->lod_count; ++l)
         if (isnan(ch->lods[l].freq.narrow_cpdiam) || isnan(ch->lods[l].freq.long_cpdiam))
             return 0;

@@ -45,6 +45,8 @@ int scn_scene_add_lodset(struct scn_scene *s, const char *name, const struct scn
     for (int k = 0; k < 3; ++k)
         c->bound_center_m[k] = set->center_m[k];
     c->bound_radius_m = r;
+    c->analysis_views = set->analysis_views;
+    c->analysis_size_px = set->analysis_size_px;
     for (int l = 0; l < set->level_count; ++l) {
         struct scn_lod *lod = &c->lods[l];
         lod->geometric_error_m = set->error_m[l];

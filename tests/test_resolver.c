@@ -115,6 +115,7 @@ int main(void)
     for (int l = 1; l < first.level_count; ++l)
         first.freq[l].narrow_cpdiam = 40.0 / l, first.freq[l].long_cpdiam = 20.0 / l;
     first.freq[0].narrow_cpdiam = first.freq[0].long_cpdiam = INFINITY;
+    first.analysis_views = 18, first.analysis_size_px = 256; /* as `hmdlod analyze` leaves it */
     struct scn_scene scene = {0};
     CHECK(scn_scene_add_lodset(&scene, "measured", &first, &err) == 0);
     struct rnd_analyze_params ap;

@@ -356,6 +356,19 @@ int scn_lodgen_build_timed(const struct scn_mesh *mesh, const struct scn_lodgen_
     st.target_triangles[0] = t0;
     lodset_bounds(out);
     out->source_hash = scn_mesh_hash(mesh);
+    /* Shading: crease normals at the feature angle on every level, level 0 included (even when the
+     * file had normals), so successive levels differ in geometry and not in how their normals were
+     * made; the decimater keeps those same edges as feature lines. Done last: the errors, bounds and
+     * hash above are of the welded meshes, and splitting only appends copies of existing positions. */
+    double crease_deg = p->feature_angle_deg == 0 ? LODGEN_DEFAULT_FEATURE_DEG
+                        : p->feature_angle_deg < 0 ? 180.0 : p->feature_angle_deg;
+    for (int l = 0; l < out->level_count; ++l) {
+        scn_mesh_crease_normals(&out->levels[l], crease_deg);
+        if (out->levels[l].failed) {
+            scn_lodset_free(out);
+            return hl_fail(err, "lodgen: out of memory (normals)");
+        }
+    }
     snprintf(out->simplifier, sizeof out->simplifier, "%s", scn_simplifier_name(p->simplifier));
     for (int l = 0; l < out->level_count; ++l) {
         out->error_rel[l] = out->error_m[l] / out->radius_m;

@@ -64,7 +64,10 @@ struct scn_lodgen_params {
  * A level the simplifier could not make coarser than the previous one ends the chain there.
  * Bounds: the smaller of Ritter's sphere and the AABB-centred sphere of level 0, grown to hold every
  * level; model coordinates are kept (center_m). freq[k] = {NaN, NaN, R/ε} made strictly decreasing
- * as scene.c does. progress (may be NULL) gets fractions 0…1. out owned by the caller
+ * as scene.c does. Every level's normals (level 0's too, replacing a file's) are crease normals
+ * (scn_mesh_crease_normals) at the feature angle (default 60°; none: 180°), applied after the errors,
+ * bounds and source_hash, which are of the welded meshes; the levels' vertices are split there.
+ * progress (may be NULL) gets fractions 0…1. out owned by the caller
  * (scn_lodset_free); zeroed on failure. */
 int scn_lodgen_build(const struct scn_mesh *mesh, const struct scn_lodgen_params *p, struct scn_lodset *out,
                      struct hl_error *err);

@@ -77,36 +77,6 @@ void scn_mesh_add_triangle(struct scn_mesh *m, uint32_t a, uint32_t b, uint32_t 
     m->indices[m->index_count++] = c;
 }
 
-static hl_vec3d scn_mesh_pos(const struct scn_mesh *m, uint32_t i)
-{
-    const float *p = m->positions + 3 * (size_t)i;
-    return hl_v3(p[0], p[1], p[2]);
-}
-
-void scn_mesh_smooth_normals(struct scn_mesh *m)
-{
-    if (m->failed)
-        return;
-    hl_vec3d *acc = calloc(m->vertex_count ? m->vertex_count : 1, sizeof *acc);
-    if (!acc) {
-        m->failed = 1;
-        return;
-    }
-    for (uint32_t t = 0; t < m->index_count; t += 3) {
-        uint32_t a = m->indices[t], b = m->indices[t + 1], c = m->indices[t + 2];
-        hl_vec3d pa = scn_mesh_pos(m, a);
-        /* The cross product's length is twice the area: area weighting for free. */
-        hl_vec3d n = hl_v3_cross(hl_v3_sub(scn_mesh_pos(m, b), pa), hl_v3_sub(scn_mesh_pos(m, c), pa));
-        acc[a] = hl_v3_add(acc[a], n), acc[b] = hl_v3_add(acc[b], n), acc[c] = hl_v3_add(acc[c], n);
-    }
-    for (uint32_t i = 0; i < m->vertex_count; ++i) {
-        hl_vec3d n = hl_v3_normalize(acc[i]);
-        float *d = m->normals + 3 * (size_t)i;
-        d[0] = (float)n.x, d[1] = (float)n.y, d[2] = (float)n.z;
-    }
-    free(acc);
-}
-
 void scn_mesh_add_box(struct scn_mesh *m, hl_vec3d center, hl_vec3d half, hl_quatd rot)
 {
     /* Per face: normal axis k, tangent axes chosen so (u × v) = n gives CCW seen from outside. */

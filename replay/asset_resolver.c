@@ -8,7 +8,7 @@
 #include "replay/replay.h"
 
 /* Version of the default resolver's chain recipe (scene/scenefile_build.c): bump it when that changes. */
-enum { RPL_CHAIN_RECIPE = 1 };
+enum { RPL_CHAIN_RECIPE = 2 }; /* 2: crease normals on every level */
 
 /* lodcache/mesh-STEM-HASH-rN.lod; −1 when the cache folder cannot be named. */
 static int rpl_chain_path(const char *mesh_path, uint64_t hash, char *dir, size_t dir_size, char *out, size_t size)

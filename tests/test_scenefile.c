@@ -12,16 +12,6 @@
 #include "scene/scene.h"
 #include "test_util.h"
 
-/* LeakSanitizer's hook: OpenMesh 9's multiplex_streambuf::disconnect forgets the target that
- * connect allocated (mostream.hh: erased from the map, never deleted), 16–32 bytes each time the
- * importer quiets OpenMesh's log, and the library does the same inside itself. Only those frames
- * are ignored; a leak of ours is still reported. */
-const char *__lsan_default_suppressions(void);
-const char *__lsan_default_suppressions(void)
-{
-    return "leak:OpenMesh::multiplex_streambuf::connect\nleak:libOpenMeshCore.so\n";
-}
-
 static char tmp_dir[] = "/tmp/hmdlod-test-scenefile-XXXXXX";
 
 static const char *source_path(const char *relative)

@@ -84,7 +84,7 @@ struct rpl_options {
     double rate_hz;          /* 0 → the display's refresh */
     long frames;             /* 0 → the whole trace */
     long capture_every;      /* 0 → no PNG; N → frames 0, N, 2N … */
-    int object_count;        /* field: number of objects */
+    int object_count;        /* field: objects, domes: domes; 0 = the scene's default (100, 10) */
     uint64_t seed;
     double acuity_scale;     /* Reddy §6 s; 1 by default */
     double render_scale;     /* per-eye resolution factor (1 = the display's pixels) */

@@ -15,7 +15,7 @@ void rpl_options_defaults(struct rpl_options *o)
     o->display = "vive";
     o->selector = "reddy";
     o->frequency_reading = "narrow"; /* docs/analysis.md: why narrow */
-    o->object_count = 100;
+    o->object_count = 0; /* each scene's own default: field 100 objects, domes 10 */
     o->seed = 1;
     o->acuity_scale = 1.0;
     o->render_scale = 1.0;

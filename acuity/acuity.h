@@ -1,6 +1,7 @@
 /* acuity: what can be seen. Reddy's visual acuity model (Reddy 1998 eqs. 1–5), per-object viewing
- * geometry batched over plain arrays, and the LOD selectors that use them. Prefix acu_.
- * Knows nothing of OpenGL, files or devices; allocates nothing. Angles in degrees (as the paper). */
+ * geometry batched over plain arrays, and the acuity limit per object (the selectors that use it are
+ * in lod/). Prefix acu_. Knows nothing of OpenGL, files or devices; allocates nothing. Angles in degrees
+ * (as the paper). */
 #ifndef HMDLOD_ACUITY_H
 #define HMDLOD_ACUITY_H
 
@@ -61,32 +62,5 @@ void acu_compute_geometry(const struct acu_viewer *viewer, const double *center_
                           const double *velocity_mps, const uint32_t *index, size_t count,
                           double *eccentricity_deg, double *retinal_velocity_degps,
                           double *angular_diameter_deg);
-
-/* ---- LOD selection ----------------------------------------------------------------------------
- * A chain of LODs, 0 = finest. unique_freq_cpdiam[k] (k ≥ 1) is the highest spatial frequency
- * present in LOD k−1 and lost in LOD k, in cycles per object diameter (Reddy §3.2); it falls as
- * k rises. At run time f[c/deg] = f[cycles/diameter] / angular diameter[deg]. */
-enum { ACU_MAX_LODS = 8 };
-struct acu_chain {
-    int lod_count;
-    double unique_freq_cpdiam[ACU_MAX_LODS];
-};
-
-struct acu_select_stats {
-    uint64_t model_evaluations; /* objects whose H(v,E) was computed */
-    uint64_t model_skips;       /* objects inside the H ≥ ξ region */
-};
-
-/* Reddy's selector: per object the coarsest LOD whose every removed frequency lies above the
- * acuity limit (so nothing the viewer can resolve is dropped). Writes lod_out[k] and, when not
- * NULL, the limit used ceiling_cpd_out[k]. chain_of_object is indexed like the scene (via index). */
-void acu_select_reddy(const struct acu_limits *lim, const struct acu_chain *chains,
-                      const uint32_t *chain_of_object, const uint32_t *index, size_t count,
-                      const double *eccentricity_deg, const double *retinal_velocity_degps,
-                      const double *angular_diameter_deg, uint8_t *lod_out, double *ceiling_cpd_out,
-                      struct acu_select_stats *stats);
-
-/* The `none` baseline: finest LOD for every listed object. */
-void acu_select_finest(size_t count, uint8_t *lod_out);
 
 #endif

@@ -182,7 +182,7 @@ static void rnd_analyze_sphere(const struct scn_lodset *set, double c[3], double
         *radius_m = *reach_m = 1.0;
 }
 
-/* Per-level readings from the views' comparisons, made strictly decreasing (acuity/select.c steps
+/* Per-level readings from the views' comparisons, made strictly decreasing (lod/select.c steps
  * to level l+1 while f[l+1] > limit, so f must fall with l). A level that loses nothing visible gets
  * the largest double below the previous level's value: whenever the selector takes the previous
  * level it takes this one too (after level 0, +∞, that is DBL_MAX). */

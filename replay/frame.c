@@ -86,12 +86,12 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
                          a->eccentricity_deg, a->velocity_degps, a->diameter_deg);
     int64_t t1 = hl_clock_now_ns();
 
-    struct acu_select_stats stats = {0};
+    struct lod_select_stats stats = {0};
     if (s->selector == RPL_SELECT_REDDY)
-        acu_select_reddy(&s->limits, s->chains, s->scene.chain_of_instance, a->visible, n, a->eccentricity_deg,
+        lod_select_reddy(&s->limits, s->chains, s->scene.chain_of_instance, a->visible, n, a->eccentricity_deg,
                          a->velocity_degps, a->diameter_deg, a->lod, a->ceiling_cpd, &stats);
     else
-        acu_select_finest(n, a->lod);
+        lod_select_finest(n, a->lod);
     rec->acuity_evaluations = stats.model_evaluations;
     for (uint32_t k = 0; k < n; ++k) {
         const struct scn_chain *chain = &s->scene.chains[s->scene.chain_of_instance[a->visible[k]]];

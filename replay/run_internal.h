@@ -3,6 +3,7 @@
 #define HMDLOD_REPLAY_RUN_INTERNAL_H
 
 #include "acuity/acuity.h"
+#include "lod/lod.h"
 #include "hmd/hmd.h"
 #include "render/render.h"
 #include "replay/replay.h"
@@ -35,7 +36,7 @@ struct rpl_session {
     struct hmd_eye eyes[2];
     struct acu_limits limits;
     struct scn_scene scene;
-    struct acu_chain *chains;
+    struct lod_chain *chains;
     struct trk_pose_source *source;
     struct rnd_renderer *renderer;
     struct rpl_frame_arrays arrays;

@@ -1,23 +1,23 @@
 /* LOD selectors that need no cost model: `none` (finest) and Reddy's perceptual selector. */
-#include "acuity/acuity.h"
+#include "lod/lod.h"
 
 #include <string.h>
 
-void acu_select_finest(size_t count, uint8_t *lod_out) { memset(lod_out, 0, count); }
+void lod_select_finest(size_t count, uint8_t *lod_out) { memset(lod_out, 0, count); }
 
 /* Reddy 1998 §3.3 online stage: the LOD "whose highest unique spatial frequency lies immediately
  * below the limit of vision". Level k drops the detail of frequencies f_1 … f_k (f falls with k),
  * so level k is safe while its lowest dropped frequency f_k (in c/deg at the object's current
  * angular size) is still above the acuity limit. */
-void acu_select_reddy(const struct acu_limits *lim, const struct acu_chain *chains,
+void lod_select_reddy(const struct acu_limits *lim, const struct lod_chain *chains,
                       const uint32_t *chain_of_object, const uint32_t *index, size_t count,
                       const double *eccentricity_deg, const double *retinal_velocity_degps,
                       const double *angular_diameter_deg, uint8_t *lod_out, double *ceiling_cpd_out,
-                      struct acu_select_stats *stats)
+                      struct lod_select_stats *stats)
 {
     uint64_t evaluations = 0;
     for (size_t k = 0; k < count; ++k) {
-        const struct acu_chain *chain = &chains[chain_of_object[index[k]]];
+        const struct lod_chain *chain = &chains[chain_of_object[index[k]]];
         double limit_cpd = acu_limit_cpd(lim, retinal_velocity_degps[k], eccentricity_deg[k], &evaluations);
         double diameter_deg = angular_diameter_deg[k];
         int lod = 0;

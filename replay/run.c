@@ -195,7 +195,10 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     uint8_t *rgba = NULL;
     int rc = -1;
 
-    if (check_options(o, &s.selector, &s.reading, err) != 0 || make_dirs(o->out_dir, err) != 0 || session_open(&s, o, err) != 0)
+    /* The inputs (trace, scene, display) are opened before the output folder is made, so bad input
+     * leaves no empty folder behind. */
+    if (check_options(o, &s.selector, &s.reading, err) != 0 || session_open(&s, o, err) != 0 ||
+        make_dirs(o->out_dir, err) != 0)
         goto done;
     double rate_hz = o->rate_hz > 0.0 ? o->rate_hz : s.display.refresh_hz;
     long frames = frame_count(o, s.source, rate_hz);

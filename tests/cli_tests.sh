@@ -180,5 +180,10 @@ expect_error "lodgen --group too many triangles" "do not cost less than its chil
 expect_error "lodgen --group unknown group" "no group named 'nosuch'" -- \
   "$bin" lodgen --group domes nosuch --out "$tmp/dome-x.lod"
 
+# Bad input is found before the output folder is made: no empty folder is left behind.
+expect_error "replay missing trace" "nonexistent.csv: cannot open" -- \
+  "$bin" replay --trace "$tmp/nonexistent.csv" --out "$tmp/no-folder"
+[ ! -e "$tmp/no-folder" ] || fail "a replay of a missing trace left its output folder"
+
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

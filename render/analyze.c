@@ -155,13 +155,8 @@ static void rnd_analyze_sphere(const struct scn_lodset *set, double c[3], double
     if (own) {
         memcpy(c, set->center_m, 3 * sizeof *c);
     } else {
-        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-        for (uint32_t v = 0; v < m0->vertex_count; ++v)
-            for (int a = 0; a < 3; ++a) {
-                double x = m0->positions[3 * (size_t)v + a];
-                lo[a] = x < lo[a] ? x : lo[a];
-                hi[a] = x > hi[a] ? x : hi[a];
-            }
+        double lo[3], hi[3];
+        scn_mesh_aabb(m0, lo, hi);
         for (int a = 0; a < 3; ++a)
             c[a] = 0.5 * (lo[a] + hi[a]);
     }

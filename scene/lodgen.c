@@ -148,13 +148,8 @@ static void ritter_sphere(const struct scn_mesh *m, hl_vec3d *center, double *ra
 static void lodset_bounds(struct scn_lodset *set)
 {
     const struct scn_mesh *m0 = &set->levels[0];
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (uint32_t i = 0; i < m0->vertex_count; ++i)
-        for (int k = 0; k < 3; ++k) {
-            double v = m0->positions[3 * (size_t)i + k];
-            lo[k] = v < lo[k] ? v : lo[k];
-            hi[k] = v > hi[k] ? v : hi[k];
-        }
+    double lo[3], hi[3];
+    scn_mesh_aabb(m0, lo, hi);
     memcpy(set->aabb_min_m, lo, sizeof lo);
     memcpy(set->aabb_max_m, hi, sizeof hi);
     hl_vec3d box_c = hl_v3(0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2]));

@@ -21,6 +21,8 @@ uint32_t scn_mesh_add_vertex(struct scn_mesh *m, hl_vec3d p, hl_vec3d n);
 void scn_mesh_add_triangle(struct scn_mesh *m, uint32_t a, uint32_t b, uint32_t c);
 /* Replaces every normal with the area-weighted average of its faces' normals (smooth shading). */
 void scn_mesh_smooth_normals(struct scn_mesh *m);
+/* Axis-aligned bounds of the vertices, metres, in double. An empty mesh gives lo = +inf, hi = −inf. */
+void scn_mesh_aabb(const struct scn_mesh *m, double lo_m[3], double hi_m[3]);
 /* Area-weighted normals, smooth across edges whose dihedral angle is below crease_angle_deg and split
  * across sharper ones and across non-manifold edges: a vertex whose faces form several smooth fans
  * gets one copy per fan (positions duplicated, indices rewritten). Zero-area faces contribute nothing.

@@ -32,6 +32,18 @@ void scn_mesh_free(struct scn_mesh *m)
     *m = (struct scn_mesh){0};
 }
 
+void scn_mesh_aabb(const struct scn_mesh *m, double lo_m[3], double hi_m[3])
+{
+    for (int k = 0; k < 3; ++k)
+        lo_m[k] = INFINITY, hi_m[k] = -INFINITY;
+    for (uint32_t i = 0; i < m->vertex_count; ++i)
+        for (int k = 0; k < 3; ++k) {
+            double v = m->positions[3 * (size_t)i + k];
+            lo_m[k] = v < lo_m[k] ? v : lo_m[k];
+            hi_m[k] = v > hi_m[k] ? v : hi_m[k];
+        }
+}
+
 static int scn_mesh_grow(void **p, uint32_t *cap, uint32_t need, size_t elem)
 {
     if (need <= *cap)

@@ -130,7 +130,7 @@ void scn_mesh_crease_normals(struct scn_mesh *m, double crease_angle_deg)
         if (j - i == 2) {
             uint32_t t1 = he[i].face, t2 = he[i + 1].face;
             hl_vec3d n1 = fn[t1], n2 = fn[t2];
-            double angle_rad = atan2(hl_v3_length(hl_v3_cross(n1, n2)), hl_v3_dot(n1, n2));
+            double angle_rad = hl_v3_angle_rad(n1, n2); /* atan2 form (base/) */
             if (angle_rad < crease_rad) {
                 uint32_t a = (uint32_t)(he[i].key >> 32), b = (uint32_t)he[i].key;
                 uf_union(parent, corner_at(m, t1, a), corner_at(m, t2, a));

@@ -78,16 +78,14 @@ static hl_vec3d tri_normal(const struct scn_mesh *m, uint32_t t)
     return hl_v3_cross(u, v);
 }
 
-/* Over interior edges with exactly two faces: total length of edges sharper than sharp_deg, and the
- * number of folds (faces more than fold_deg apart: one turned over onto the other). */
-static void edge_stats(const struct scn_mesh *m, double sharp_deg, double fold_deg, double *sharp_len_m,
-                       long *folds)
+/* Every triangle's three undirected edges, sorted by key (low << 32 | high vertex), then triangle:
+ * n = index_count entries, caller frees; NULL when out of memory. */
+static struct edge_ref *sorted_edges(const struct scn_mesh *m)
 {
     size_t n = m->index_count;
     struct edge_ref *e = malloc((n + 1) * sizeof *e);
-    *sharp_len_m = 0, *folds = 0;
     if (!e)
-        return;
+        return NULL;
     for (size_t t = 0; t < n; t += 3)
         for (int k = 0; k < 3; ++k) {
             uint32_t a = m->indices[t + k], b = m->indices[t + (k + 1) % 3];
@@ -95,6 +93,19 @@ static void edge_stats(const struct scn_mesh *m, double sharp_deg, double fold_d
             e[t + k].tri = (uint32_t)(t / 3);
         }
     qsort(e, n, sizeof *e, cmp_edge);
+    return e;
+}
+
+/* Over interior edges with exactly two faces: total length of edges sharper than sharp_deg, and the
+ * number of folds (faces more than fold_deg apart: one turned over onto the other). */
+static void edge_stats(const struct scn_mesh *m, double sharp_deg, double fold_deg, double *sharp_len_m,
+                       long *folds)
+{
+    size_t n = m->index_count;
+    struct edge_ref *e = sorted_edges(m);
+    *sharp_len_m = 0, *folds = 0;
+    if (!e)
+        return;
     for (size_t i = 0; i < n;) {
         size_t j = i;
         while (j < n && e[j].key == e[i].key)
@@ -120,7 +131,7 @@ struct seg {
 static struct seg *sharp_segments(const struct scn_mesh *m, double sharp_deg, size_t *count)
 {
     size_t n = m->index_count, c = 0;
-    struct edge_ref *e = malloc((n + 1) * sizeof *e);
+    struct edge_ref *e = sorted_edges(m);
     struct seg *out = malloc((n + 1) * sizeof *out);
     if (!e || !out) {
         free(e);
@@ -128,13 +139,6 @@ static struct seg *sharp_segments(const struct scn_mesh *m, double sharp_deg, si
         *count = 0;
         return NULL;
     }
-    for (size_t t = 0; t < n; t += 3)
-        for (int k = 0; k < 3; ++k) {
-            uint32_t a = m->indices[t + k], b = m->indices[t + (k + 1) % 3];
-            e[t + k].key = a < b ? ((uint64_t)a << 32 | b) : ((uint64_t)b << 32 | a);
-            e[t + k].tri = (uint32_t)(t / 3);
-        }
-    qsort(e, n, sizeof *e, cmp_edge);
     for (size_t i = 0; i < n;) {
         size_t j = i;
         while (j < n && e[j].key == e[i].key)
@@ -549,20 +553,13 @@ static void test_boundary_kept(void)
     if (import_shared("stanford-bunny.obj", &m, &r) != 0)
         return;
     size_t n = m.index_count;
-    struct edge_ref *e = malloc((n + 1) * sizeof *e);
+    struct edge_ref *e = sorted_edges(&m);
     uint8_t *rim = calloc(m.vertex_count + 1, 1);
     CHECK(e && rim);
     if (!e || !rim) {
         free(e), free(rim), scn_mesh_free(&m);
         return;
     }
-    for (size_t t = 0; t < n; t += 3)
-        for (int k = 0; k < 3; ++k) {
-            uint32_t a = m.indices[t + k], b = m.indices[t + (k + 1) % 3];
-            e[t + k].key = a < b ? ((uint64_t)a << 32 | b) : ((uint64_t)b << 32 | a);
-            e[t + k].tri = (uint32_t)(t / 3);
-        }
-    qsort(e, n, sizeof *e, cmp_edge);
     uint32_t rim_count = 0;
     for (size_t i = 0; i < n;) {
         size_t j = i;

@@ -10,7 +10,8 @@
 /* Version of the default resolver's chain recipe (scene/scenefile_build.c): bump it when that changes. */
 enum { RPL_CHAIN_RECIPE = 2 }; /* 2: crease normals on every level */
 
-/* lodcache/mesh-STEM-HASH-rN.lod; −1 when the cache folder cannot be named. */
+/* lodcache/mesh-STEM-HASH-rN.lod, STEM the mesh file's name up to its first '.'; −1 when the cache
+ * folder cannot be named. */
 static int rpl_chain_path(const char *mesh_path, uint64_t hash, char *dir, size_t dir_size, char *out, size_t size)
 {
     struct hl_error err;
@@ -18,18 +19,10 @@ static int rpl_chain_path(const char *mesh_path, uint64_t hash, char *dir, size_
         return -1;
     const char *base = strrchr(mesh_path, '/');
     base = base ? base + 1 : mesh_path;
-    char stem[64];
-    size_t n = 0;
-    for (; base[n] && base[n] != '.' && n + 1 < sizeof stem; ++n) {
-        char c = base[n];
-        int plain = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
-        stem[n] = plain ? c : '_';
-    }
-    stem[n] = '\0';
-    return snprintf(out, size, "%s/mesh-%s-%016llx-r%d.lod", dir, stem, (unsigned long long)hash, RPL_CHAIN_RECIPE) <
-                   (int)size
-               ? 0
-               : -1;
+    char label[64], suffix[16];
+    snprintf(label, sizeof label, "mesh-%.*s", (int)strcspn(base, "."), base);
+    snprintf(suffix, sizeof suffix, "-r%d.lod", RPL_CHAIN_RECIPE);
+    return rpl_cache_file(out, size, dir, label, hash, suffix);
 }
 
 static int rpl_chain_load(void *user, const char *path, uint64_t hash, struct scn_lodset *out)

@@ -121,9 +121,19 @@ static uint64_t rpl_cache_key(const struct scn_lodset *set, const struct rnd_ana
     return h;
 }
 
-static int rpl_cache_path(char *out, size_t size, const char *dir, const char *chain, uint64_t key)
+int rpl_cache_file(char *out, size_t size, const char *dir, const char *label, uint64_t key, const char *suffix)
 {
-    return snprintf(out, size, "%s/%s-%016llx.freq", dir, chain, (unsigned long long)key) < (int)size ? 0 : -1;
+    /* A label is a chain's or a file's name: anything but letters, digits, '-' and '_' (a '/' in a
+     * scene file's mesh name, say) becomes '_', so the file stays inside the cache folder. */
+    char plain[64];
+    size_t n = 0;
+    for (; label[n] && n + 1 < sizeof plain; ++n) {
+        char c = label[n];
+        int ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
+        plain[n] = ok ? c : '_';
+    }
+    plain[n] = '\0';
+    return snprintf(out, size, "%s/%s-%016llx%s", dir, plain, (unsigned long long)key, suffix) < (int)size ? 0 : -1;
 }
 
 /* Format (docs/analysis.md): "hmdlod-freq 1", "key HEX", "views N size_px N levels N", one
@@ -279,7 +289,7 @@ static int rpl_measure(struct scn_lodset *set, const char *name, const struct rn
     double narrow[SCN_LODSET_MAX_LEVELS], longr[SCN_LODSET_MAX_LEVELS];
     int cached = 1;
     const char *why = "";
-    if (have_dir && rpl_cache_path(path, sizeof path, dir, name, key) == 0) {
+    if (have_dir && rpl_cache_file(path, sizeof path, dir, name, key, ".freq") == 0) {
         cached = rpl_cache_read(path, key, set, p, narrow, longr, &why);
         if (cached < 0)
             fprintf(stderr, "hmdlod: note: analysis cache %s is corrupt (%s); analysing %s again\n", path, why, name);

@@ -24,6 +24,9 @@ void rpl_assets_params(struct rnd_analyze_params *p);
 int rpl_cache_dir(char *out, size_t size, struct hl_error *err);
 /* Creates the cache folder and its parents if missing; 0 when it exists afterwards, else −1 (errno). */
 int rpl_cache_make_dir(const char *dir);
+/* DIR/LABEL-KEY(16 hex digits)SUFFIX, with LABEL reduced to letters, digits, '-' and '_' (at most 63);
+ * −1 if it does not fit in size. */
+int rpl_cache_file(char *out, size_t size, const char *dir, const char *label, uint64_t key, const char *suffix);
 
 /* The resolver replays give scene files: scene/'s default with a chain store in the cache, so a
  * mesh file's chain is kept as a .lod named after the file and keyed by scn_mesh_hash of the

@@ -1,7 +1,9 @@
-/* lod: which representation each object gets — the selectors (none, reddy; static, feedback and the
- * cost-bounded optimizers to come). Prefix lod_. Pure arrays in and out: no GL, no files, no
- * allocation; the acuity limits come from acuity/. Together with acuity/ it is the part an engine
- * embeds. */
+/* lod: which representation each object gets — selectors without a cost model (none, reddy, static,
+ * feedback) and the cost-bounded optimizers (fs, mb) with their time limit, the reference solvers
+ * (exact, LP bound), benefit and the cost model's arithmetic. Prefix lod_. Pure arrays in and out:
+ * no GL, no files, no allocation (scratch memory is the caller's, sized by lod_scratch_bytes). The
+ * acuity limits come from acuity/. Together with acuity/ it is the part an engine embeds.
+ * PAPERS.md §2 (Funkhouser & Séquin 1993), §3 (Mason & Blake 1997), §4 (Nirenstein et al. 2002). */
 #ifndef HMDLOD_LOD_H
 #define HMDLOD_LOD_H
 
@@ -27,7 +29,8 @@ struct lod_select_stats {
  * acuity limit (so nothing the viewer can resolve is dropped). Inputs are the visible objects'
  * arrays, position-ordered (count entries; index[k] is the scene object, chain_of_object is indexed
  * by it). Writes lod_out[k] and, when not NULL, the limit used ceiling_cpd_out[k] (c/deg); adds to
- * *stats when not NULL. O(count · levels), no allocation. */
+ * *stats when not NULL. O(count · levels), no allocation. With a cost-bounded optimizer this level
+ * is the perceptual ceiling: detail finer than it earns nothing (lod_benefit_fill). */
 void lod_select_reddy(const struct acu_limits *lim, const struct lod_chain *chains,
                       const uint32_t *chain_of_object, const uint32_t *index, size_t count,
                       const double *eccentricity_deg, const double *retinal_velocity_degps,
@@ -36,5 +39,150 @@ void lod_select_reddy(const struct acu_limits *lim, const struct lod_chain *chai
 
 /* The `none` baseline: finest LOD for every listed object. */
 void lod_select_finest(size_t count, uint8_t *lod_out);
+
+/* Funkhouser & Séquin §7 "Static": per object the finest LOD whose average triangle covers at least
+ * min_px_per_triangle pixels (pixels_px[k] / triangles of the level), else the coarsest.
+ * triangles[c·LOD_MAX_LEVELS + l] is chain c's level-l triangle count, lod_count[c] its levels.
+ * O(count · levels). */
+void lod_select_static(double min_px_per_triangle, const uint32_t *triangles, const uint8_t *lod_count,
+                       const uint32_t *chain_of_object, const uint32_t *index, size_t count,
+                       const double *pixels_px, uint8_t *lod_out);
+
+/* Funkhouser & Séquin §7 "Feedback", shaped like the adaptive quality of shipping VR runtimes
+ * (PAPERS.md §5): the static selector's threshold adapted from the measured frame times. Over 0.9
+ * of the budget it drops two quality steps at once (or when the last two frames' trend predicts
+ * crossing it), over 0.85 for three frames one step; under 0.7 it climbs one step after 6 frames
+ * and two after 12. One step scales the threshold by 1.15 (≈ ±15 % triangles). */
+struct lod_feedback {
+    double min_px_per_triangle;         /* current threshold, for lod_select_static */
+    double lowest_px, highest_px;       /* clamp of the threshold */
+    double last_ms;                     /* previous measured frame, 0 before the first */
+    int frames_high, frames_cheap;      /* consecutive frames over 0.85 / under 0.7 of the budget */
+};
+void lod_feedback_init(struct lod_feedback *f, double start_px_per_triangle);
+void lod_feedback_update(struct lod_feedback *f, double measured_ms, double budget_ms);
+
+/* ---- the cost model's arithmetic (the coefficients are measured by render/, `hmdlod calibrate`) --
+ * Funkhouser & Séquin §4 and an additive form, per object and eye pair, in milliseconds:
+ *   LOD_COST_MAX:      max(c1·triangles + c2·vertices, c3·pixels) + c4·draws
+ *   LOD_COST_ADDITIVE: c1·triangles + c2·vertices + c3·pixels + c4·draws
+ * and a frame costs c0 + Σ objects. triangles, vertices, draws count both eyes' work; pixels is the
+ * object's projected coverage summed over both eyes (acu_compute_pixels). Coefficients ≥ 0. */
+enum lod_cost_form { LOD_COST_MAX = 0, LOD_COST_ADDITIVE = 1 };
+struct lod_cost_model {
+    enum lod_cost_form form;
+    double c0_ms;              /* per frame: clear, state, finish */
+    double c1_ms_per_triangle;
+    double c2_ms_per_vertex;
+    double c3_ms_per_pixel;
+    double c4_ms_per_draw;
+};
+double lod_cost_object_ms(const struct lod_cost_model *m, double triangles, double vertices, double pixels,
+                          double draws);
+
+/* Online correction from measured frame times: a smoothed ratio measured / predicted (exponential,
+ * weight `alpha` per frame, clamped to [0.25, 4]) that divides the budget handed to the optimizer,
+ * so a model that under-predicts on this machine stops breaking the budget after a few frames. */
+struct lod_cost_correction {
+    double ratio; /* start at 1 */
+    double alpha; /* (0, 1]; 0.1 by default */
+};
+void lod_cost_correction_init(struct lod_cost_correction *c, double alpha);
+/* Ignores non-finite or non-positive inputs (a frame with nothing predicted says nothing). */
+void lod_cost_correction_update(struct lod_cost_correction *c, double measured_ms, double predicted_ms);
+double lod_cost_correction_budget_ms(const struct lod_cost_correction *c, double budget_ms);
+
+/* ---- one frame's candidates ---------------------------------------------------------------------
+ * Object i (0 … object_count−1) owns candidates first[i] … first[i]+count[i]−1 of the candidate
+ * arrays, cheapest first: candidate 0 is its coarsest representation (or the null one, LOD_DROP,
+ * where the scene allows drawing nothing). level[c] is the scene LOD a candidate draws (0 = finest,
+ * LOD_DROP = nothing). object_id[i] is a stable id (the scene instance): every tie is broken by it,
+ * then by candidate, never by memory order. cost_ms excludes the frame's c0, which the caller
+ * takes off the budget. */
+enum { LOD_DROP = 255,       /* level: draw nothing (null impostor) */
+       LOD_UNSEEN = 254,     /* previous level of an object that was not drawn last frame */
+       LOD_DROPPED = 255 };  /* choice: dropped because even the cheapest candidates cannot fit */
+struct lod_problem {
+    size_t object_count;
+    const uint32_t *object_id;
+    const uint32_t *first;
+    const uint8_t *count;     /* ≥ 1 after lod_hull_reduce, except objects with no valid candidate */
+    const double *cost_ms;    /* per candidate, finite, ≥ 0 */
+    const double *benefit;    /* per candidate, finite, ≥ 0 */
+    const uint8_t *level;     /* per candidate */
+    double budget_ms;         /* for Σ cost_ms of the chosen candidates */
+};
+
+/* Funkhouser & Séquin §5 with Reddy's ceiling in place of Focus and Motion:
+ *   benefit = size_px · importance · (1 − base_error / samples^m) · hysteresis
+ * where samples = min(samples of the level, size_px) (at least 1), hysteresis =
+ * max(0, 1 − hysteresis_per_level · |level − previous level|) (1 for an unseen object), and every
+ * level finer than the object's ceiling level earns exactly what the ceiling level earns — detail
+ * beyond what the viewer can resolve is worth nothing, so lod_hull_reduce removes it. LOD_DROP earns
+ * 0. samples[c] per candidate (vertices for Gouraud, m = 2; triangles for flat, m = 1);
+ * importance NULL = all 1; ceiling_level and previous_level per object. Writes benefit[c]. */
+struct lod_benefit_params {
+    double base_error;          /* 0.5 (Funkhouser) */
+    double exponent_m;          /* 2: Gouraud shading, samples = vertices */
+    double hysteresis_per_level; /* 0.05 */
+};
+void lod_benefit_params_default(struct lod_benefit_params *p);
+void lod_benefit_fill(const struct lod_benefit_params *p, size_t object_count, const uint32_t *first,
+                      const uint8_t *count, const uint8_t *level, const uint32_t *samples,
+                      const double *size_px, const double *importance, const uint8_t *ceiling_level,
+                      const uint8_t *previous_level, double *benefit);
+
+/* Reduces each object's candidates in place to the upper convex hull of (cost, benefit) from its
+ * cheapest one, so benefit rises strictly with cost and the value Δbenefit/Δcost of each step up
+ * falls (the diminishing returns the greedy, fs and mb rely on). Dropped: candidates with a
+ * non-finite or negative cost or benefit (counted in the return value), candidates that cost at
+ * least as much as a cheaper one and earn no more (ties: the cheaper, then the coarser, stays), and
+ * candidates under the hull — a level worth less per millisecond than the step past it, which the
+ * greedy would never stop at. An object left with no candidate gets count 0 (the optimizers mark it
+ * LOD_DROPPED). Candidates of one object must be at most LOD_MAX_LEVELS + 1. O(candidates). */
+size_t lod_hull_reduce(size_t object_count, const uint32_t *first, uint8_t *count, double *cost_ms,
+                       double *benefit, uint8_t *level);
+
+/* ---- cost-bounded optimizers ---------------------------------------------------------------------
+ * Every optimizer writes choice[i], a candidate index of object i or LOD_DROPPED, and fills a
+ * result. Predicted cost ≤ budget always; when even every object's candidate 0 does not fit, objects
+ * are dropped, lowest benefit per cost of candidate 0 first (ties by object_id), and over_budget is
+ * set. lod_level_of_choice maps choices to scene levels for drawing. */
+struct lod_result {
+    double cost_ms, benefit;  /* Σ over the chosen candidates */
+    uint32_t iterations;      /* increments + decrements (fs), steps taken (greedy) */
+    uint32_t dropped;         /* objects marked LOD_DROPPED */
+    int over_budget;          /* 1: the cheapest candidates alone exceeded the budget */
+    int truncated;            /* 1: stopped at the time limit (the choice is still feasible) */
+    int single_item;          /* 1: the best single upgrade beat the greedy (the ½-optimal guard) */
+    double elapsed_us;
+};
+/* Scratch bytes the optimizers need for up to max_objects objects and max_candidates candidates. */
+size_t lod_scratch_bytes(size_t max_objects, size_t max_candidates);
+void lod_level_of_choice(const struct lod_problem *p, const uint8_t *choice, uint8_t *level_out);
+
+/* From-scratch greedy (Funkhouser & Séquin §6 with Mason & Blake's guard, §3): every object at its
+ * candidate 0, then the steps up in falling value, stopping at the first that does not fit, then
+ * compared with the single best upgrade. ≥ ½ of the optimum. O(n log n) in the steps. The reference
+ * the incremental optimizer must equal. */
+void lod_optimize_greedy(const struct lod_problem *p, void *scratch, uint8_t *choice, struct lod_result *r);
+
+/* Funkhouser & Séquin's incremental optimizer (§6), time-limited as Nirenstein et al. §5.5: starts
+ * from choice[] as given (last frame's, mapped by lod_choice_start), raises the object with the
+ * highest value of its next step, lowers those with the lowest value of their current step until it
+ * fits, and stops when one object goes up and down in the same iteration or nothing can rise. Every
+ * iteration ends feasible, so time_limit_us (0 = none) may stop it anywhere. Equals
+ * lod_optimize_greedy when it runs to the end. O(n) to set up plus O(log n) per iteration. */
+void lod_optimize_fs(const struct lod_problem *p, double time_limit_us, void *scratch, uint8_t *choice,
+                     struct lod_result *r);
+
+/* Starting choice for lod_optimize_fs: per object the candidate drawing previous_level[i] (the
+ * level it had last frame), or the nearest coarser one; candidate 0 for LOD_UNSEEN. */
+void lod_choice_start(const struct lod_problem *p, const uint8_t *previous_level, uint8_t *choice);
+
+/* ---- reference solvers, for measurement only (lod/reference.c) ---------------------------------- */
+/* The LP relaxation's optimum, an upper bound on any choice's benefit: the greedy's steps over the
+ * hull with the first that does not fit taken fractionally. Needs hull-reduced candidates. */
+double lod_lp_bound(const struct lod_problem *p, void *scratch);
 
 #endif

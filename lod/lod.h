@@ -81,8 +81,9 @@ double lod_cost_object_ms(const struct lod_cost_model *m, double triangles, doub
                           double draws);
 
 /* Online correction from measured frame times: a smoothed ratio measured / predicted (exponential,
- * weight `alpha` per frame, clamped to [0.25, 4]) that divides the budget handed to the optimizer,
- * so a model that under-predicts on this machine stops breaking the budget after a few frames. */
+ * weight `alpha` per frame, clamped to [0.25, 4]) that divides the budget handed to the optimizer
+ * when it is above 1, so a model that under-predicts on this machine stops breaking the budget
+ * after a few frames. It never loosens the budget: predicted cost stays within it. */
 struct lod_cost_correction {
     double ratio; /* start at 1 */
     double alpha; /* (0, 1]; 0.1 by default */
@@ -135,13 +136,16 @@ void lod_benefit_fill(const struct lod_benefit_params *p, size_t object_count, c
 /* Reduces each object's candidates in place to the upper convex hull of (cost, benefit) from its
  * cheapest one, so benefit rises strictly with cost and the value Δbenefit/Δcost of each step up
  * falls (the diminishing returns the greedy, fs and mb rely on). Dropped: candidates with a
- * non-finite or negative cost or benefit (counted in the return value), candidates that cost at
- * least as much as a cheaper one and earn no more (ties: the cheaper, then the coarser, stays), and
- * candidates under the hull — a level worth less per millisecond than the step past it, which the
- * greedy would never stop at. An object left with no candidate gets count 0 (the optimizers mark it
- * LOD_DROPPED). Candidates of one object must be at most LOD_MAX_LEVELS + 1. O(candidates). */
+ * non-finite or negative cost or benefit (counted in the return value); with a finite budget_ms,
+ * candidates that cannot fit even with every other object at its cheapest (the hull is then taken
+ * over those that can, so no fitting level hides under one that never fits); candidates that cost
+ * at least as much as a cheaper one and earn no more (ties: the cheaper, then the coarser, stays);
+ * and candidates under the hull — a level worth less per millisecond than the step past it, which
+ * the greedy would never stop at. An object left with no candidate gets count 0 (the optimizers
+ * mark it LOD_DROPPED). Candidates of one object must be at most LOD_MAX_LEVELS + 1. scratch holds
+ * object_count int64 (unused when budget_ms is +INFINITY: no budget cap). O(candidates). */
 size_t lod_hull_reduce(size_t object_count, const uint32_t *first, uint8_t *count, double *cost_ms,
-                       double *benefit, uint8_t *level);
+                       double *benefit, uint8_t *level, double budget_ms, int64_t *scratch);
 
 /* ---- cost-bounded optimizers ---------------------------------------------------------------------
  * Every optimizer writes choice[i], a candidate index of object i or LOD_DROPPED, and fills a

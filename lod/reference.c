@@ -122,10 +122,11 @@ static uint64_t value_key(double value)
     return key;
 }
 
-/* Radix selection over the steps' value keys instead of a sort: 8 passes of one byte each, from the
- * most significant, find the value λ at which the steps' cumulative cost (in falling value) first
- * exceeds the remaining budget. This needs no memory beyond 256 buckets on the stack, so the bound
- * works with any scratch (or none) and on any number of objects, in O(8 · Σ k²) for k candidates
+/* Radix selection over the steps' value keys instead of a sort: up to 8 passes of one byte each, from
+ * the most significant, find the value λ at which the steps' cumulative cost (in falling value)
+ * first exceeds the remaining budget. A pass whose chosen bucket holds a single value ends it (3
+ * passes on distinct random values; values that differ only in their last bits need all 8). This needs no memory beyond 256 buckets on the stack, so the bound
+ * works with any scratch (or none) and on any number of objects, in O(passes · Σ k²) for k candidates
  * per object. Ties between steps of equal value need no order: whichever is split, the LP earns λ
  * per millisecond of what is left. */
 double lod_lp_bound(const struct lod_problem *p, void *scratch)
@@ -156,6 +157,7 @@ double lod_lp_bound(const struct lod_problem *p, void *scratch)
     for (int pass = 0; pass < 8; ++pass) {
         int shift = 56 - 8 * pass;
         double bucket_cost[256] = {0}, bucket_benefit[256] = {0};
+        double bucket_lo[256], bucket_hi[256]; /* value range: one value left ends the search */
         uint32_t bucket_steps[256] = {0};
         for (size_t i = 0; i < p->object_count; ++i) {
             struct env_point cur;
@@ -163,13 +165,17 @@ double lod_lp_bound(const struct lod_problem *p, void *scratch)
                 continue;
             double dc, db;
             while (envelope_next(p, i, &cur, &dc, &db)) {
-                uint64_t key = value_key(db / dc);
+                double value = db / dc;
+                uint64_t key = value_key(value);
                 if (pass > 0 && (key >> (shift + 8)) != (prefix >> (shift + 8)))
                     continue;
                 unsigned b = (unsigned)((key >> shift) & 0xffu);
                 bucket_cost[b] += dc;
                 bucket_benefit[b] += db;
-                bucket_steps[b]++;
+                if (bucket_steps[b]++ == 0)
+                    bucket_lo[b] = bucket_hi[b] = value;
+                bucket_lo[b] = fmin(bucket_lo[b], value);
+                bucket_hi[b] = fmax(bucket_hi[b], value);
                 if (pass == 0) {
                     total_cost_ms += dc;
                     total_benefit += db;
@@ -189,15 +195,21 @@ double lod_lp_bound(const struct lod_problem *p, void *scratch)
         /* From the highest byte down: the first bucket that crosses the budget holds λ. A later pass
          * re-sums a bucket in another order, so rounding may make none cross; then the lowest
          * non-empty one is taken, which the previous pass said crosses. */
+        int chosen = lowest;
         for (int b = 255; b >= lowest; --b) {
             if (!bucket_steps[b])
                 continue;
             if (b == lowest || above_cost_ms + bucket_cost[b] > remaining_ms) {
-                prefix |= (uint64_t)b << shift;
+                chosen = b;
                 break;
             }
             above_cost_ms += bucket_cost[b];
             above_benefit += bucket_benefit[b];
+        }
+        prefix |= (uint64_t)chosen << shift;
+        if (bucket_lo[chosen] == bucket_hi[chosen]) { /* one value (usually one step) left: λ */
+            prefix = value_key(bucket_lo[chosen]);
+            break;
         }
     }
     double lambda;

@@ -89,6 +89,11 @@ static struct lod_problem problem(const struct inst *in)
     return p;
 }
 
+static size_t reduce(struct inst *in)
+{
+    return lod_hull_reduce(in->n, in->first, in->count, in->cost_ms, in->benefit, in->level);
+}
+
 static double cheapest_sum_ms(const struct inst *in)
 {
     double s = 0.0;
@@ -341,6 +346,66 @@ static void test_lp_bound_cases(void)
     inst_free(&in);
 }
 
+/* The LP bound as the brief of the relaxation reads, on a hull-reduced problem: every candidate 0,
+ * then all steps sorted by falling value, the first that does not fit taken fractionally. */
+struct lp_step {
+    double value, dcost_ms, dbenefit;
+};
+static int lp_step_desc(const void *a, const void *b)
+{
+    const struct lp_step *x = a, *y = b;
+    return (x->value < y->value) - (x->value > y->value);
+}
+static double lp_by_sort(const struct inst *in)
+{
+    struct lp_step *steps = malloc((in->cap + 1) * sizeof *steps);
+    size_t n = 0;
+    double cost_ms = 0.0, benefit = 0.0;
+    for (size_t i = 0; i < in->n; ++i) {
+        if (!in->count[i])
+            continue;
+        cost_ms += in->cost_ms[in->first[i]];
+        benefit += in->benefit[in->first[i]];
+        for (uint32_t k = 1; k < in->count[i]; ++k) {
+            uint32_t c = in->first[i] + k;
+            double dc = in->cost_ms[c] - in->cost_ms[c - 1], db = in->benefit[c] - in->benefit[c - 1];
+            steps[n++] = (struct lp_step){db / dc, dc, db};
+        }
+    }
+    qsort(steps, n, sizeof *steps, lp_step_desc);
+    double left_ms = in->budget_ms - cost_ms;
+    for (size_t k = 0; k < n && left_ms > 0.0; ++k) {
+        double take = fmin(1.0, left_ms / steps[k].dcost_ms);
+        benefit += take * steps[k].dbenefit;
+        left_ms -= take * steps[k].dcost_ms;
+    }
+    free(steps);
+    return benefit;
+}
+
+/* Large instances (where the radix passes split many buckets and values tie across objects):
+ * the bound equals the sorted relaxation on the reduced problem and bounds the greedy. */
+static void test_lp_bound_large(void)
+{
+    rng_state = 616;
+    for (int t = 0; t < 20; ++t) {
+        size_t n = (size_t)rng_int(500, 3000);
+        struct inst in = inst_random(n, 5, t % 2 ? 1.0 : 0.013, 1, 0);
+        reduce(&in);
+        struct lod_problem p = problem(&in);
+        double lp = lod_lp_bound(&p, NULL), want = lp_by_sort(&in);
+        CHECK_NEAR(lp, want, 1e-9 * fmax(1.0, want));
+        uint8_t *choice = malloc(n);
+        struct lod_result r;
+        void *scratch = malloc(lod_scratch_bytes(n, in.cap + 1));
+        lod_optimize_greedy(&p, scratch, choice, &r);
+        CHECK(r.benefit <= lp + rel_tol(lp));
+        free(scratch);
+        free(choice);
+        inst_free(&in);
+    }
+}
+
 /* ---- glpsol ------------------------------------------------------------------------------------- */
 
 static int find_glpsol(char *path, size_t size)
@@ -482,11 +547,6 @@ static int test_against_glpsol(void)
 }
 
 /* ---- the optimizers' guarantees (lod_hull_reduce, lod_optimize_greedy, lod_optimize_fs) -------- */
-
-static size_t reduce(struct inst *in)
-{
-    return lod_hull_reduce(in->n, in->first, in->count, in->cost_ms, in->benefit, in->level);
-}
 
 /* The greedy (time_limit_us < 0) or fs from `start` (NULL: all candidate 0). */
 static void optimize(const struct inst *in, int use_fs, double time_limit_us, const uint8_t *start,
@@ -720,6 +780,7 @@ static void test_over_budget(void)
     optimize(&in, 0, -1, NULL, choice, &r);
     check_outcome(&in, choice, &r);
     CHECK(r.over_budget == 1 && r.dropped == 1 && choice[1] == LOD_DROPPED && choice[3] == 0);
+    /* Dropping the two at 1 per ms leaves 2 + 2 = 4 ms: an exact fit, which fits. */
     in.budget_ms = 4.0;
     optimize(&in, 0, -1, NULL, choice, &r);
     check_outcome(&in, choice, &r);
@@ -991,6 +1052,7 @@ int main(int argc, char **argv)
     test_exact_errors();
     test_lp_bound_cases();
     test_hull_reduce();
+    test_lp_bound_large();
     test_greedy_and_fs_random();
     test_counterexample();
     test_over_budget();

@@ -20,14 +20,35 @@ static int cand_before(const struct cand *a, const struct cand *b)
     return a->level > b->level;
 }
 
+/* The common case costs one pass: candidates already cheapest first, finite, rising in cost and
+ * benefit, with falling step values — nothing to remove. */
+static int already_hull(uint32_t base, uint8_t n, const double *cost, const double *benefit)
+{
+    if (n == 0 || n > LOD_MAX_LEVELS + 1 || !(cost[base] >= 0.0) || !(benefit[base] >= 0.0) ||
+        !isfinite(cost[base]) || !isfinite(benefit[base]))
+        return 0;
+    double last_value = INFINITY;
+    for (uint32_t k = base + 1; k < base + n; ++k) {
+        if (!(cost[k] > cost[k - 1]) || !(benefit[k] > benefit[k - 1]) || !isfinite(cost[k]) || !isfinite(benefit[k]))
+            return 0;
+        double v = lod_step_value(cost[k - 1], benefit[k - 1], cost[k], benefit[k]);
+        if (!(v < last_value))
+            return 0;
+        last_value = v;
+    }
+    return 1;
+}
+
 size_t lod_hull_reduce(size_t object_count, const uint32_t *first, uint8_t *count, double *cost_ms,
                        double *benefit, uint8_t *level)
 {
     size_t rejected = 0;
     for (size_t i = 0; i < object_count; ++i) {
+        uint32_t base = first[i];
+        if (already_hull(base, count[i], cost_ms, benefit))
+            continue;
         struct cand c[LOD_MAX_LEVELS + 1];
         int n = 0;
-        uint32_t base = first[i];
         for (uint32_t k = base; k < base + count[i] && n < LOD_MAX_LEVELS + 1; ++k) {
             if (!isfinite(cost_ms[k]) || !isfinite(benefit[k]) || cost_ms[k] < 0.0 || benefit[k] < 0.0) {
                 ++rejected;

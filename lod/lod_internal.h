@@ -54,6 +54,12 @@ int64_t lod_drop_to_fit(const struct lod_problem *p, int64_t total, int64_t budg
  * benefit; switches the choice to it when it is worth more. Returns 1 when it switched. */
 int lod_guard_single_item(const struct lod_problem *p, int64_t budget, uint8_t *choice, double *benefit_inout,
                           int64_t *total_inout);
+/* The guard's cheap pre-check: no single upgrade can beat `benefit` when even the largest rise of
+ * any one object over all-candidate-0 does not (with a margin for the sums' rounding). */
+static inline int lod_guard_may_switch(double base_benefit, double max_gain, double benefit)
+{
+    return base_benefit + max_gain > benefit - 1e-9 * fabs(benefit);
+}
 /* Σ benefit and Σ units of a choice, in object order. */
 double lod_choice_benefit(const struct lod_problem *p, const uint8_t *choice);
 

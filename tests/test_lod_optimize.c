@@ -657,7 +657,8 @@ static void test_greedy_and_fs_random(void)
             optimize(&in, 1, 0.0, start, fs_choice, &rf);
             check_outcome(&in, fs_choice, &rf);
             CHECK(memcmp(fs_choice, choice, in.n) == 0);
-            CHECK(rf.benefit == r.benefit && rf.truncated == 0);
+            CHECK_NEAR(rf.benefit, r.benefit, rel_tol(r.benefit));
+            CHECK(rf.truncated == 0);
             ++fs_starts;
         }
         inst_free(&in);
@@ -861,8 +862,9 @@ static void test_determinism(void)
 static void test_fs_previous_frame(void)
 {
     rng_state = 808;
+    int printed_fs = 0;
     for (int t = 0; t < 100; ++t) {
-        size_t n = (size_t)rng_int(5, 60);
+        size_t n = t % 10 == 9 ? 2000 : (size_t)rng_int(5, 60); /* some at scale: fs filters its heaps */
         struct inst a = inst_random(n, 5, 1.0, 0, 0);
         struct inst b = inst_copy(&a);
         for (size_t c = 0; c < b.cap; ++c)
@@ -870,7 +872,7 @@ static void test_fs_previous_frame(void)
         b.budget_ms = a.budget_ms * (0.9 + 0.2 * rng_unit());
         reduce(&a);
         reduce(&b);
-        uint8_t ca[64], levels[64], start[64], cf[64], cg[64];
+        uint8_t *ca = malloc(n), *levels = malloc(n), *start = malloc(n), *cf = malloc(n), *cg = malloc(n);
         struct lod_result ra, rf, rg;
         optimize(&a, 0, -1, NULL, ca, &ra);
         struct lod_problem pa = problem(&a), pb = problem(&b);
@@ -885,7 +887,22 @@ static void test_fs_previous_frame(void)
         optimize(&b, 1, 0.0, start, cf, &rf);
         optimize(&b, 0, -1, NULL, cg, &rg);
         check_outcome(&b, cf, &rf);
-        CHECK(memcmp(cf, cg, n) == 0 && rf.benefit == rg.benefit);
+        /* The same choice; the benefit may be summed in another order (fs keeps a running sum). */
+        CHECK(memcmp(cf, cg, n) == 0);
+        CHECK_NEAR(rf.benefit, rg.benefit, rel_tol(rg.benefit));
+        if (memcmp(cf, cg, n) != 0 && !printed_fs++) {
+            print_instance("fs from last frame's choice differs from the greedy", &b, &b, rf.benefit, rg.benefit);
+            fprintf(stderr, "  start / fs / greedy per object:");
+            for (size_t i = 0; i < n; ++i)
+                fprintf(stderr, " %d/%d/%d", start[i], cf[i], cg[i]);
+            fprintf(stderr, "\n  fs: iterations %u truncated %d single_item %d; greedy single_item %d\n", rf.iterations,
+                    rf.truncated, rf.single_item, rg.single_item);
+        }
+        free(ca);
+        free(levels);
+        free(start);
+        free(cf);
+        free(cg);
         inst_free(&a);
         inst_free(&b);
     }

@@ -1064,6 +1064,11 @@ int main(int argc, char **argv)
 {
     if (argc > 1 && strcmp(argv[1], "glpsol") == 0)
         return test_against_glpsol();
+    if (argc > 1) {
+        fprintf(stderr, "test_lod_optimize: unknown argument '%s' (none: the solvers and guarantees; glpsol: the "
+                        "check against glpsol)\n", argv[1]);
+        return 1;
+    }
     test_exact_brute_force();
     test_exact_rounding();
     test_exact_errors();

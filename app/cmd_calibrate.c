@@ -23,10 +23,11 @@ static const char usage[] =
     "  --quick           a small grid (12 points, 3 repeats): seconds, for tests\n"
     "  --seed N          the split and visiting order (default 1)\n"
     "  --render-scale S  per-eye resolution factor in (0, 4] (default 1: the display's pixels)\n"
-    "  --display NAME    built-in display or profile JSON (default vive)\n";
+    "  --display NAME    built-in display or profile JSON (default vive)\n"
+    "  --csv FILE        also write every grid point (counts, measured and predicted ms) as CSV\n";
 
 struct calibrate_args {
-    const char *out, *display;
+    const char *out, *display, *csv;
     long seed;
     double render_scale;
     int quick;
@@ -34,19 +35,19 @@ struct calibrate_args {
 
 static int parse_args(int argc, char **argv, struct calibrate_args *a)
 {
-    *a = (struct calibrate_args){NULL, "vive", 1, 1.0, 0};
+    *a = (struct calibrate_args){NULL, "vive", NULL, 1, 1.0, 0};
     for (int i = 1; i < argc; ++i) {
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(argv[i], "--quick")) {
             a->quick = 1;
             continue;
         }
-        if (!strcmp(argv[i], "--out") || !strcmp(argv[i], "--display")) {
+        if (!strcmp(argv[i], "--out") || !strcmp(argv[i], "--display") || !strcmp(argv[i], "--csv")) {
             if (!val) {
                 fprintf(stderr, "hmdlod: %s needs a value\n", argv[i]);
                 return -1;
             }
-            *(!strcmp(argv[i], "--out") ? &a->out : &a->display) = val;
+            *(!strcmp(argv[i], "--out") ? &a->out : !strcmp(argv[i], "--csv") ? &a->csv : &a->display) = val;
         } else if (!strcmp(argv[i], "--seed")) {
             if (app_parse_long("--seed", val, 0, 2147483647L, &a->seed) != 0)
                 return -1;
@@ -92,6 +93,35 @@ static void print_fit(const char *name, const struct lod_cost_model *m, const st
     printf("  %-8s  %7.3f  %10.5f  %10.5f  %9.4f  %9.3f   %6.1f %%   %6.1f %%  %6.1f %%  %6.1f %%\n", name, m->c0_ms,
            m->c1_ms_per_triangle * 1e3, m->c2_ms_per_vertex * 1e3, m->c3_ms_per_pixel * 1e6, m->c4_ms_per_draw * 1e3,
            100.0 * fit->rms_relative, 100.0 * acc->median_rel, 100.0 * acc->p95_rel, 100.0 * acc->under5_share);
+}
+
+/* One row per grid point: its sums over objects, the measured median and both fits' predictions. */
+static int write_csv(const char *path, const struct rnd_calibration *cal, const uint32_t *order, size_t train,
+                     const struct lod_cost_model fits[2])
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "hmdlod calibrate: %s: cannot create: %s\n", path, strerror(errno));
+        return -1;
+    }
+    fprintf(f, "point,objects,triangles,vertices,pixels_px,draws,measured_ms,predicted_max_ms,predicted_additive_ms,"
+               "held_out\n");
+    for (size_t n = 0; n < cal->frame_count; ++n) {
+        const struct rnd_cost_frame *fr = &cal->frames[order[n]];
+        double t = 0, v = 0, p = 0, d = 0;
+        for (uint32_t k = 0; k < fr->object_count; ++k) {
+            const struct rnd_cost_object *o = &cal->objects[fr->first_object + k];
+            t += o->triangles, v += o->vertices, p += o->pixels_px, d += o->draws;
+        }
+        fprintf(f, "%u,%u,%.0f,%.0f,%.0f,%.0f,%.4f,%.4f,%.4f,%d\n", order[n], fr->object_count, t, v, p, d,
+                fr->measured_ms, rnd_cost_predict_frame_ms(&fits[0], fr, cal->objects),
+                rnd_cost_predict_frame_ms(&fits[1], fr, cal->objects), n >= train);
+    }
+    if (fclose(f) != 0) {
+        fprintf(stderr, "hmdlod calibrate: %s: cannot write\n", path);
+        return -1;
+    }
+    return 0;
 }
 
 int cmd_calibrate(int argc, char **argv)
@@ -153,6 +183,8 @@ int cmd_calibrate(int argc, char **argv)
                "    p95  under >5 %%\n");
         for (int f = 0; f < 2; ++f)
             print_fit(rnd_cost_form_name(forms[f]), &fits[f], &reports[f], &acc[f]);
+        if (a.csv && write_csv(a.csv, &cal, order, train, fits) != 0)
+            rc = 1;
         int keep = acc[1].p95_rel < acc[0].p95_rel ? 1 : 0; /* a tie keeps Funkhouser's max */
         printf("kept: %s (held-out p95 %.1f %% against %.1f %%)\n", rnd_cost_form_name(forms[keep]),
                100.0 * acc[keep].p95_rel, 100.0 * acc[!keep].p95_rel);

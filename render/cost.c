@@ -34,7 +34,7 @@ void rnd_cost_grid_default(struct rnd_cost_grid *g, int quick)
         g->level[l] = (uint32_t)l;
     g->coverages = 5, memcpy(g->coverage, coverage, sizeof coverage);
     g->counts = 5, memcpy(g->objects, objects, sizeof objects);
-    g->repeats = 5;
+    g->repeats = 7;
 }
 
 void rnd_calibration_free(struct rnd_calibration *c)
@@ -168,7 +168,7 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
     uint32_t *index = malloc(max_objects * sizeof *index);
     uint8_t *lod = malloc(max_objects);
     uint32_t *order = malloc(points * sizeof *order);
-    double *times = malloc((size_t)grid->repeats * sizeof *times);
+    double *times = malloc(points * (size_t)grid->repeats * sizeof *times);
     int rc = -1;
     if (!out->frames || !out->objects || !index || !lod || !order || !times) {
         hl_fail(err, "calibrate: out of memory (%zu grid points)", points);
@@ -211,33 +211,41 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
             goto done;
         }
 
-    size_t ignored;
-    rnd_cost_split(points, seed ^ 0xC0575EEDull, order, &ignored); /* a random visiting order */
+    /* Repeats as passes over the whole grid, each in its own seeded random order, rather than back
+     * to back: on a shared 2-core machine the load from other processes comes and goes over seconds,
+     * and a median across passes spread over the whole run is far less hit by one busy moment. */
     struct hl_progress bar;
-    hl_progress_begin(&bar, "calibrate", points);
-    for (size_t n = 0; n < points; ++n) {
-        size_t p = order[n];
-        int k = (int)(p % (size_t)grid->counts);
-        int c = (int)(p / (size_t)grid->counts % (size_t)grid->coverages);
-        int l = (int)(p / ((size_t)grid->counts * (size_t)grid->coverages));
-        uint32_t count = grid->objects[k];
-        int level = (int)grid->level[l];
-        struct rnd_cost_frame *f = &out->frames[p];
-        place_objects(&scene, eyes, count, grid->coverage[c], level, out->objects + f->first_object);
-        memset(lod, level, count);
-        for (int rep = -1; rep < grid->repeats; ++rep) { /* rep −1: untimed, settles the new layout */
-            int64_t t0 = hl_clock_now_ns();
-            if (rnd_renderer_draw_stereo(r, &scene, views, index, lod, count, NULL) != 0) {
-                hl_fail(err, "calibrate: drawing grid point %zu failed", p);
-                goto done;
+    hl_progress_begin(&bar, "calibrate", (uint64_t)points * (uint64_t)grid->repeats);
+    for (int pass = 0; pass < grid->repeats; ++pass) {
+        size_t ignored;
+        rnd_cost_split(points, seed ^ (0xC0575EEDull + (uint64_t)pass), order, &ignored);
+        for (size_t n = 0; n < points; ++n) {
+            size_t p = order[n];
+            int k = (int)(p % (size_t)grid->counts);
+            int c = (int)(p / (size_t)grid->counts % (size_t)grid->coverages);
+            int l = (int)(p / ((size_t)grid->counts * (size_t)grid->coverages));
+            uint32_t count = grid->objects[k];
+            int level = (int)grid->level[l];
+            struct rnd_cost_frame *f = &out->frames[p];
+            place_objects(&scene, eyes, count, grid->coverage[c], level, out->objects + f->first_object);
+            memset(lod, level, count);
+            for (int rep = 0; rep < 2; ++rep) { /* rep 0: untimed, settles the new layout */
+                int64_t t0 = hl_clock_now_ns();
+                if (rnd_renderer_draw_stereo(r, &scene, views, index, lod, count, NULL) != 0) {
+                    hl_fail(err, "calibrate: drawing grid point %zu failed", p);
+                    goto done;
+                }
+                if (rep == 1)
+                    times[p * (size_t)grid->repeats + (size_t)pass] = (double)(hl_clock_now_ns() - t0) * 1e-6;
             }
-            if (rep >= 0)
-                times[rep] = (double)(hl_clock_now_ns() - t0) * 1e-6;
+            hl_progress_update(&bar, (uint64_t)pass * points + n + 1);
         }
-        qsort(times, (size_t)grid->repeats, sizeof *times, cmp_double);
-        f->measured_ms = grid->repeats % 2 ? times[grid->repeats / 2]
-                                           : 0.5 * (times[grid->repeats / 2 - 1] + times[grid->repeats / 2]);
-        hl_progress_update(&bar, n + 1);
+    }
+    for (size_t p = 0; p < points; ++p) {
+        double *t = times + p * (size_t)grid->repeats;
+        size_t m = (size_t)grid->repeats;
+        qsort(t, m, sizeof *t, cmp_double);
+        out->frames[p].measured_ms = m % 2 ? t[m / 2] : 0.5 * (t[m / 2 - 1] + t[m / 2]);
     }
     hl_progress_end(&bar);
     out->seconds = (double)(hl_clock_now_ns() - start_ns) * 1e-9;

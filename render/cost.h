@@ -95,10 +95,11 @@ struct rnd_calibration {
 };
 /* Renders the field's bumpy sphere (scene/) in stereo on `display` at render_scale: for every grid
  * point, k copies in a grid in front of both eyes sized so their projected coverage totals the
- * requested share, one untimed frame and then `repeats` timed ones (hl_clock around
- * rnd_renderer_draw_stereo, which ends with glFinish). A warm-up of the heaviest point first, as
- * llvmpipe compiles shaders on first use. Grid points run in a seeded random order so slow drift
- * of the machine does not line up with one axis. Takes seconds; allocates *out (free with
+ * requested share; `repeats` passes over the grid, each in a new seeded random order, time one
+ * frame per point after an untimed one (hl_clock around rnd_renderer_draw_stereo, which ends with
+ * glFinish), and the median over passes is kept — so a busy moment of a shared machine or a slow
+ * drift hits one pass of many points, not every repeat of one. A warm-up of the heaviest point
+ * comes first, as llvmpipe compiles shaders on first use. Takes seconds; allocates *out (free with
  * rnd_calibration_free). grid->eye_width_px/height_px and display are filled in. */
 int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
                      struct rnd_calibration *out, struct hl_error *err);

@@ -46,38 +46,6 @@ void rnd_calibration_free(struct rnd_calibration *c)
     memset(c, 0, sizeof *c);
 }
 
-/* The formula acuity.h documents for acu_compute_pixels, per sphere: the tangent cone's disc in each
- * eye's image plane (radius tan α / cos θ in tangent units, α the cone's half-angle, θ the centre's
- * angle off the axis), its bounding square clipped to the image, times π/4; an eye inside the sphere
- * sees the whole image, a centre behind the eye nothing. */
-double rnd_cost_sphere_pixels(const struct acu_eye *eyes, int eye_count, const double center_m[3], double radius_m)
-{
-    double total = 0.0;
-    for (int e = 0; e < eye_count; ++e) {
-        const struct acu_eye *eye = &eyes[e];
-        hl_vec3d rel = hl_v3(center_m[0] - eye->position_m.x, center_m[1] - eye->position_m.y,
-                             center_m[2] - eye->position_m.z);
-        hl_vec3d p = hl_q_rotate(hl_q_conj(eye->orientation), rel);
-        double d = hl_v3_length(p), depth = -p.z;
-        if (d <= radius_m) {
-            total += eye->width_px * eye->height_px;
-            continue;
-        }
-        if (depth <= 0.0)
-            continue;
-        double u = p.x / depth, v = p.y / depth;
-        double rho = depth > radius_m ? (radius_m / sqrt(d * d - radius_m * radius_m)) * (d / depth) : 1e30;
-        double x0 = fmax(u - rho, -eye->tan_left), x1 = fmin(u + rho, eye->tan_right);
-        double y0 = fmax(v - rho, -eye->tan_down), y1 = fmin(v + rho, eye->tan_up);
-        if (x1 <= x0 || y1 <= y0)
-            continue;
-        double px_x = eye->width_px / (eye->tan_left + eye->tan_right);
-        double px_y = eye->height_px / (eye->tan_up + eye->tan_down);
-        total += (x1 - x0) * px_x * (y1 - y0) * px_y * (HL_PI / 4.0);
-    }
-    return total;
-}
-
 static int cmp_double(const void *pa, const void *pb)
 {
     double a = *(const double *)pa, b = *(const double *)pb;
@@ -86,9 +54,10 @@ static int cmp_double(const void *pa, const void *pb)
 
 /* Places k instances (0 … k−1) of the scene's one chain on a grid at cost_distance_m straight ahead,
  * each with the tangent-plane radius that makes k discs cover `coverage` of one eye's image, and
- * records each object's both-eye counts at `level`. */
+ * records each object's both-eye counts at `level`; pixels from acu_compute_pixels, the estimate the
+ * replay predicts with (pixels_px: k doubles of scratch). */
 static void place_objects(struct scn_scene *s, const struct acu_eye eyes[2], uint32_t k, double coverage, int level,
-                          struct rnd_cost_object *objects)
+                          const uint32_t *index, double *pixels_px, struct rnd_cost_object *objects)
 {
     const struct scn_chain *chain = &s->chains[0];
     double wt = eyes[0].tan_left + eyes[0].tan_right, ht = eyes[0].tan_up + eyes[0].tan_down;
@@ -117,9 +86,11 @@ static void place_objects(struct scn_scene *s, const struct acu_eye eyes[2], uin
         const struct scn_lod *L = &chain->lods[level];
         objects[i].triangles = 2.0 * L->triangle_count;
         objects[i].vertices = 2.0 * L->vertex_count;
-        objects[i].pixels_px = rnd_cost_sphere_pixels(eyes, 2, &s->center_m[3 * i], radius_m);
         objects[i].draws = 2.0;
     }
+    acu_compute_pixels(eyes, 2, s->center_m, s->radius_m, index, k, pixels_px);
+    for (uint32_t i = 0; i < k; ++i)
+        objects[i].pixels_px = pixels_px[i];
 }
 
 int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
@@ -167,10 +138,11 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
     out->objects = calloc(object_total, sizeof *out->objects);
     uint32_t *index = malloc(max_objects * sizeof *index);
     uint8_t *lod = malloc(max_objects);
+    double *pixels = malloc(max_objects * sizeof *pixels);
     uint32_t *order = malloc(points * sizeof *order);
     double *times = malloc(points * (size_t)grid->repeats * sizeof *times);
     int rc = -1;
-    if (!out->frames || !out->objects || !index || !lod || !order || !times) {
+    if (!out->frames || !out->objects || !index || !lod || !pixels || !order || !times) {
         hl_fail(err, "calibrate: out of memory (%zu grid points)", points);
         goto done;
     }
@@ -203,7 +175,8 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
         index[i] = i;
 
     /* Warm-up: the heaviest point a few times (shader JIT, first-touch of buffers, thread start). */
-    place_objects(&scene, eyes, max_objects, grid->coverage[grid->coverages - 1], 0, out->objects);
+    place_objects(&scene, eyes, max_objects, grid->coverage[grid->coverages - 1], 0, index, pixels,
+                  out->objects);
     memset(lod, 0, max_objects);
     for (int w = 0; w < 3; ++w)
         if (rnd_renderer_draw_stereo(r, &scene, views, index, lod, max_objects, NULL) != 0) {
@@ -227,7 +200,8 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
             uint32_t count = grid->objects[k];
             int level = (int)grid->level[l];
             struct rnd_cost_frame *f = &out->frames[p];
-            place_objects(&scene, eyes, count, grid->coverage[c], level, out->objects + f->first_object);
+            place_objects(&scene, eyes, count, grid->coverage[c], level, index, pixels,
+                          out->objects + f->first_object);
             memset(lod, level, count);
             for (int rep = 0; rep < 2; ++rep) { /* rep 0: untimed, settles the new layout */
                 int64_t t0 = hl_clock_now_ns();
@@ -255,6 +229,7 @@ done:
     scn_scene_free(&scene);
     free(index);
     free(lod);
+    free(pixels);
     free(order);
     free(times);
     if (rc != 0)

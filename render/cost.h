@@ -105,10 +105,6 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
                      struct rnd_calibration *out, struct hl_error *err);
 void rnd_calibration_free(struct rnd_calibration *c);
 
-/* Projected coverage of spheres in the eyes, summed (the formula acuity.h documents for
- * acu_compute_pixels: tangent-cone disc, bounding square clipped to the image, times π/4). */
-double rnd_cost_sphere_pixels(const struct acu_eye *eyes, int eye_count, const double center_m[3], double radius_m);
-
 /* ---- the cost profile (cost_profile.c, docs/cost-model.md) -------------------------------------- */
 struct rnd_cost_profile {
     struct lod_cost_model model;          /* what lod/ and the replay use */

@@ -9,22 +9,14 @@
 
 enum { NNLS_MAX_COLS = 16, COST_COLS = 5, MAX_ROUNDS = 50 };
 
-/* The arithmetic of lod.h's cost model, per object (both eyes). Kept here, identical to the
- * documented formula, so the fit's objective and the prediction it is judged by cannot drift. */
-static double cost_object_ms(const struct lod_cost_model *m, const struct rnd_cost_object *o)
-{
-    double geometry = m->c1_ms_per_triangle * o->triangles + m->c2_ms_per_vertex * o->vertices;
-    double raster = m->c3_ms_per_pixel * o->pixels_px;
-    double stages = m->form == LOD_COST_MAX ? fmax(geometry, raster) : geometry + raster;
-    return stages + m->c4_ms_per_draw * o->draws;
-}
-
 double rnd_cost_predict_frame_ms(const struct lod_cost_model *m, const struct rnd_cost_frame *frame,
                                  const struct rnd_cost_object *objects)
 {
     double sum = m->c0_ms;
-    for (uint32_t k = 0; k < frame->object_count; ++k)
-        sum += cost_object_ms(m, &objects[frame->first_object + k]);
+    for (uint32_t k = 0; k < frame->object_count; ++k) { /* lod's own arithmetic: the replay predicts with it */
+        const struct rnd_cost_object *o = &objects[frame->first_object + k];
+        sum += lod_cost_object_ms(m, o->triangles, o->vertices, o->pixels_px, o->draws);
+    }
     return sum;
 }
 

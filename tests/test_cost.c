@@ -1,6 +1,6 @@
 /* render/cost.h: NNLS against a brute-force enumeration of active sets, both cost forms recovering
  * known coefficients from synthetic frames (exact and noisy), held-out accuracy arithmetic, the
- * split, the coverage estimate against the disc's area, the profile JSON round trip and bad
+ * split, the profile JSON round trip and bad
  * profiles refused with the file and field named; one tiny real measurement on headless EGL. */
 #include "render/render.h"
 #include "test_util.h"
@@ -269,27 +269,6 @@ static void test_split(void)
     CHECK(ta == 1);
 }
 
-/* ---- coverage estimate ----------------------------------------------------------------------- */
-
-static void test_pixels(void)
-{
-    struct acu_eye eye = {hl_v3(0, 0, 0), hl_q_identity(), 1.0, 1.0, 1.0, 1.0, 1000, 1000};
-    double c[3] = {0, 0, -10}, r = 0.5;
-    /* On the axis the disc of the tangent cone has tangent radius r/√(d² − r²): its area in pixels. */
-    double rho_px = r / sqrt(100 - r * r) * 500.0;
-    CHECK_NEAR(rnd_cost_sphere_pixels(&eye, 1, c, r), HL_PI * rho_px * rho_px, 1e-9 * rho_px * rho_px);
-    double behind[3] = {0, 0, 10}, outside[3] = {100, 0, -10}, inside[3] = {0.1, 0, 0};
-    CHECK(rnd_cost_sphere_pixels(&eye, 1, behind, r) == 0.0);
-    CHECK(rnd_cost_sphere_pixels(&eye, 1, outside, r) == 0.0);
-    CHECK_NEAR(rnd_cost_sphere_pixels(&eye, 1, inside, r), 1e6, 1e-6);
-    /* Half off the right edge: half the square is kept. */
-    double edge[3] = {10, 0, -10};
-    double rho = r / sqrt(200 - r * r) * (sqrt(200.0) / 10.0) * 500.0;
-    CHECK_NEAR(rnd_cost_sphere_pixels(&eye, 1, edge, r), 0.5 * HL_PI * rho * rho, 1e-6 * rho * rho);
-    struct acu_eye two[2] = {eye, eye};
-    CHECK_NEAR(rnd_cost_sphere_pixels(two, 2, c, r), 2 * HL_PI * rho_px * rho_px, 1e-9 * rho_px * rho_px);
-}
-
 /* ---- profile JSON ----------------------------------------------------------------------------- */
 
 static char dir[64];
@@ -457,7 +436,6 @@ int main(void)
     test_fit_form(LOD_COST_MAX);
     test_fit_misc();
     test_split();
-    test_pixels();
     test_profile();
     test_measure();
     char cmd[128];

@@ -115,6 +115,7 @@ struct rnd_cost_profile {
     char display[HMD_NAME_MAX];
     int eye_width_px, eye_height_px;      /* per eye: c0 (clears) depends on it */
     char date[32], commit[64];            /* "" when unknown */
+    double load_before, load_after;       /* 1-minute load average around the measurement; < 0 unknown */
     struct rnd_cost_grid grid;            /* grid.repeats 0: not recorded */
 };
 

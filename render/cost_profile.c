@@ -175,7 +175,8 @@ static int read_grid(const cJSON *root, struct rnd_cost_grid *g, const char *pat
 int rnd_cost_profile_read(const char *path, struct rnd_cost_profile *out, struct hl_error *err)
 {
     static const char *const keys[] = {"format", "label", "form", "coefficients", "renderer", "display", "eye_px",
-                                       "held_out", "held_out_other_form", "grid", "date", "commit"};
+                                       "held_out", "held_out_other_form", "grid", "date", "commit",
+                                       "load_average_1min"};
     memset(out, 0, sizeof *out);
     char *text = read_text(path, err);
     if (!text)
@@ -228,6 +229,17 @@ int rnd_cost_profile_read(const char *path, struct rnd_cost_profile *out, struct
         read_accuracy(root, "held_out_other_form", &out->held_out_other, path, err) != 0 ||
         read_grid(root, &out->grid, path, err) != 0)
         goto done;
+    out->load_before = out->load_after = -1;
+    const cJSON *load = cJSON_GetObjectItemCaseSensitive(root, "load_average_1min");
+    if (load) {
+        const cJSON *l0 = cJSON_GetArrayItem(load, 0), *l1 = cJSON_GetArrayItem(load, 1);
+        if (!cJSON_IsArray(load) || cJSON_GetArraySize(load) != 2 || !cJSON_IsNumber(l0) || !cJSON_IsNumber(l1) ||
+            !(l0->valuedouble >= 0 && l0->valuedouble < 1e6) || !(l1->valuedouble >= 0 && l1->valuedouble < 1e6)) {
+            hl_fail(err, "%s: 'load_average_1min': expected two load averages ≥ 0 (before, after)", path);
+            goto done;
+        }
+        out->load_before = l0->valuedouble, out->load_after = l1->valuedouble;
+    }
     const cJSON *px = cJSON_GetObjectItemCaseSensitive(root, "eye_px");
     if (px) {
         const cJSON *w = cJSON_GetArrayItem(px, 0), *h = cJSON_GetArrayItem(px, 1);
@@ -301,6 +313,10 @@ int rnd_cost_profile_write(const char *path, const struct rnd_cost_profile *p, s
         cJSON_AddNumberToObject(go, "repeats", g->repeats);
         cJSON_AddNumberToObject(go, "render_scale", g->render_scale);
     }
+    if (p->load_before >= 0 && p->load_after >= 0) {
+        double load[2] = {p->load_before, p->load_after};
+        cJSON_AddItemToObject(root, "load_average_1min", cJSON_CreateDoubleArray(load, 2));
+    }
     if (p->date[0])
         cJSON_AddStringToObject(root, "date", p->date);
     if (p->commit[0])
@@ -341,4 +357,5 @@ void rnd_cost_profile_builtin_llvmpipe(struct rnd_cost_profile *out)
     snprintf(out->display, sizeof out->display, "vive");
     out->eye_width_px = 1080, out->eye_height_px = 1200;
     snprintf(out->date, sizeof out->date, "2026-12-01");
+    out->load_before = out->load_after = -1;
 }

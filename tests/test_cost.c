@@ -312,6 +312,7 @@ static void test_profile(void)
     p.eye_width_px = 1080, p.eye_height_px = 1200;
     snprintf(p.date, sizeof p.date, "2026-12-01 21:00 UTC");
     snprintf(p.commit, sizeof p.commit, "abc1234");
+    p.load_before = 0.25, p.load_after = 1.5;
     rnd_cost_grid_default(&p.grid, 0);
     char path[128];
     snprintf(path, sizeof path, "%s/round.json", dir);
@@ -330,6 +331,7 @@ static void test_profile(void)
     CHECK(!strcmp(q.renderer, p.renderer) && !strcmp(q.label, p.label) && !strcmp(q.display, "vive") &&
           !strcmp(q.date, p.date) && !strcmp(q.commit, p.commit));
     CHECK(q.eye_width_px == 1080 && q.eye_height_px == 1200);
+    CHECK(q.load_before == 0.25 && q.load_after == 1.5);
     CHECK(q.grid.levels == p.grid.levels && q.grid.coverages == p.grid.coverages && q.grid.counts == p.grid.counts &&
           q.grid.repeats == p.grid.repeats && q.grid.objects[4] == p.grid.objects[4] &&
           q.grid.coverage[0] == p.grid.coverage[0]);
@@ -358,6 +360,9 @@ static void test_profile(void)
                "'form': unknown form 'linear'");
     expect_bad("unknown.json", GOOD_HEAD "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, \"c5\": 1}}",
                "'c5': unknown key");
+    expect_bad("load.json", GOOD_HEAD "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0}, "
+                            "\"load_average_1min\": [1]}",
+               "'load_average_1min': expected two");
     expect_bad("nocoef.json", GOOD_HEAD "\"label\": \"x\"}", "'coefficients': missing");
     expect_bad("norenderer.json",
                "{\"format\": \"hmdlod-cost-profile-1\", \"form\": \"max\", \"coefficients\": {" GOOD_COEF

@@ -16,13 +16,13 @@
 
 static const char usage[] =
     "usage: hmdlod calibrate --out FILE [--quick] [--seed N] [--render-scale S] [--display NAME]\n\n"
-    "Renders copies of the field object in stereo over a grid of triangles per object x screen\n"
+    "Renders copies of the field's sphere and the auditorium's chair in stereo over a grid of LOD x screen\n"
     "coverage x object count (after a warm-up), times each frame (median of repeats), fits both cost\n"
     "forms with non-negative coefficients on a random 75 % of the grid points and measures them on the\n"
     "other 25 %, keeps the form with the lower held-out 95th-percentile relative error and writes the\n"
     "machine cost profile (docs/cost-model.md).\n"
     "  --out FILE        the cost profile JSON to write (atomically)\n"
-    "  --quick           a small grid (12 points, 3 repeats): seconds, for tests\n"
+    "  --quick           a small grid (24 points, 3 repeats): seconds, for tests\n"
     "  --seed N          the split and visiting order (default 1)\n"
     "  --render-scale S  per-eye resolution factor in (0, 4] (default 1: the display's pixels)\n"
     "  --display NAME    built-in display or profile JSON (default vive)\n"
@@ -225,9 +225,9 @@ int cmd_calibrate(int argc, char **argv)
         return 1;
     }
     prof.load_after = load_average();
-    printf("calibrate: %zu grid points (%d levels x %d coverages x %d counts, median of %d) on %s,\n"
+    printf("calibrate: %zu grid points (%d objects x %d levels x %d coverages x %d counts, median of %d) on %s,\n"
            "  display %s at %d x %d per eye, measured in %.1f s\n",
-           cal.frame_count, g->levels, g->coverages, g->counts, g->repeats, cal.renderer, display.name,
+           cal.frame_count, g->families, g->levels, g->coverages, g->counts, g->repeats, cal.renderer, display.name,
            g->eye_width_px, g->eye_height_px, cal.seconds);
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     if (prof.load_before >= 0)

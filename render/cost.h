@@ -72,8 +72,9 @@ void rnd_cost_split(size_t count, uint64_t seed, uint32_t *order, size_t *train_
 /* ---- measurement (cost.c) ---------------------------------------------------------------------- */
 enum { RND_COST_GRID_MAX = 8 };
 struct rnd_cost_grid {
-    int levels;                              /* the field object's LODs used (triangles per object) */
-    uint32_t level[RND_COST_GRID_MAX]; 
+    int families;                            /* 1: the field's bumpy sphere; 2: also the auditorium's chair */
+    int levels;                              /* LOD indices used (the field: 0 = 3906 … 3 = 78 triangles) */
+    uint32_t level[RND_COST_GRID_MAX];
     int coverages;                           /* total projected share of each eye's image */
     double coverage[RND_COST_GRID_MAX];
     int counts;                              /* objects per frame (draws = 2 · objects) */
@@ -83,7 +84,8 @@ struct rnd_cost_grid {
     double render_scale;
     char display[HMD_NAME_MAX];
 };
-/* The default grid (4 levels × 5 coverages × 5 counts, 7 repeats) or --quick's (2 × 2 × 3, 3). */
+/* The default grid (2 families × 4 levels × 5 coverages × 5 counts, 7 repeats) or --quick's
+ * (2 × 2 × 2 × 3, 3 repeats). */
 void rnd_cost_grid_default(struct rnd_cost_grid *g, int quick);
 
 struct rnd_calibration {
@@ -93,8 +95,8 @@ struct rnd_calibration {
     char renderer[128];              /* GL_RENDERER */
     double seconds;                  /* wall time of the measurement */
 };
-/* Renders the field's bumpy sphere (scene/) in stereo on `display` at render_scale: for every grid
- * point, k copies in a grid in front of both eyes sized so their projected coverage totals the
+/* Renders the field's bumpy sphere and the auditorium's chair (scene/) in stereo on `display` at
+ * render_scale: for every grid point, k copies (at most the 150 chairs the auditorium has) in a grid in front of both eyes sized so their projected coverage totals the
  * requested share; `repeats` passes over the grid, each in a new seeded random order, time one
  * frame per point after an untimed one (hl_clock around rnd_renderer_draw_stereo, which ends with
  * glFinish), and the median over passes is kept — so a busy moment of a shared machine or a slow

@@ -151,14 +151,15 @@ static int read_list(const cJSON *grid, const char *key, double *out, int *count
 
 static int read_grid(const cJSON *root, struct rnd_cost_grid *g, const char *path, struct hl_error *err)
 {
-    static const char *const keys[] = {"levels", "coverage", "objects", "repeats", "render_scale"};
+    static const char *const keys[] = {"families", "levels", "coverage", "objects", "repeats", "render_scale"};
     const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, "grid");
     if (!o)
         return 0;
     if (!cJSON_IsObject(o))
         return hl_fail(err, "%s: 'grid': not an object", path);
-    double levels[RND_COST_GRID_MAX], objects[RND_COST_GRID_MAX], repeats = 0;
-    if (check_keys(o, keys, 5, path, "'grid': ", err) != 0 || read_list(o, "levels", levels, &g->levels, path, err) ||
+    double levels[RND_COST_GRID_MAX], objects[RND_COST_GRID_MAX], repeats = 0, families = 1;
+    if (check_keys(o, keys, 6, path, "'grid': ", err) != 0 ||
+        read_number(o, "families", 0, 1, &families, path, "'grid': ", err) || read_list(o, "levels", levels, &g->levels, path, err) ||
         read_list(o, "coverage", g->coverage, &g->coverages, path, err) ||
         read_list(o, "objects", objects, &g->counts, path, err) ||
         read_number(o, "repeats", 1, 1, &repeats, path, "'grid': ", err) ||
@@ -169,6 +170,7 @@ static int read_grid(const cJSON *root, struct rnd_cost_grid *g, const char *pat
     for (int i = 0; i < g->counts; ++i)
         g->objects[i] = (uint32_t)fmin(objects[i], 1e9);
     g->repeats = (int)fmin(repeats, 1e6);
+    g->families = (int)fmin(families, 2);
     return 0;
 }
 
@@ -302,6 +304,7 @@ int rnd_cost_profile_write(const char *path, const struct rnd_cost_profile *p, s
     if (p->grid.repeats > 0) {
         const struct rnd_cost_grid *g = &p->grid;
         cJSON *go = cJSON_AddObjectToObject(root, "grid");
+        cJSON_AddNumberToObject(go, "families", g->families);
         double levels[RND_COST_GRID_MAX], objects[RND_COST_GRID_MAX];
         for (int i = 0; i < g->levels; ++i)
             levels[i] = g->level[i];

@@ -333,7 +333,7 @@ static void test_profile(void)
     CHECK(q.eye_width_px == 1080 && q.eye_height_px == 1200);
     CHECK(q.load_before == 0.25 && q.load_after == 1.5);
     CHECK(q.grid.levels == p.grid.levels && q.grid.coverages == p.grid.coverages && q.grid.counts == p.grid.counts &&
-          q.grid.repeats == p.grid.repeats && q.grid.objects[4] == p.grid.objects[4] &&
+          q.grid.repeats == p.grid.repeats && q.grid.families == 2 && q.grid.objects[4] == p.grid.objects[4] &&
           q.grid.coverage[0] == p.grid.coverage[0]);
 
     /* The unwritable: one message, nothing left. */
@@ -407,19 +407,22 @@ static void test_measure(void)
         CHECK(rc == 0);
         return;
     }
-    CHECK(cal.frame_count == 12 && g.eye_width_px == 270 && g.eye_height_px == 300);
+    CHECK(cal.frame_count == 24 && g.eye_width_px == 270 && g.eye_height_px == 300);
     CHECK(strstr(cal.renderer, "llvmpipe") != NULL || cal.renderer[0] != '\0');
     size_t objects_seen = 0;
     for (size_t f = 0; f < cal.frame_count; ++f) {
         CHECK(cal.frames[f].measured_ms > 0 && isfinite(cal.frames[f].measured_ms));
         objects_seen += cal.frames[f].object_count;
     }
-    CHECK(objects_seen == cal.object_count && cal.object_count == 2 * 2 * (1 + 8 + 32));
+    CHECK(objects_seen == cal.object_count && cal.object_count == 2 * 2 * 2 * (1 + 8 + 32));
     /* Grid order is level, coverage, count: frame 0 is level 0, coverage 2 %, 1 object; the estimate
      * is within 10 % of the requested coverage of both eyes (270 × 300 each). */
     const struct rnd_cost_object *o = &cal.objects[cal.frames[0].first_object];
     CHECK_NEAR(o->pixels_px, 0.02 * 2 * 270 * 300, 0.1 * 0.02 * 2 * 270 * 300);
     CHECK(o->triangles == 2.0 * 3906 && o->draws == 2.0);
+    /* The second half is the chair (600 triangles, 640 vertices at level 0). */
+    const struct rnd_cost_object *chair = &cal.objects[cal.frames[12].first_object];
+    CHECK(chair->triangles == 2.0 * 600 && chair->vertices == 2.0 * 640);
     /* Bad grids are refused before anything is drawn. */
     g.repeats = 0;
     struct rnd_calibration none;

@@ -246,9 +246,9 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
                 int level = (int)grid->level[l];
                 place_objects(scene, eyes, fr->object_count, grid->coverage[c], level, index, pixels,
                               out->objects + fr->first_object);
-                /* One untimed frame settles the new layout, then the timed one. */
-                if (draw_point(r, scene, views, index, lod, fr->object_count, level, &ms) != 0 ||
-                    draw_point(r, scene, views, index, lod, fr->object_count, level,
+                /* One timed frame: the previous one ended with glFinish, so nothing carries over,
+                 * and the median over passes discards the odd slow one. */
+                if (draw_point(r, scene, views, index, lod, fr->object_count, level,
                                &times[p * (size_t)grid->repeats + (size_t)pass]) != 0) {
                     hl_fail(err, "calibrate: drawing grid point %zu failed", p);
                     goto done;

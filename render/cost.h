@@ -98,8 +98,8 @@ struct rnd_calibration {
 /* Renders the field's bumpy sphere and the auditorium's chair (scene/) in stereo on `display` at
  * render_scale: for every grid point, k copies (at most the 150 chairs the auditorium has) in a grid in front of both eyes sized so their projected coverage totals the
  * requested share; `repeats` passes over the grid, each in a new seeded random order, time one
- * frame per point after an untimed one (hl_clock around rnd_renderer_draw_stereo, which ends with
- * glFinish), and the median over passes is kept — so a busy moment of a shared machine or a slow
+ * frame per point (hl_clock around rnd_renderer_draw_stereo, which ends with glFinish), and the
+ * median over passes is kept — so a busy moment of a shared machine or a slow
  * drift hits one pass of many points, not every repeat of one. A warm-up of the heaviest point
  * comes first, as llvmpipe compiles shaders on first use. Takes seconds; allocates *out (free with
  * rnd_calibration_free). grid->eye_width_px/height_px and display are filled in. */

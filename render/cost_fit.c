@@ -92,6 +92,10 @@ int rnd_cost_nnls(const double *a_rows, size_t rows, size_t cols, const double *
     double scale[NNLS_MAX_COLS], w[NNLS_MAX_COLS], z[NNLS_MAX_COLS], s[NNLS_MAX_COLS], xs[NNLS_MAX_COLS];
     size_t set[NNLS_MAX_COLS];
     int in_p[NNLS_MAX_COLS] = {0};
+    /* A column whose gradient says "enter" but whose least-squares value comes out ≤ 0 (rounding,
+     * with nearly collinear columns such as triangles and vertices of one mesh) would be picked
+     * again and again; it is blocked until some other column enters. */
+    int blocked[NNLS_MAX_COLS] = {0};
     double anorm = 0.0;
     for (size_t j = 0; j < n; ++j) {
         double norm = 0.0;
@@ -119,7 +123,7 @@ int rnd_cost_nnls(const double *a_rows, size_t rows, size_t cols, const double *
             w[j] = 0.0;
             for (size_t i = 0; i < m; ++i)
                 w[j] += a[j * m + i] * resid[i];
-            if (!in_p[j] && w[j] > wmax) /* ties: the lowest column, deterministic */
+            if (!in_p[j] && !blocked[j] && w[j] > wmax) /* ties: the lowest column, deterministic */
                 wmax = w[j], best = j;
         }
         if (best == n)
@@ -137,6 +141,16 @@ int rnd_cost_nnls(const double *a_rows, size_t rows, size_t cols, const double *
             nnls_subset_ls(a, m, set, k, b, q, rhs, s);
             for (size_t j = 0; j < n; ++j)
                 z[j] = 0.0;
+            for (size_t t = 0; t < k; ++t)
+                z[set[t]] = s[t];
+            if (inner == 0) {
+                if (z[best] <= tol) {
+                    in_p[best] = 0, blocked[best] = 1;
+                    --outer; /* not a step: the next pick is another column or the end */
+                    break;
+                }
+                memset(blocked, 0, sizeof blocked);
+            }
             int all_positive = 1;
             for (size_t t = 0; t < k; ++t) {
                 z[set[t]] = s[t];

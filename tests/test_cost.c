@@ -130,6 +130,16 @@ static void test_nnls_brute_force(void)
     double a[2] = {1, NAN}, b[2] = {1, 1}, x[1];
     CHECK(rnd_cost_nnls(a, 2, 1, b, x, NULL, &err) != 0 && strstr(err.msg, "not finite"));
     CHECK(rnd_cost_nnls(a, 2, 0, b, x, NULL, &err) != 0 && strstr(err.msg, "bad sizes"));
+    /* Exactly collinear columns (vertices = 2·triangles, one mesh): a solution, residual zero. */
+    double a3[6 * 3], b3[6], x3[3], r3 = -1;
+    for (int i = 0; i < 6; ++i) {
+        double t = 100.0 * (i + 1);
+        a3[3 * i] = 1, a3[3 * i + 1] = t, a3[3 * i + 2] = 2 * t;
+        b3[i] = 1.0 + 3e-3 * t;
+    }
+    CHECK(rnd_cost_nnls(a3, 6, 3, b3, x3, &r3, &err) == 0);
+    CHECK_NEAR(r3, 0.0, 1e-9);
+    CHECK_NEAR(x3[1] + 2 * x3[2], 3e-3, 1e-12);
     /* Columns of wildly different scale (1 and 10⁶, as frames and pixels) still fit exactly. */
     double a2[3 * 2] = {1, 2e6, 1, 5e5, 1, 1e6}, b2[3], x2[2];
     for (int i = 0; i < 3; ++i)

@@ -27,6 +27,8 @@ int bench_copy_finish(const char *results, const char *heading, const char *who,
 /* The context lines: command, machine (CPU, cores), commit, date, and the GL renderer when the
  * bench renders (renderer NULL: no such line). */
 void bench_print_context(int full_argc, char **full_argv, const char *renderer);
+/* The short commit of the source tree (with " (with uncommitted changes)"), or "unknown". */
+void bench_commit(char *out, size_t size);
 
 /* The shared data folder: $HMDLOD_SHARED, else ../shared, else next to the executable's checkout.
  * 0 and its path, or −1 (out holds the path that was looked for). */

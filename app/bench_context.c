@@ -277,3 +277,5 @@ int bench_write_results_section(const char *path, const char *heading, const cha
     }
     return 0;
 }
+
+void bench_commit(char *out, size_t size) { commit_id(out, size); }

@@ -15,6 +15,7 @@ int cmd_devices(int argc, char **argv); /* app/cmd_devices.c: supported trackers
 int cmd_lodgen(int argc, char **argv);  /* app/cmd_lodgen.c: mesh file → LOD chain (.lod) */
 int cmd_lodgen_group(int argc, char **argv); /* app/cmd_lodgen_group.c: lodgen --group (the scenes helper) */
 int cmd_analyze(int argc, char **argv); /* app/cmd_analyze.c: Reddy's offline analysis of a .lod file */
+int cmd_calibrate(int argc, char **argv); /* app/cmd_calibrate.c: machine cost model → cost profile JSON */
 
 /* Shared argument helpers (app/args.c): strict numeric parsing that names the option. */
 int app_parse_double(const char *option, const char *text, double *out);

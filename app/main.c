@@ -21,6 +21,7 @@ static const struct command commands[] = {
     {"convert", cmd_convert, "convert a raw recording into a head-motion trace CSV (same parser and fusion)"},
     {"lodgen", cmd_lodgen, "import a mesh (OBJ/PLY/OFF/STL/glTF), decimate it into an LOD chain, write a .lod file"},
     {"analyze", cmd_analyze, "Reddy's offline spatial-frequency analysis of a .lod file (image-based frequency tables)"},
+    {"calibrate", cmd_calibrate, "measure this machine's rendering cost, fit the cost model, write a cost profile"},
     {"devices", cmd_devices, "list the supported head trackers present, whether they can be opened, and why not"},
 };
 

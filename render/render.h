@@ -48,4 +48,7 @@ int rnd_png_write(const char *path, const uint8_t *rgba, int width_px, int heigh
 /* ---- offline spatial-frequency analysis (Reddy 1998 §3.2–3.3) -------------------------------- */
 #include "render/analyze.h"
 
+/* ---- the machine cost model and its profile (PAPERS.md §2, §5) ------------------------------ */
+#include "render/cost.h"
+
 #endif

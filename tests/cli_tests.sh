@@ -210,5 +210,22 @@ expect_error "replay missing trace" "nonexistent.csv: cannot open" -- \
   "$bin" replay --trace "$tmp/nonexistent.csv" --out "$tmp/no-folder"
 [ ! -e "$tmp/no-folder" ] || fail "a replay of a missing trace left its output folder"
 
+# calibrate: a quick run prints both fits and which was kept, and writes a profile that reads back
+# as JSON; bad arguments and an unwritable output are one message, exit 1, before any rendering.
+expect_ok "calibrate --help" "usage: hmdlod calibrate" -- "$bin" calibrate --help
+expect_ok "calibrate --quick" "kept: (max|additive)" -- "$bin" calibrate --quick --render-scale 0.25 --out "$tmp/cost.json"
+grep -q '"format":[[:space:]]*"hmdlod-cost-profile-1"' "$tmp/cost.json" && grep -q '"c3_ms_per_pixel"' "$tmp/cost.json" \
+  || fail "calibrate wrote no cost profile"
+[ ! -e "$tmp/cost.json.partial" ] || fail "calibrate left its .partial file"
+expect_error "calibrate without --out" "--out FILE is required" -- "$bin" calibrate --quick
+expect_error "calibrate unwritable" "no-such-dir/c.json.partial: cannot create" -- \
+  "$bin" calibrate --quick --out "$tmp/no-such-dir/c.json"
+expect_error "calibrate bad --render-scale" "--render-scale: 9 is outside" -- \
+  "$bin" calibrate --quick --render-scale 9 --out "$tmp/c.json"
+expect_error "calibrate bad --seed" "--seed: 'x' is not a whole number" -- "$bin" calibrate --seed x --out "$tmp/c.json"
+expect_error "calibrate unknown display" "nope" -- "$bin" calibrate --quick --display nope --out "$tmp/c.json"
+expect_error "calibrate unknown option" "unknown option '--fast'" -- "$bin" calibrate --fast --out "$tmp/c.json"
+[ ! -e "$tmp/c.json" ] || fail "a refused calibrate left its output"
+
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

@@ -1,0 +1,282 @@
+/* Measuring the machine's cost (PAPERS.md §2: Funkhouser & Séquin time sample objects over many
+ * sizes and LODs; §5: llvmpipe bins geometry on the calling thread and rasterises at flush, so only
+ * a timer around draw + glFinish sees the raster, and shaders compile on first use). Renders copies
+ * of the field's bumpy sphere in stereo with the real renderer over a grid of triangles per object ×
+ * total screen coverage × object count, and records per frame what the replay will predict from. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/render.h"
+
+static const double cost_distance_m = 10.0; /* the grid's plane, far enough that the IPD barely matters */
+static const double cost_near_m = 0.05, cost_far_m = 2000.0; /* the replay's clip planes */
+
+void rnd_cost_grid_default(struct rnd_cost_grid *g, int quick)
+{
+    memset(g, 0, sizeof *g);
+    g->render_scale = 1.0;
+    g->families = 2;
+    if (quick) {
+        /* Seconds for tests: the finest and coarsest level, two coverages, three counts. */
+        static const uint32_t objects[] = {1, 8, 32};
+        g->levels = 2, g->level[0] = 0, g->level[1] = 3;
+        g->coverages = 2, g->coverage[0] = 0.02, g->coverage[1] = 0.3;
+        g->counts = 3, memcpy(g->objects, objects, sizeof objects);
+        g->repeats = 3;
+        return;
+    }
+    /* Triangles per frame span 78 … 2·10⁶ (both eyes), coverage 0.2 % … 60 % of each eye, draws
+     * 2 … 512 (the chair: 24 … 180 000 triangles, 150 copies at most): the range the field (10–1000 objects) and the auditorium put on this machine. */
+    static const double coverage[] = {0.002, 0.02, 0.08, 0.25, 0.6};
+    static const uint32_t objects[] = {1, 4, 16, 64, 256};
+    g->levels = 4;
+    for (int l = 0; l < 4; ++l)
+        g->level[l] = (uint32_t)l;
+    g->coverages = 5, memcpy(g->coverage, coverage, sizeof coverage);
+    g->counts = 5, memcpy(g->objects, objects, sizeof objects);
+    g->repeats = 7;
+}
+
+void rnd_calibration_free(struct rnd_calibration *c)
+{
+    if (!c)
+        return;
+    free(c->frames);
+    free(c->objects);
+    memset(c, 0, sizeof *c);
+}
+
+static int cmp_double(const void *pa, const void *pb)
+{
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+/* Places k instances (0 … k−1) of the scene's one chain on a grid at cost_distance_m straight ahead,
+ * each with the tangent-plane radius that makes k discs cover `coverage` of one eye's image, and
+ * records each object's both-eye counts at `level`; pixels from acu_compute_pixels, the estimate the
+ * replay predicts with (pixels_px: k doubles of scratch). */
+static void place_objects(struct scn_scene *s, const struct acu_eye eyes[2], uint32_t k, double coverage, int level,
+                          const uint32_t *index, double *pixels_px, struct rnd_cost_object *objects)
+{
+    const struct scn_chain *chain = &s->chains[0];
+    double wt = eyes[0].tan_left + eyes[0].tan_right, ht = eyes[0].tan_up + eyes[0].tan_down;
+    double radius_px = sqrt(coverage * eyes[0].width_px * eyes[0].height_px / ((double)k * HL_PI));
+    double rho = radius_px * wt / eyes[0].width_px; /* tangent units */
+    double radius_m = cost_distance_m * rho / sqrt(1.0 + rho * rho);
+    uint32_t cols = (uint32_t)ceil(sqrt((double)k * wt / ht));
+    if (cols < 1)
+        cols = 1;
+    uint32_t rows = (k + cols - 1) / cols;
+    double spacing = 2.05 * rho; /* a little apart: no overdraw, so pixels filled ≈ pixels estimated */
+    for (uint32_t i = 0; i < k; ++i) {
+        double u = ((double)(i % cols) - 0.5 * (double)(cols - 1)) * spacing;
+        double v = ((double)(i / cols) - 0.5 * (double)(rows - 1)) * spacing;
+        struct scn_instance *in = &s->instances[i];
+        in->position_m[0] = u * cost_distance_m;
+        in->position_m[1] = v * cost_distance_m;
+        in->position_m[2] = -cost_distance_m;
+        in->scale = radius_m / chain->bound_radius_m;
+        hl_vec3d c = hl_q_rotate(in->rotation, hl_v3(chain->bound_center_m[0] * in->scale,
+                                                     chain->bound_center_m[1] * in->scale,
+                                                     chain->bound_center_m[2] * in->scale));
+        for (int a = 0; a < 3; ++a)
+            s->center_m[3 * i + a] = in->position_m[a] + (&c.x)[a];
+        s->radius_m[i] = radius_m;
+        const struct scn_lod *L = &chain->lods[level];
+        objects[i].triangles = 2.0 * L->triangle_count;
+        objects[i].vertices = 2.0 * L->vertex_count;
+        objects[i].draws = 2.0;
+    }
+    acu_compute_pixels(eyes, 2, s->center_m, s->radius_m, index, k, pixels_px);
+    for (uint32_t i = 0; i < k; ++i)
+        objects[i].pixels_px = pixels_px[i];
+}
+
+/* The families: a built-in scene whose chain 0 is the object and whose first instances are its
+ * copies. The chair has 1–2 vertices per triangle against the sphere's 0.5, so with both the fit
+ * can tell the triangle and the vertex coefficients apart; with one they are collinear. */
+static const char *const cost_family_scene[2] = {"field", "auditorium"};
+
+/* Decomposes grid point p: count fastest, then coverage, level, family. */
+static void grid_point(const struct rnd_cost_grid *g, size_t p, int *family, int *level, int *coverage, int *count)
+{
+    *count = (int)(p % (size_t)g->counts);
+    p /= (size_t)g->counts;
+    *coverage = (int)(p % (size_t)g->coverages);
+    p /= (size_t)g->coverages;
+    *level = (int)(p % (size_t)g->levels);
+    *family = (int)(p / (size_t)g->levels);
+}
+
+/* Draws grid point p once; *ms gets the time of draw + glFinish. */
+static int draw_point(struct rnd_renderer *r, struct scn_scene *scene, const struct rnd_eye_view views[2],
+                      const uint32_t *index, uint8_t *lod, uint32_t count, int level, double *ms)
+{
+    memset(lod, level, count);
+    int64_t t0 = hl_clock_now_ns();
+    int rc = rnd_renderer_draw_stereo(r, scene, views, index, lod, count, NULL);
+    *ms = (double)(hl_clock_now_ns() - t0) * 1e-6;
+    return rc;
+}
+
+int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
+                     struct rnd_calibration *out, struct hl_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!display || !grid || grid->levels < 1 || grid->coverages < 1 || grid->counts < 1 || grid->repeats < 1 ||
+        grid->families < 1 || grid->families > 2 || grid->levels > RND_COST_GRID_MAX ||
+        grid->coverages > RND_COST_GRID_MAX || grid->counts > RND_COST_GRID_MAX)
+        return hl_fail(err, "calibrate: empty or oversized grid");
+    if (!(grid->render_scale > 0.0 && grid->render_scale <= 4.0))
+        return hl_fail(err, "calibrate: render scale %g is outside (0, 4]", grid->render_scale);
+    grid->eye_width_px = (int)lround(display->eye_width_px * grid->render_scale);
+    grid->eye_height_px = (int)lround(display->eye_height_px * grid->render_scale);
+    snprintf(grid->display, sizeof grid->display, "%s", display->name);
+    uint32_t max_objects = 0;
+    for (int c = 0; c < grid->counts; ++c) {
+        if (grid->objects[c] < 1 || grid->objects[c] > 100000)
+            return hl_fail(err, "calibrate: object count %u outside 1…100000", grid->objects[c]);
+        if (grid->objects[c] > max_objects)
+            max_objects = grid->objects[c];
+    }
+    for (int c = 0; c < grid->coverages; ++c)
+        if (!(grid->coverage[c] > 0.0 && grid->coverage[c] <= 1.0))
+            return hl_fail(err, "calibrate: coverage %g outside (0, 1]", grid->coverage[c]);
+
+    int64_t start_ns = hl_clock_now_ns();
+    struct scn_scene scenes[2];
+    memset(scenes, 0, sizeof scenes);
+    uint32_t copies[2] = {0, 0}; /* instances of chain 0 at the front of each scene: a count's cap */
+    struct rnd_renderer *r = NULL;
+    size_t points = (size_t)grid->families * (size_t)grid->levels * (size_t)grid->coverages * (size_t)grid->counts;
+    uint32_t *index = malloc(max_objects * sizeof *index);
+    uint8_t *lod = malloc(max_objects);
+    double *pixels = malloc(max_objects * sizeof *pixels);
+    struct rnd_cost_object *scratch = malloc(max_objects * sizeof *scratch); /* the warm-up's counts */
+    uint32_t *order = malloc(points * sizeof *order);
+    double *times = malloc(points * (size_t)grid->repeats * sizeof *times);
+    int rc = -1;
+    if (!index || !lod || !pixels || !scratch || !order || !times) {
+        hl_fail(err, "calibrate: out of memory (%zu grid points)", points);
+        goto done;
+    }
+    for (int f = 0; f < grid->families; ++f) {
+        struct scn_scene_params params = {.object_count = (int)max_objects, .seed = seed ? seed : 1};
+        if (scn_scene_build(cost_family_scene[f], &params, &scenes[f], err) != 0)
+            goto done;
+        while (copies[f] < scenes[f].instance_count && scenes[f].chain_of_instance[copies[f]] == 0)
+            copies[f]++;
+        for (int l = 0; l < grid->levels; ++l)
+            if (grid->level[l] >= (uint32_t)scenes[f].chains[0].lod_count) {
+                hl_fail(err, "calibrate: level %u: the %s object has %d levels", grid->level[l], cost_family_scene[f],
+                        scenes[f].chains[0].lod_count);
+                goto done;
+            }
+    }
+    /* Frame records in grid order, each with its own object range. */
+    out->frames = calloc(points, sizeof *out->frames);
+    if (!out->frames) {
+        hl_fail(err, "calibrate: out of memory (%zu grid points)", points);
+        goto done;
+    }
+    size_t next_object = 0;
+    for (size_t p = 0; p < points; ++p) {
+        int f, l, c, k;
+        grid_point(grid, p, &f, &l, &c, &k);
+        out->frames[p].first_object = (uint32_t)next_object;
+        out->frames[p].object_count = grid->objects[k] < copies[f] ? grid->objects[k] : copies[f];
+        next_object += out->frames[p].object_count;
+    }
+    out->frame_count = points;
+    out->object_count = next_object;
+    out->objects = calloc(next_object, sizeof *out->objects);
+    if (!out->objects) {
+        hl_fail(err, "calibrate: out of memory (%zu objects)", next_object);
+        goto done;
+    }
+    if (rnd_renderer_create(grid->eye_width_px, grid->eye_height_px, &r, err) != 0)
+        goto done;
+    snprintf(out->renderer, sizeof out->renderer, "%s", rnd_renderer_name(r));
+
+    struct rnd_eye_view views[2];
+    struct acu_eye eyes[2];
+    for (int e = 0; e < 2; ++e) {
+        struct hmd_eye he = hmd_eye_frustum(display, e == 0 ? HMD_EYE_LEFT : HMD_EYE_RIGHT);
+        views[e].position_m[0] = he.offset_x_m, views[e].position_m[1] = 0, views[e].position_m[2] = 0;
+        views[e].orientation = hl_q_identity();
+        hmd_eye_projection(&he, cost_near_m, cost_far_m, views[e].projection);
+        eyes[e] = (struct acu_eye){hl_v3(he.offset_x_m, 0, 0), hl_q_identity(), he.tan_left, he.tan_right,
+                                   he.tan_up, he.tan_down, grid->eye_width_px, grid->eye_height_px};
+    }
+    for (uint32_t i = 0; i < max_objects; ++i)
+        index[i] = i;
+
+    /* Repeats as passes over the whole grid, each in its own seeded random order, rather than back
+     * to back: on a shared 2-core machine the load from other processes comes and goes over seconds,
+     * and a median across passes spread over the whole run is far less hit by one busy moment. Per
+     * pass each family's scene is uploaded once and its points visited; the first pass starts each
+     * family with a warm-up of its heaviest point (shader JIT, first touch of the buffers). */
+    struct hl_progress bar;
+    hl_progress_begin(&bar, "calibrate", (uint64_t)points * (uint64_t)grid->repeats);
+    uint64_t done_points = 0;
+    for (int pass = 0; pass < grid->repeats; ++pass) {
+        size_t ignored;
+        rnd_cost_split(points, seed ^ (0xC0575EEDull + (uint64_t)pass), order, &ignored);
+        for (int fam = 0; fam < grid->families; ++fam) {
+            struct scn_scene *scene = &scenes[fam];
+            if (rnd_renderer_upload_scene(r, scene, err) != 0)
+                goto done;
+            uint32_t heavy = max_objects < copies[fam] ? max_objects : copies[fam];
+            double ms;
+            place_objects(scene, eyes, heavy, grid->coverage[grid->coverages - 1], 0, index, pixels, scratch);
+            for (int w = 0; w < (pass == 0 ? 3 : 1); ++w)
+                if (draw_point(r, scene, views, index, lod, heavy, 0, &ms) != 0) {
+                    hl_fail(err, "calibrate: drawing the warm-up frame failed");
+                    goto done;
+                }
+            for (size_t n = 0; n < points; ++n) {
+                size_t p = order[n];
+                int f, l, c, k;
+                grid_point(grid, p, &f, &l, &c, &k);
+                if (f != fam)
+                    continue;
+                struct rnd_cost_frame *fr = &out->frames[p];
+                int level = (int)grid->level[l];
+                place_objects(scene, eyes, fr->object_count, grid->coverage[c], level, index, pixels,
+                              out->objects + fr->first_object);
+                /* One timed frame: the previous one ended with glFinish, so nothing carries over,
+                 * and the median over passes discards the odd slow one. */
+                if (draw_point(r, scene, views, index, lod, fr->object_count, level,
+                               &times[p * (size_t)grid->repeats + (size_t)pass]) != 0) {
+                    hl_fail(err, "calibrate: drawing grid point %zu failed", p);
+                    goto done;
+                }
+                hl_progress_update(&bar, ++done_points);
+            }
+        }
+    }
+    hl_progress_end(&bar);
+    for (size_t p = 0; p < points; ++p) {
+        double *t = times + p * (size_t)grid->repeats;
+        size_t m = (size_t)grid->repeats;
+        qsort(t, m, sizeof *t, cmp_double);
+        out->frames[p].measured_ms = m % 2 ? t[m / 2] : 0.5 * (t[m / 2 - 1] + t[m / 2]);
+    }
+    out->seconds = (double)(hl_clock_now_ns() - start_ns) * 1e-9;
+    rc = 0;
+done:
+    rnd_renderer_destroy(r);
+    for (int f = 0; f < 2; ++f)
+        scn_scene_free(&scenes[f]);
+    free(index);
+    free(lod);
+    free(pixels);
+    free(scratch);
+    free(order);
+    free(times);
+    if (rc != 0)
+        rnd_calibration_free(out);
+    return rc;
+}

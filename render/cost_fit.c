@@ -1,0 +1,398 @@
+/* Fitting the cost model: Lawson–Hanson NNLS, the additive and max forms (PAPERS.md §2: Funkhouser
+ * & Séquin fit C1…C3 from timed renders; §5: published models reach ≈ 10 % error), held-out
+ * accuracy and the seeded train/held-out split. Pure arithmetic: no GL, no files. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "render/render.h"
+
+enum { NNLS_MAX_COLS = 16, COST_COLS = 5, MAX_ROUNDS = 50 };
+
+double rnd_cost_predict_frame_ms(const struct lod_cost_model *m, const struct rnd_cost_frame *frame,
+                                 const struct rnd_cost_object *objects)
+{
+    double sum = m->c0_ms;
+    for (uint32_t k = 0; k < frame->object_count; ++k) { /* lod's own arithmetic: the replay predicts with it */
+        const struct rnd_cost_object *o = &objects[frame->first_object + k];
+        sum += lod_cost_object_ms(m, o->triangles, o->vertices, o->pixels_px, o->draws);
+    }
+    return sum;
+}
+
+/* ---- NNLS ------------------------------------------------------------------------------------ */
+
+/* Least squares on the columns listed in set[0 … k−1] of the column-major m × n matrix a:
+ * Householder QR of a copy (q: m·k doubles, rhs: m), back substitution into s (k). A column whose
+ * R diagonal vanishes (collinear with earlier ones) gets 0: NNLS then treats it as inactive. */
+static void nnls_subset_ls(const double *a, size_t m, const size_t *set, size_t k, const double *b, double *q,
+                           double *rhs, double *s)
+{
+    for (size_t j = 0; j < k; ++j)
+        memcpy(q + j * m, a + set[j] * m, m * sizeof *q);
+    memcpy(rhs, b, m * sizeof *rhs);
+    double rmax = 0.0;
+    for (size_t j = 0; j < k && j < m; ++j) {
+        double *col = q + j * m, norm = 0.0;
+        for (size_t i = j; i < m; ++i)
+            norm = hypot(norm, col[i]);
+        if (norm == 0.0)
+            continue;
+        double alpha = col[j] > 0 ? -norm : norm; /* sign opposite to col[j]: no cancellation */
+        col[j] -= alpha;                          /* v = x − alpha·e1, kept in col[j…] */
+        double vnorm2 = 0.0;
+        for (size_t i = j; i < m; ++i)
+            vnorm2 += col[i] * col[i];
+        for (size_t l = j + 1; l < k; ++l) {
+            double *c = q + l * m, dot = 0.0;
+            for (size_t i = j; i < m; ++i)
+                dot += col[i] * c[i];
+            double f = 2.0 * dot / vnorm2;
+            for (size_t i = j; i < m; ++i)
+                c[i] -= f * col[i];
+        }
+        double dot = 0.0;
+        for (size_t i = j; i < m; ++i)
+            dot += col[i] * rhs[i];
+        double f = 2.0 * dot / vnorm2;
+        for (size_t i = j; i < m; ++i)
+            rhs[i] -= f * col[i];
+        col[j] = alpha; /* R's diagonal; the rest of col below j is no longer needed */
+        rmax = fmax(rmax, fabs(alpha));
+    }
+    for (size_t jj = k; jj-- > 0;) {
+        if (jj >= m || fabs(q[jj * m + jj]) <= 1e-12 * rmax) {
+            s[jj] = 0.0;
+            continue;
+        }
+        double v = rhs[jj];
+        for (size_t l = jj + 1; l < k; ++l)
+            v -= q[l * m + jj] * s[l];
+        s[jj] = v / q[jj * m + jj];
+    }
+}
+
+int rnd_cost_nnls(const double *a_rows, size_t rows, size_t cols, const double *b, double *x, double *residual_norm,
+                  struct hl_error *err)
+{
+    if (!a_rows || !b || !x || rows < 1 || cols < 1 || cols > NNLS_MAX_COLS)
+        return hl_fail(err, "nnls: bad sizes (%zu rows, %zu columns; 1…%d columns)", rows, cols, NNLS_MAX_COLS);
+    for (size_t i = 0; i < rows * cols; ++i)
+        if (!isfinite(a_rows[i]))
+            return hl_fail(err, "nnls: matrix entry %zu (row %zu) is not finite", i, i / cols);
+    for (size_t i = 0; i < rows; ++i)
+        if (!isfinite(b[i]))
+            return hl_fail(err, "nnls: right-hand side %zu is not finite", i);
+    size_t m = rows, n = cols;
+    /* a: scaled column-major copy; q: QR scratch; rhs, resid: m each. */
+    double *buf = malloc((2 * m * n + 2 * m) * sizeof *buf);
+    if (!buf)
+        return hl_fail(err, "nnls: out of memory (%zu × %zu)", rows, cols);
+    double *a = buf, *q = buf + m * n, *rhs = q + m * n, *resid = rhs + m;
+    double scale[NNLS_MAX_COLS], w[NNLS_MAX_COLS], z[NNLS_MAX_COLS], s[NNLS_MAX_COLS], xs[NNLS_MAX_COLS];
+    size_t set[NNLS_MAX_COLS];
+    int in_p[NNLS_MAX_COLS] = {0};
+    /* A column whose gradient says "enter" but whose least-squares value comes out ≤ 0 (rounding,
+     * with nearly collinear columns such as triangles and vertices of one mesh) would be picked
+     * again and again; it is blocked until some other column enters. */
+    int blocked[NNLS_MAX_COLS] = {0};
+    double anorm = 0.0;
+    for (size_t j = 0; j < n; ++j) {
+        double norm = 0.0;
+        for (size_t i = 0; i < m; ++i)
+            norm = hypot(norm, a_rows[i * n + j]);
+        scale[j] = norm > 0.0 ? norm : 1.0; /* a zero column stays zero and never enters P */
+        for (size_t i = 0; i < m; ++i)
+            a[j * m + i] = a_rows[i * n + j] / scale[j];
+        anorm = fmax(anorm, norm > 0.0 ? 1.0 : 0.0);
+        xs[j] = 0.0;
+    }
+    double tol = 10.0 * 2.220446049250313e-16 * anorm * (double)(m > n ? m : n);
+    int rc = 0;
+    size_t outer = 0;
+    for (;;) {
+        for (size_t i = 0; i < m; ++i) {
+            double v = b[i];
+            for (size_t j = 0; j < n; ++j)
+                v -= a[j * m + i] * xs[j];
+            resid[i] = v;
+        }
+        size_t best = n;
+        double wmax = tol;
+        for (size_t j = 0; j < n; ++j) {
+            w[j] = 0.0;
+            for (size_t i = 0; i < m; ++i)
+                w[j] += a[j * m + i] * resid[i];
+            if (!in_p[j] && !blocked[j] && w[j] > wmax) /* ties: the lowest column, deterministic */
+                wmax = w[j], best = j;
+        }
+        if (best == n)
+            break; /* KKT holds: every inactive gradient ≤ tol */
+        if (++outer > 3 * n) {
+            rc = hl_fail(err, "nnls: no convergence after %zu outer iterations", 3 * n);
+            break;
+        }
+        in_p[best] = 1;
+        for (int inner = 0;; ++inner) {
+            size_t k = 0;
+            for (size_t j = 0; j < n; ++j)
+                if (in_p[j])
+                    set[k++] = j;
+            nnls_subset_ls(a, m, set, k, b, q, rhs, s);
+            for (size_t j = 0; j < n; ++j)
+                z[j] = 0.0;
+            for (size_t t = 0; t < k; ++t)
+                z[set[t]] = s[t];
+            if (inner == 0) {
+                if (z[best] <= tol) {
+                    in_p[best] = 0, blocked[best] = 1;
+                    --outer; /* not a step: the next pick is another column or the end */
+                    break;
+                }
+                memset(blocked, 0, sizeof blocked);
+            }
+            int all_positive = 1;
+            for (size_t t = 0; t < k; ++t) {
+                z[set[t]] = s[t];
+                if (s[t] <= tol)
+                    all_positive = 0;
+            }
+            if (all_positive || inner > (int)(3 * n)) {
+                memcpy(xs, z, n * sizeof *xs);
+                for (size_t j = 0; j < n; ++j)
+                    if (in_p[j] && xs[j] <= tol)
+                        in_p[j] = 0, xs[j] = 0.0;
+                break;
+            }
+            /* Step from xs towards z as far as feasibility allows; the variables that hit zero leave P. */
+            double alpha = 1.0;
+            for (size_t j = 0; j < n; ++j)
+                if (in_p[j] && z[j] <= tol) {
+                    double d = xs[j] - z[j];
+                    double t = d > 0.0 ? xs[j] / d : 0.0;
+                    alpha = fmin(alpha, t);
+                }
+            for (size_t j = 0; j < n; ++j) {
+                xs[j] += alpha * (z[j] - xs[j]);
+                if (in_p[j] && xs[j] <= tol)
+                    in_p[j] = 0, xs[j] = 0.0;
+            }
+        }
+    }
+    double rnorm = 0.0;
+    for (size_t i = 0; i < m; ++i) {
+        double v = b[i];
+        for (size_t j = 0; j < n; ++j)
+            v -= a[j * m + i] * xs[j];
+        rnorm = hypot(rnorm, v);
+    }
+    for (size_t j = 0; j < n; ++j)
+        x[j] = xs[j] / scale[j];
+    if (residual_norm)
+        *residual_norm = rnorm;
+    free(buf);
+    return rc;
+}
+
+/* ---- the two forms ------------------------------------------------------------------------- */
+
+static void model_from(enum lod_cost_form form, const double c[COST_COLS], struct lod_cost_model *m)
+{
+    *m = (struct lod_cost_model){form, c[0], c[1], c[2], c[3], c[4]};
+}
+
+/* Relative error objective of a model on the listed frames: Σ((pred − meas)/meas)². */
+static double fit_objective(const struct lod_cost_model *m, const struct rnd_cost_frame *frames, const uint32_t *rows,
+                            size_t row_count, const struct rnd_cost_object *objects)
+{
+    double sum = 0.0;
+    for (size_t r = 0; r < row_count; ++r) {
+        const struct rnd_cost_frame *f = &frames[rows[r]];
+        double e = (rnd_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
+        sum += e * e;
+    }
+    return sum;
+}
+
+/* One NNLS on rows [1, Σt, Σv, Σp, Σd] / measured against 1 (the relative-error weighting). With
+ * assign == NULL every object contributes all terms (additive); else an object with assign 1 adds
+ * its geometry terms only and one with 0 its pixels only: the max form with its max resolved. */
+static int fit_linear(const struct rnd_cost_frame *frames, const uint32_t *rows, size_t row_count,
+                      const struct rnd_cost_object *objects, const uint8_t *assign, double *a, double *b,
+                      double c[COST_COLS], struct hl_error *err)
+{
+    for (size_t r = 0; r < row_count; ++r) {
+        const struct rnd_cost_frame *f = &frames[rows[r]];
+        double t = 0, v = 0, p = 0, d = 0;
+        for (uint32_t k = 0; k < f->object_count; ++k) {
+            uint32_t o = f->first_object + k;
+            const struct rnd_cost_object *ob = &objects[o];
+            int geometry = !assign || assign[o], raster = !assign || !assign[o];
+            if (geometry)
+                t += ob->triangles, v += ob->vertices;
+            if (raster)
+                p += ob->pixels_px;
+            d += ob->draws;
+        }
+        double inv = 1.0 / f->measured_ms;
+        double row[COST_COLS] = {inv, t * inv, v * inv, p * inv, d * inv};
+        memcpy(a + r * COST_COLS, row, sizeof row);
+        b[r] = 1.0;
+    }
+    return rnd_cost_nnls(a, row_count, COST_COLS, b, c, NULL, err);
+}
+
+/* Resolves each object's max under model m: 1 = geometry dominates. Returns how many changed. */
+static size_t assign_stages(const struct lod_cost_model *m, const struct rnd_cost_frame *frames, const uint32_t *rows,
+                            size_t row_count, const struct rnd_cost_object *objects, uint8_t *assign)
+{
+    size_t changed = 0;
+    for (size_t r = 0; r < row_count; ++r) {
+        const struct rnd_cost_frame *f = &frames[rows[r]];
+        for (uint32_t k = 0; k < f->object_count; ++k) {
+            uint32_t o = f->first_object + k;
+            const struct rnd_cost_object *ob = &objects[o];
+            uint8_t g = m->c1_ms_per_triangle * ob->triangles + m->c2_ms_per_vertex * ob->vertices >=
+                        m->c3_ms_per_pixel * ob->pixels_px;
+            changed += assign[o] != g;
+            assign[o] = g;
+        }
+    }
+    return changed;
+}
+
+int rnd_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, const uint32_t *rows,
+                 size_t row_count, const struct rnd_cost_object *objects, struct lod_cost_model *out,
+                 struct rnd_cost_fit_report *report, struct hl_error *err)
+{
+    if (!frames || !rows || !objects || !out || row_count == 0)
+        return hl_fail(err, "cost fit: no frames to fit");
+    if (form != LOD_COST_MAX && form != LOD_COST_ADDITIVE)
+        return hl_fail(err, "cost fit: unknown form %d", (int)form);
+    size_t object_end = 0;
+    for (size_t r = 0; r < row_count; ++r) {
+        const struct rnd_cost_frame *f = &frames[rows[r]];
+        if (!(f->measured_ms > 0.0) || !isfinite(f->measured_ms))
+            return hl_fail(err, "cost fit: frame %u: measured time %g ms is not positive and finite", rows[r],
+                           f->measured_ms);
+        for (uint32_t k = 0; k < f->object_count; ++k) {
+            const struct rnd_cost_object *o = &objects[f->first_object + k];
+            if (!isfinite(o->triangles) || !isfinite(o->vertices) || !isfinite(o->pixels_px) || !isfinite(o->draws) ||
+                o->triangles < 0 || o->vertices < 0 || o->pixels_px < 0 || o->draws < 0)
+                return hl_fail(err, "cost fit: frame %u object %u: counts must be finite and ≥ 0", rows[r], k);
+        }
+        if ((size_t)f->first_object + f->object_count > object_end)
+            object_end = (size_t)f->first_object + f->object_count;
+    }
+    double *a = malloc(row_count * (COST_COLS + 1) * sizeof *a);
+    uint8_t *assign = calloc(object_end ? object_end : 1, 1);
+    if (!a || !assign) {
+        free(a);
+        free(assign);
+        return hl_fail(err, "cost fit: out of memory (%zu frames)", row_count);
+    }
+    double *b = a + row_count * COST_COLS, c[COST_COLS];
+    int rc = fit_linear(frames, rows, row_count, objects, NULL, a, b, c, err);
+    struct lod_cost_model additive;
+    model_from(LOD_COST_ADDITIVE, c, &additive);
+    struct lod_cost_model best = additive;
+    int best_rounds = 1;
+    if (rc == 0 && form == LOD_COST_MAX) {
+        double best_obj = INFINITY;
+        for (int start = 0; start < 3 && rc == 0; ++start) {
+            /* Starts: the additive coefficients' own max; all geometry; all pixels. */
+            struct lod_cost_model m = additive;
+            m.form = LOD_COST_MAX;
+            if (start == 0)
+                assign_stages(&m, frames, rows, row_count, objects, assign);
+            for (size_t r = 0; start > 0 && r < row_count; ++r)
+                memset(assign + frames[rows[r]].first_object, start == 1, frames[rows[r]].object_count);
+            /* Alternate: refit with the max resolved, re-resolve; keep the best true-max iterate (the
+             * objective need not fall every round, as the refit optimises the resolved problem). */
+            for (int round = 1; round <= MAX_ROUNDS; ++round) {
+                if ((rc = fit_linear(frames, rows, row_count, objects, assign, a, b, c, err)) != 0)
+                    break;
+                model_from(LOD_COST_MAX, c, &m);
+                double obj = fit_objective(&m, frames, rows, row_count, objects);
+                if (obj < best_obj)
+                    best_obj = obj, best = m, best_rounds = round;
+                if (assign_stages(&m, frames, rows, row_count, objects, assign) == 0)
+                    break;
+            }
+        }
+    }
+    free(a);
+    free(assign);
+    if (rc != 0)
+        return -1;
+    *out = best;
+    if (report) {
+        report->rms_relative = sqrt(fit_objective(&best, frames, rows, row_count, objects) / (double)row_count);
+        report->rounds = best_rounds;
+    }
+    return 0;
+}
+
+/* ---- accuracy and split --------------------------------------------------------------------- */
+
+static int cmp_double(const void *pa, const void *pb)
+{
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+/* Linear interpolation between order statistics (the "type 7" quantile of R and NumPy). */
+static double quantile_sorted(const double *v, size_t n, double q)
+{
+    double pos = q * (double)(n - 1);
+    size_t lo = (size_t)floor(pos);
+    size_t hi = lo + 1 < n ? lo + 1 : lo;
+    return v[lo] + (pos - (double)lo) * (v[hi] - v[lo]);
+}
+
+struct rnd_cost_accuracy rnd_cost_evaluate(const struct lod_cost_model *m, const struct rnd_cost_frame *frames,
+                                           const uint32_t *rows, size_t row_count,
+                                           const struct rnd_cost_object *objects)
+{
+    struct rnd_cost_accuracy acc = {0, 0, 0, 0};
+    double *e = row_count ? malloc(row_count * sizeof *e) : NULL;
+    if (!e)
+        return acc;
+    size_t under = 0;
+    for (size_t r = 0; r < row_count; ++r) {
+        const struct rnd_cost_frame *f = &frames[rows[r]];
+        double rel = (rnd_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
+        under += rel < -0.05;
+        e[r] = fabs(rel);
+    }
+    qsort(e, row_count, sizeof *e, cmp_double);
+    acc.median_rel = quantile_sorted(e, row_count, 0.5);
+    acc.p95_rel = quantile_sorted(e, row_count, 0.95);
+    acc.under5_share = (double)under / (double)row_count;
+    acc.frames = (uint32_t)row_count;
+    free(e);
+    return acc;
+}
+
+void rnd_cost_split(size_t count, uint64_t seed, uint32_t *order, size_t *train_count)
+{
+    for (size_t i = 0; i < count; ++i)
+        order[i] = (uint32_t)i;
+    uint64_t state = seed;
+    for (size_t i = count; i > 1; --i) { /* splitmix64 (as scene/'s generator) driving Fisher–Yates */
+        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        z ^= z >> 31;
+        size_t j = (size_t)(z % i);
+        uint32_t t = order[i - 1];
+        order[i - 1] = order[j];
+        order[j] = t;
+    }
+    size_t train = (size_t)llround(0.75 * (double)count);
+    if (count >= 2 && train >= count)
+        train = count - 1;
+    if (count >= 2 && train < 1)
+        train = 1;
+    *train_count = train;
+}

@@ -1,0 +1,369 @@
+/* The machine cost profile JSON (docs/cost-model.md): strict reading with cJSON — every error names
+ * the file and the field — atomic writing, and the built-in llvmpipe reference. */
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "render/render.h"
+
+#define COST_FORMAT_TAG "hmdlod-cost-profile-1"
+enum { COST_PROFILE_MAX_BYTES = 1 << 20 };
+
+static const char *const coefficient_keys[5] = {"c0_ms", "c1_ms_per_triangle", "c2_ms_per_vertex",
+                                                 "c3_ms_per_pixel", "c4_ms_per_draw"};
+
+const char *rnd_cost_form_name(enum lod_cost_form form)
+{
+    return form == LOD_COST_MAX ? "max" : form == LOD_COST_ADDITIVE ? "additive" : NULL;
+}
+
+int rnd_cost_form_parse(const char *name, enum lod_cost_form *form)
+{
+    if (name && !strcmp(name, "max"))
+        return *form = LOD_COST_MAX, 0;
+    if (name && !strcmp(name, "additive"))
+        return *form = LOD_COST_ADDITIVE, 0;
+    return -1;
+}
+
+static double *coefficient(struct lod_cost_model *m, int i)
+{
+    double *c[5] = {&m->c0_ms, &m->c1_ms_per_triangle, &m->c2_ms_per_vertex, &m->c3_ms_per_pixel, &m->c4_ms_per_draw};
+    return c[i];
+}
+
+/* ---- reading --------------------------------------------------------------------------------- */
+
+static char *read_text(const char *path, struct hl_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+        return NULL;
+    }
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) || st.st_size > COST_PROFILE_MAX_BYTES) {
+        hl_fail(err, "%s: not a regular file of at most %d bytes", path, COST_PROFILE_MAX_BYTES);
+        fclose(f);
+        return NULL;
+    }
+    char *buf = malloc((size_t)COST_PROFILE_MAX_BYTES + 2);
+    size_t len = buf ? fread(buf, 1, (size_t)COST_PROFILE_MAX_BYTES + 1, f) : 0;
+    int failed = !buf || ferror(f) || len > COST_PROFILE_MAX_BYTES;
+    fclose(f);
+    if (failed) {
+        hl_fail(err, "%s: cannot read (or larger than %d bytes)", path, COST_PROFILE_MAX_BYTES);
+        free(buf);
+        return NULL;
+    }
+    buf[len] = '\0';
+    return buf;
+}
+
+/* Unknown keys are errors: a misspelt coefficient must not silently fall back to nothing. */
+static int check_keys(const cJSON *obj, const char *const *keys, int n, const char *path, const char *where,
+                      struct hl_error *err)
+{
+    for (const cJSON *it = obj->child; it; it = it->next) {
+        int known = 0;
+        for (int i = 0; i < n && !known; ++i)
+            known = it->string && !strcmp(it->string, keys[i]);
+        if (!known)
+            return hl_fail(err, "%s: %s'%s': unknown key", path, where, it->string ? it->string : "?");
+    }
+    return 0;
+}
+
+static int read_number(const cJSON *obj, const char *key, int required, double min, double *out, const char *path,
+                       const char *where, struct hl_error *err)
+{
+    const cJSON *it = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!it)
+        return required ? hl_fail(err, "%s: %s'%s': missing", path, where, key) : 0;
+    if (!cJSON_IsNumber(it))
+        return hl_fail(err, "%s: %s'%s': not a number", path, where, key);
+    if (!isfinite(it->valuedouble))
+        return hl_fail(err, "%s: %s'%s': not finite", path, where, key);
+    if (it->valuedouble < min)
+        return hl_fail(err, "%s: %s'%s': %g is negative (must be ≥ %g)", path, where, key, it->valuedouble, min);
+    *out = it->valuedouble;
+    return 0;
+}
+
+static int read_string(const cJSON *obj, const char *key, int required, char *out, size_t size, const char *path,
+                       struct hl_error *err)
+{
+    const cJSON *it = cJSON_GetObjectItemCaseSensitive(obj, key);
+    if (!it)
+        return required ? hl_fail(err, "%s: '%s': missing", path, key) : 0;
+    if (!cJSON_IsString(it))
+        return hl_fail(err, "%s: '%s': not a string", path, key);
+    if (strlen(it->valuestring) >= size)
+        return hl_fail(err, "%s: '%s': longer than %zu characters", path, key, size - 1);
+    snprintf(out, size, "%s", it->valuestring);
+    return 0;
+}
+
+static int read_accuracy(const cJSON *root, const char *key, struct rnd_cost_accuracy *acc, const char *path,
+                         struct hl_error *err)
+{
+    static const char *const keys[] = {"frames", "median_rel", "p95_rel", "under5_share"};
+    const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, key);
+    if (!o)
+        return 0;
+    char where[64];
+    snprintf(where, sizeof where, "'%s': ", key);
+    if (!cJSON_IsObject(o))
+        return hl_fail(err, "%s: '%s': not an object", path, key);
+    double frames = 0;
+    if (check_keys(o, keys, 4, path, where, err) != 0 ||
+        read_number(o, "frames", 1, 0, &frames, path, where, err) != 0 ||
+        read_number(o, "median_rel", 1, 0, &acc->median_rel, path, where, err) != 0 ||
+        read_number(o, "p95_rel", 1, 0, &acc->p95_rel, path, where, err) != 0 ||
+        read_number(o, "under5_share", 1, 0, &acc->under5_share, path, where, err) != 0)
+        return -1;
+    if (frames > 1e9 || frames != floor(frames))
+        return hl_fail(err, "%s: %s'frames': not a whole number of frames", path, where);
+    acc->frames = (uint32_t)frames;
+    return 0;
+}
+
+/* A JSON array of at most RND_COST_GRID_MAX finite non-negative numbers. */
+static int read_list(const cJSON *grid, const char *key, double *out, int *count, const char *path,
+                     struct hl_error *err)
+{
+    const cJSON *a = cJSON_GetObjectItemCaseSensitive(grid, key);
+    int n = cJSON_IsArray(a) ? cJSON_GetArraySize(a) : -1;
+    if (n < 1 || n > RND_COST_GRID_MAX)
+        return hl_fail(err, "%s: 'grid': '%s': expected an array of 1…%d numbers", path, key, RND_COST_GRID_MAX);
+    for (int i = 0; i < n; ++i) {
+        const cJSON *it = cJSON_GetArrayItem(a, i);
+        if (!cJSON_IsNumber(it) || !isfinite(it->valuedouble) || it->valuedouble < 0)
+            return hl_fail(err, "%s: 'grid': '%s'[%d]: not a finite number ≥ 0", path, key, i);
+        out[i] = it->valuedouble;
+    }
+    *count = n;
+    return 0;
+}
+
+static int read_grid(const cJSON *root, struct rnd_cost_grid *g, const char *path, struct hl_error *err)
+{
+    static const char *const keys[] = {"families", "levels", "coverage", "objects", "repeats", "render_scale"};
+    const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, "grid");
+    if (!o)
+        return 0;
+    if (!cJSON_IsObject(o))
+        return hl_fail(err, "%s: 'grid': not an object", path);
+    double levels[RND_COST_GRID_MAX], objects[RND_COST_GRID_MAX], repeats = 0, families = 1;
+    if (check_keys(o, keys, 6, path, "'grid': ", err) != 0 ||
+        read_number(o, "families", 0, 1, &families, path, "'grid': ", err) || read_list(o, "levels", levels, &g->levels, path, err) ||
+        read_list(o, "coverage", g->coverage, &g->coverages, path, err) ||
+        read_list(o, "objects", objects, &g->counts, path, err) ||
+        read_number(o, "repeats", 1, 1, &repeats, path, "'grid': ", err) ||
+        read_number(o, "render_scale", 1, 0, &g->render_scale, path, "'grid': ", err))
+        return -1;
+    for (int i = 0; i < g->levels; ++i)
+        g->level[i] = (uint32_t)fmin(levels[i], 255);
+    for (int i = 0; i < g->counts; ++i)
+        g->objects[i] = (uint32_t)fmin(objects[i], 1e9);
+    g->repeats = (int)fmin(repeats, 1e6);
+    g->families = (int)fmin(families, 2);
+    return 0;
+}
+
+int rnd_cost_profile_read(const char *path, struct rnd_cost_profile *out, struct hl_error *err)
+{
+    static const char *const keys[] = {"format", "label", "form", "coefficients", "renderer", "display", "eye_px",
+                                       "held_out", "held_out_other_form", "grid", "date", "commit",
+                                       "load_average_1min"};
+    memset(out, 0, sizeof *out);
+    char *text = read_text(path, err);
+    if (!text)
+        return -1;
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
+    int rc = -1;
+    if (!root) {
+        hl_fail(err, "%s: not valid JSON near byte %td", path, end ? end - text : 0);
+        goto done;
+    }
+    if (!cJSON_IsObject(root)) {
+        hl_fail(err, "%s: expected a JSON object", path);
+        goto done;
+    }
+    char format[64] = "", form[32] = "";
+    if (check_keys(root, keys, (int)(sizeof keys / sizeof keys[0]), path, "", err) != 0 ||
+        read_string(root, "format", 1, format, sizeof format, path, err) != 0)
+        goto done;
+    if (strcmp(format, COST_FORMAT_TAG) != 0) {
+        hl_fail(err, "%s: 'format': '%s' is not " COST_FORMAT_TAG, path, format);
+        goto done;
+    }
+    if (read_string(root, "form", 1, form, sizeof form, path, err) != 0)
+        goto done;
+    if (rnd_cost_form_parse(form, &out->model.form) != 0) {
+        hl_fail(err, "%s: 'form': unknown form '%s' (max or additive)", path, form);
+        goto done;
+    }
+    const cJSON *co = cJSON_GetObjectItemCaseSensitive(root, "coefficients");
+    if (!co) {
+        hl_fail(err, "%s: 'coefficients': missing", path);
+        goto done;
+    }
+    if (!cJSON_IsObject(co)) {
+        hl_fail(err, "%s: 'coefficients': not an object", path);
+        goto done;
+    }
+    if (check_keys(co, coefficient_keys, 5, path, "'coefficients': ", err) != 0)
+        goto done;
+    for (int i = 0; i < 5; ++i)
+        if (read_number(co, coefficient_keys[i], 1, 0.0, coefficient(&out->model, i), path, "'coefficients': ", err))
+            goto done;
+    if (read_string(root, "renderer", 1, out->renderer, sizeof out->renderer, path, err) != 0 ||
+        read_string(root, "label", 0, out->label, sizeof out->label, path, err) != 0 ||
+        read_string(root, "display", 0, out->display, sizeof out->display, path, err) != 0 ||
+        read_string(root, "date", 0, out->date, sizeof out->date, path, err) != 0 ||
+        read_string(root, "commit", 0, out->commit, sizeof out->commit, path, err) != 0 ||
+        read_accuracy(root, "held_out", &out->held_out, path, err) != 0 ||
+        read_accuracy(root, "held_out_other_form", &out->held_out_other, path, err) != 0 ||
+        read_grid(root, &out->grid, path, err) != 0)
+        goto done;
+    out->load_before = out->load_after = -1;
+    const cJSON *load = cJSON_GetObjectItemCaseSensitive(root, "load_average_1min");
+    if (load) {
+        const cJSON *l0 = cJSON_GetArrayItem(load, 0), *l1 = cJSON_GetArrayItem(load, 1);
+        if (!cJSON_IsArray(load) || cJSON_GetArraySize(load) != 2 || !cJSON_IsNumber(l0) || !cJSON_IsNumber(l1) ||
+            !(l0->valuedouble >= 0 && l0->valuedouble < 1e6) || !(l1->valuedouble >= 0 && l1->valuedouble < 1e6)) {
+            hl_fail(err, "%s: 'load_average_1min': expected two load averages ≥ 0 (before, after)", path);
+            goto done;
+        }
+        out->load_before = l0->valuedouble, out->load_after = l1->valuedouble;
+    }
+    const cJSON *px = cJSON_GetObjectItemCaseSensitive(root, "eye_px");
+    if (px) {
+        const cJSON *w = cJSON_GetArrayItem(px, 0), *h = cJSON_GetArrayItem(px, 1);
+        if (!cJSON_IsArray(px) || cJSON_GetArraySize(px) != 2 || !cJSON_IsNumber(w) || !cJSON_IsNumber(h) ||
+            !(w->valuedouble >= 1 && w->valuedouble <= 65536) || !(h->valuedouble >= 1 && h->valuedouble <= 65536)) {
+            hl_fail(err, "%s: 'eye_px': expected two pixel counts in 1…65536", path);
+            goto done;
+        }
+        out->eye_width_px = (int)w->valuedouble, out->eye_height_px = (int)h->valuedouble;
+    }
+    rc = 0;
+done:
+    cJSON_Delete(root);
+    free(text);
+    if (rc != 0)
+        memset(out, 0, sizeof *out);
+    return rc;
+}
+
+/* ---- writing --------------------------------------------------------------------------------- */
+
+static cJSON *accuracy_json(const struct rnd_cost_accuracy *a)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "frames", a->frames);
+    cJSON_AddNumberToObject(o, "median_rel", a->median_rel);
+    cJSON_AddNumberToObject(o, "p95_rel", a->p95_rel);
+    cJSON_AddNumberToObject(o, "under5_share", a->under5_share);
+    return o;
+}
+
+int rnd_cost_profile_write(const char *path, const struct rnd_cost_profile *p, struct hl_error *err)
+{
+    const char *form = rnd_cost_form_name(p->model.form);
+    if (!form)
+        return hl_fail(err, "%s: unknown cost form %d", path, (int)p->model.form);
+    struct lod_cost_model m = p->model;
+    for (int i = 0; i < 5; ++i)
+        if (!isfinite(*coefficient(&m, i)) || *coefficient(&m, i) < 0)
+            return hl_fail(err, "%s: coefficient %s = %g is not finite and ≥ 0", path, coefficient_keys[i],
+                           *coefficient(&m, i));
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "format", COST_FORMAT_TAG);
+    cJSON_AddStringToObject(root, "label", p->label);
+    cJSON_AddStringToObject(root, "form", form);
+    cJSON *co = cJSON_AddObjectToObject(root, "coefficients");
+    for (int i = 0; i < 5; ++i)
+        cJSON_AddNumberToObject(co, coefficient_keys[i], *coefficient(&m, i));
+    cJSON_AddStringToObject(root, "renderer", p->renderer);
+    if (p->display[0])
+        cJSON_AddStringToObject(root, "display", p->display);
+    if (p->eye_width_px > 0 && p->eye_height_px > 0) {
+        int px[2] = {p->eye_width_px, p->eye_height_px};
+        cJSON_AddItemToObject(root, "eye_px", cJSON_CreateIntArray(px, 2));
+    }
+    if (p->held_out.frames)
+        cJSON_AddItemToObject(root, "held_out", accuracy_json(&p->held_out));
+    if (p->held_out_other.frames)
+        cJSON_AddItemToObject(root, "held_out_other_form", accuracy_json(&p->held_out_other));
+    if (p->grid.repeats > 0) {
+        const struct rnd_cost_grid *g = &p->grid;
+        cJSON *go = cJSON_AddObjectToObject(root, "grid");
+        cJSON_AddNumberToObject(go, "families", g->families);
+        double levels[RND_COST_GRID_MAX], objects[RND_COST_GRID_MAX];
+        for (int i = 0; i < g->levels; ++i)
+            levels[i] = g->level[i];
+        for (int i = 0; i < g->counts; ++i)
+            objects[i] = g->objects[i];
+        cJSON_AddItemToObject(go, "levels", cJSON_CreateDoubleArray(levels, g->levels));
+        cJSON_AddItemToObject(go, "coverage", cJSON_CreateDoubleArray(g->coverage, g->coverages));
+        cJSON_AddItemToObject(go, "objects", cJSON_CreateDoubleArray(objects, g->counts));
+        cJSON_AddNumberToObject(go, "repeats", g->repeats);
+        cJSON_AddNumberToObject(go, "render_scale", g->render_scale);
+    }
+    if (p->load_before >= 0 && p->load_after >= 0) {
+        double load[2] = {p->load_before, p->load_after};
+        cJSON_AddItemToObject(root, "load_average_1min", cJSON_CreateDoubleArray(load, 2));
+    }
+    if (p->date[0])
+        cJSON_AddStringToObject(root, "date", p->date);
+    if (p->commit[0])
+        cJSON_AddStringToObject(root, "commit", p->commit);
+    char *text = cJSON_Print(root);
+    cJSON_Delete(root);
+    if (!text)
+        return hl_fail(err, "%s: out of memory", path);
+    char tmp[4200];
+    snprintf(tmp, sizeof tmp, "%s.partial", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f) {
+        int e = errno;
+        free(text);
+        return hl_fail(err, "%s: cannot create: %s", tmp, strerror(e));
+    }
+    int failed = fputs(text, f) < 0 || fputc('\n', f) == EOF;
+    failed |= fclose(f) != 0;
+    free(text);
+    if (failed || rename(tmp, path) != 0) {
+        int e = errno;
+        remove(tmp);
+        return hl_fail(err, "%s: cannot write: %s", path, strerror(e));
+    }
+    return 0;
+}
+
+/* ---- the built-in reference ------------------------------------------------------------------- */
+
+void rnd_cost_profile_builtin_llvmpipe(struct rnd_cost_profile *out)
+{
+    memset(out, 0, sizeof *out);
+    /* Measured by `hmdlod calibrate --out …` (default grid, seed 1, Vive, render scale 1) on the
+     * 2-core development machine while other work held its load average at 3.9–5.0: docs/RESULTS.md
+     * "Cost model", run a. The additive form was kept (held-out p95 49 % against the max form's 54 %). */
+    out->model = (struct lod_cost_model){LOD_COST_ADDITIVE, 5.45691868823545, 7.84743605874388e-05,
+                                         9.51840117212955e-05, 8.568360150613063e-06, 0.01566763164159768};
+    out->held_out = (struct rnd_cost_accuracy){0.2756508424519646, 0.49373313231626, 0.66, 50};
+    snprintf(out->label, sizeof out->label, "built-in llvmpipe reference (2-core, measured 2026-12-01)");
+    snprintf(out->renderer, sizeof out->renderer, "llvmpipe (LLVM 15.0.6, 256 bits)");
+    snprintf(out->display, sizeof out->display, "vive");
+    out->eye_width_px = 1080, out->eye_height_px = 1200;
+    snprintf(out->date, sizeof out->date, "2026-12-01 21:24 UTC");
+    snprintf(out->commit, sizeof out->commit, "dd22850");
+    out->load_before = 3.86, out->load_after = 5.0;
+    rnd_cost_grid_default(&out->grid, 0);
+}

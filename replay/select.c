@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "render/render.h"
 #include "replay/select.h"
 
 static const char *const selector_names[] = {"none", "reddy", "static", "feedback", "fs"};
@@ -24,12 +25,17 @@ int rpl_selector_parse(const char *name, enum rpl_selector *out, struct hl_error
 int rpl_cost_model_load(const char *path, struct lod_cost_model *out, char *label_out, size_t label_size,
                         struct hl_error *err)
 {
-    if (path)
-        return hl_fail(err, "--cost-profile %s: cost profile files are not read yet", path);
-    /* Provisional: fitted by hand to the auditorium and field replays on the 2-core llvmpipe
-     * machine (docs/RESULTS.md "Replay") until hmdlod calibrate measures it. */
-    *out = (struct lod_cost_model){LOD_COST_ADDITIVE, 2.0, 9e-5, 0.0, 2.5e-6, 0.01};
-    snprintf(label_out, label_size, "provisional llvmpipe estimate");
+    struct rnd_cost_profile profile;
+    if (path) {
+        if (rnd_cost_profile_read(path, &profile, err) != 0)
+            return -1;
+        snprintf(label_out, label_size, "%s (%s form, %s)", path, rnd_cost_form_name(profile.model.form),
+                 profile.renderer);
+    } else {
+        rnd_cost_profile_builtin_llvmpipe(&profile);
+        snprintf(label_out, label_size, "%s", profile.label);
+    }
+    *out = profile.model;
     return 0;
 }
 

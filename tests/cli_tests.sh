@@ -222,6 +222,14 @@ expect_error "calibrate unwritable" "no-such-dir/c.json.partial: cannot create" 
   "$bin" calibrate --quick --out "$tmp/no-such-dir/c.json"
 expect_error "calibrate bad --render-scale" "--render-scale: 9 is outside" -- \
   "$bin" calibrate --quick --render-scale 9 --out "$tmp/c.json"
+# The profile drives replay's fs; predicted cost stays within the budget; a bad profile is refused.
+expect_ok "replay fs --cost-profile" "cost model: .*cost.json" -- "$bin" replay --scene field --objects 300 \
+  --selector fs --cost-profile "$tmp/cost.json" --frames 60 --render-scale 0.25 --out "$tmp/fs-profile"
+predicted_within "$tmp/fs-profile/frames.csv" 11.1112 || fail "fs with a calibrated profile: over the budget"
+printf '{"format": "hmdlod-cost-profile-1", "form": "additive"' >"$tmp/cut.json"
+expect_error "replay fs with a cut profile" "cut.json" -- "$bin" replay --selector fs --cost-profile "$tmp/cut.json" \
+  --out "$tmp/fs-cut"
+[ ! -e "$tmp/fs-cut" ] || fail "a replay with a bad cost profile made its output folder"
 expect_error "calibrate bad --seed" "--seed: 'x' is not a whole number" -- "$bin" calibrate --seed x --out "$tmp/c.json"
 expect_error "calibrate unknown display" "nope" -- "$bin" calibrate --quick --display nope --out "$tmp/c.json"
 expect_error "calibrate unknown option" "unknown option '--fast'" -- "$bin" calibrate --fast --out "$tmp/c.json"

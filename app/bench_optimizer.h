@@ -1,0 +1,68 @@
+/* Internal to app/: the per-frame work of `hmdlod bench optimizer` on the embeddable core only
+ * (acuity + lod; scene/ for the cull, replay/ for the trace's poses): a display's eyes and limits,
+ * synthetic 4-level chains, a cost model, and one frame's problem built from a head pose
+ * (app/bench_optimizer_frame.c). The experiments and tables are app/bench_optimizer.c. */
+#ifndef HMDLOD_APP_BENCH_OPTIMIZER_H
+#define HMDLOD_APP_BENCH_OPTIMIZER_H
+
+#include "hmd/hmd.h"
+#include "lod/lod.h"
+#include "replay/replay.h"
+#include "scene/scene.h"
+
+enum { BOPT_LEVELS = 4, BOPT_CHAINS = 4 };
+
+/* What does not change during a run: both eyes of the display (head frame), Reddy's limits for its
+ * ξ, the union frustum for the cull, the synthetic chains and the cost model. */
+struct bopt_view {
+    struct hmd_eye eye[2];
+    double width_px, height_px;
+    struct acu_limits limits;
+    struct rpl_cull_frustum frustum;
+    struct lod_chain chains[BOPT_CHAINS];
+    struct lod_cost_model cost;
+    struct lod_benefit_params benefit;
+    double far_m; /* > 0: a far plane for the cull (the scaling table's fixed view distance) */
+};
+void bopt_view_init(struct bopt_view *v, const struct hmd_profile *display);
+
+/* Chain of a scene object: a hash of its id, so neighbours differ and it needs no array. */
+static inline uint32_t bopt_chain_of(uint32_t object) { return (object * 2654435761u) >> 30; }
+
+/* One frame's arrays, sized once (cap visible objects, scene_count objects for the last levels).
+ * The problem p points into them after bopt_build. last_level[object] is the level drawn last
+ * frame or LOD_UNSEEN: the incremental optimizer's start and the benefit's hysteresis. */
+struct bopt_work {
+    size_t cap, scene_count, n;
+    uint32_t *visible, *object_id, *first, *samples, *chain_of_object;
+    double *pixels_px, *ecc_deg, *vel_degps, *diam_deg, *cost_ms, *benefit;
+    uint8_t *ceiling, *previous, *count, *level, *choice, *choice_ref, *level_out, *last_level;
+    void *scratch;
+    struct lod_problem p;
+};
+int bopt_work_alloc(struct bopt_work *w, size_t cap, size_t scene_count);
+void bopt_work_free(struct bopt_work *w);
+void bopt_work_forget(struct bopt_work *w); /* every object LOD_UNSEEN: the next frame is a cold start */
+
+/* The visible set of a pose into w->visible (scn_cull: hierarchical when the scene has groups, with
+ * v->far_m as a sixth plane when set). Returns the count, clamped to w->cap. culler may be NULL for
+ * a flat scene. */
+size_t bopt_cull(const struct bopt_view *v, const struct scn_scene *s, struct scn_culler *c,
+                 const struct trk_pose *pose, struct bopt_work *w);
+
+/* Builds the problem of the visible objects for a pose (DESIGN.md steps 4–6): viewing geometry,
+ * projected pixels, Reddy's ceiling, each level's cost, benefit with hysteresis from last_level,
+ * the convex hull; then lod_choice_start into w->choice. The problem's budget is budget_ms. */
+void bopt_build(const struct bopt_view *v, const struct scn_scene *s, const struct trk_pose *pose,
+                double budget_ms, struct bopt_work *w);
+
+/* Σ candidate 0 and Σ last (ceiling) candidate cost of the built problem, for the nominal budget. */
+void bopt_cost_range(const struct bopt_work *w, double *coarsest_ms, double *ceiling_ms);
+
+/* Keeps what `choice` draws as last_level for the next frame. */
+void bopt_remember(struct bopt_work *w, const uint8_t *choice);
+
+/* The pose turned by yaw_deg about the world up axis (a snap turn: angular velocity unchanged). */
+struct trk_pose bopt_pose_turned(const struct trk_pose *pose, double yaw_deg);
+
+#endif

@@ -8,9 +8,10 @@
  * The scene: 1000 objects with bounding spheres on a shell 4–40 m around the viewer, each drawn from
  * one of three 4-level LOD chains (triangles, vertices and Reddy's removed frequencies per level).
  * Per frame, with a head pose (cyclopean eye, gaze) and a stereo display (Vive-like):
- *   1. acu_compute_pixels    projected coverage of each sphere in both eyes; 0 = outside both images,
- *                            which doubles as the frustum cull here (an engine would cull first);
- *   2. acu_compute_geometry  eccentricity, retinal velocity, angular diameter of the visible objects;
+ *   1. a frustum cull        spheres against each eye's four side planes and the eye plane (an
+ *                            engine has its own; acuity and lod only ever see the visible objects);
+ *   2. acu_compute_pixels    projected coverage of each visible sphere, summed over both eyes, and
+ *      acu_compute_geometry  eccentricity, retinal velocity and angular diameter;
  *   3. lod_select_reddy      the perceptual ceiling: the coarsest level the viewer cannot tell apart
  *                            from the finest (Reddy 1998) — detail beyond it is worth nothing;
  *   4. lod_cost_object_ms    each candidate level's predicted cost (Funkhouser & Séquin §4);
@@ -38,15 +39,15 @@ static const uint32_t chain_vertices[CHAINS][LEVELS] = {
 static const double chain_freq_cpdiam[CHAINS][LEVELS] = {
     {INFINITY, 48.0, 20.0, 8.0}, {INFINITY, 36.0, 14.0, 6.0}, {INFINITY, 64.0, 28.0, 10.0}};
 
-/* A cost model in the additive form, coefficients typical of llvmpipe on two cores (assumed for the
- * example; `hmdlod calibrate` measures a machine's). Triangles and vertices count both eyes. */
+/* A cost model in the additive form with assumed coefficients (`hmdlod calibrate` measures a
+ * machine's and writes them to a JSON profile). Triangles, vertices and draws count both eyes. */
 static const struct lod_cost_model cost_model = {
     .form = LOD_COST_ADDITIVE,
     .c0_ms = 1.5,
-    .c1_ms_per_triangle = 4.0e-5,
-    .c2_ms_per_vertex = 1.0e-5,
-    .c3_ms_per_pixel = 1.5e-6,
-    .c4_ms_per_draw = 0.01,
+    .c1_ms_per_triangle = 2.0e-5,
+    .c2_ms_per_vertex = 5.0e-6,
+    .c3_ms_per_pixel = 1.0e-6,
+    .c4_ms_per_draw = 0.002,
 };
 static const double frame_budget_ms = 1000.0 / 90.0; /* the Vive's refresh period */
 
@@ -56,8 +57,8 @@ static uint32_t chain_of_object[OBJECTS];
 static uint8_t last_level[OBJECTS]; /* level drawn last frame, LOD_UNSEEN if none */
 
 /* Per-frame arrays, position-ordered over the visible objects (k), candidates 4 per object (c). */
-static uint32_t all[OBJECTS], visible[OBJECTS];
-static double pixels_all_px[OBJECTS], pixels_px[OBJECTS];
+static uint32_t visible[OBJECTS];
+static double pixels_px[OBJECTS];
 static double ecc_deg[OBJECTS], vel_degps[OBJECTS], diam_deg[OBJECTS];
 static uint8_t ceiling[OBJECTS], previous[OBJECTS], choice[OBJECTS], level_out[OBJECTS];
 static uint32_t first[OBJECTS];
@@ -83,7 +84,6 @@ static void make_scene(void)
         center_m[3 * i + 2] = dist_m * r * sin(phi);
         chain_of_object[i] = (uint32_t)i % CHAINS;
         last_level[i] = LOD_UNSEEN;
-        all[i] = (uint32_t)i;
     }
 }
 
@@ -111,6 +111,21 @@ static void make_eyes(double yaw_deg, struct acu_eye eyes[2], struct acu_viewer 
     viewer->linear_velocity_mps = hl_v3(0, 0, 0);
 }
 
+/* Not wholly outside one of the eye's five planes (four sides through the eye, and the eye's own
+ * plane): the usual conservative sphere test. Eye frame: +X right, +Y up, −Z forward. */
+static int sphere_in_eye(const struct acu_eye *e, const double *c, double r)
+{
+    hl_vec3d d = hl_q_rotate(hl_q_conj(e->orientation), hl_v3(c[0] - e->position_m.x, c[1] - e->position_m.y,
+                                                                c[2] - e->position_m.z));
+    const double side[4][3] = {{1, 0, -e->tan_left}, {-1, 0, -e->tan_right}, {0, -1, -e->tan_up}, {0, 1, -e->tan_down}};
+    for (int k = 0; k < 4; ++k) {
+        double len = sqrt(side[k][0] * side[k][0] + side[k][1] * side[k][1] + side[k][2] * side[k][2]);
+        if ((side[k][0] * d.x + side[k][1] * d.y + side[k][2] * d.z) / len < -r)
+            return 0;
+    }
+    return -d.z > -r;
+}
+
 /* One frame: steps 1–7 of the header. Returns the number of visible objects. */
 static size_t run_frame(const struct acu_limits *lim, const struct lod_chain *chains, double yaw_deg,
                         void *scratch, struct lod_result *result, double *lp_bound)
@@ -119,16 +134,16 @@ static size_t run_frame(const struct acu_limits *lim, const struct lod_chain *ch
     struct acu_viewer viewer;
     make_eyes(yaw_deg, eyes, &viewer);
 
-    /* 1. Coverage of every sphere; keep those that cover a pixel. */
-    acu_compute_pixels(eyes, 2, center_m, radius_m, all, OBJECTS, pixels_all_px);
+    /* 1. The visible objects: in either eye's frustum. */
     size_t n = 0;
     for (uint32_t i = 0; i < OBJECTS; ++i)
-        if (pixels_all_px[i] > 0) {
-            pixels_px[n] = pixels_all_px[i];
+        if (sphere_in_eye(&eyes[0], &center_m[3 * i], radius_m[i]) || sphere_in_eye(&eyes[1], &center_m[3 * i], radius_m[i]))
             visible[n++] = i;
-        }
 
-    /* 2–3. Viewing geometry and the perceptual ceiling of the visible objects (static scene). */
+    /* 2–3. Coverage, viewing geometry and the perceptual ceiling of the visible objects (a static
+     * scene: no object velocities). acu_compute_pixels is conservative: a sphere reaching behind an
+     * eye's plane counts as filling its image, so it must not serve as the cull. */
+    acu_compute_pixels(eyes, 2, center_m, radius_m, visible, n, pixels_px);
     acu_compute_geometry(&viewer, center_m, radius_m, NULL, visible, n, ecc_deg, vel_degps, diam_deg);
     lod_select_reddy(lim, chains, chain_of_object, visible, n, ecc_deg, vel_degps, diam_deg, ceiling, NULL, NULL);
 

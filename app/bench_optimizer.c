@@ -216,13 +216,7 @@ static int setup_case(struct opt_case *c, uint32_t target, const struct bopt_vie
         return -1;
     }
     struct trk_pose p0 = pose_at_frame(tr, 0);
-    struct bopt_view vv = *v;
-    vv.far_m = 0;
-    struct rpl_cull_frustum fr = vv.frustum;
-    (void)fr;
-    struct scn_plane planes[6];
-    int np = rpl_cull_frustum_planes(&vv.frustum, &p0, planes);
-    uint32_t seen = scn_cull_flat(&pilot, planes, np, pw.visible, NULL);
+    uint32_t seen = (uint32_t)bopt_cull(v, &pilot, NULL, &p0, &pw);
     bopt_work_free(&pw);
     scn_scene_free(&pilot);
     uint32_t m = (uint32_t)ceil(5.0 * target * target / fmax(seen, 1));

@@ -29,7 +29,8 @@ void bopt_view_init(struct bopt_view *v, const struct hmd_profile *display);
 /* Chain of a scene object: a hash of its id, so neighbours differ and it needs no array. */
 static inline uint32_t bopt_chain_of(uint32_t object) { return (object * 2654435761u) >> 30; }
 
-/* One frame's arrays, sized once (cap visible objects, scene_count objects for the last levels).
+/* One frame's arrays, sized once: a problem of up to cap visible objects; visible and last_level
+ * have room for all scene_count objects (scn_cull may list them all).
  * The problem p points into them after bopt_build. last_level[object] is the level drawn last
  * frame or LOD_UNSEEN: the incremental optimizer's start and the benefit's hysteresis. */
 struct bopt_work {
@@ -45,8 +46,8 @@ void bopt_work_free(struct bopt_work *w);
 void bopt_work_forget(struct bopt_work *w); /* every object LOD_UNSEEN: the next frame is a cold start */
 
 /* The visible set of a pose into w->visible (scn_cull: hierarchical when the scene has groups, with
- * v->far_m as a sixth plane when set). Returns the count, clamped to w->cap. culler may be NULL for
- * a flat scene. */
+ * v->far_m as a sixth plane when set). Returns how many are visible; w->n is that clamped to w->cap.
+ * culler may be NULL for a flat scene. */
 size_t bopt_cull(const struct bopt_view *v, const struct scn_scene *s, struct scn_culler *c,
                  const struct trk_pose *pose, struct bopt_work *w);
 

@@ -102,7 +102,7 @@ size_t bopt_cull(const struct bopt_view *v, const struct scn_scene *s, struct sc
     /* scn_cull may list every object (w->visible has room); a problem holds at most cap of them. */
     uint32_t n = c ? scn_cull(s, planes, np, c, w->visible, NULL) : scn_cull_flat(s, planes, np, w->visible, NULL);
     w->n = n < w->cap ? n : w->cap;
-    return w->n;
+    return n;
 }
 
 void bopt_build(const struct bopt_view *v, const struct scn_scene *s, const struct trk_pose *pose, double budget_ms,
@@ -168,9 +168,8 @@ void bopt_cost_range(const struct bopt_work *w, double *coarsest_ms, double *cei
 void bopt_remember(struct bopt_work *w, const uint8_t *choice)
 {
     lod_level_of_choice(&w->p, choice, w->level_out);
-    /* Objects that left the view become unseen: clear only the last frame's visible ones would need
-     * their list; the scene array is cleared whole, which costs scene_count bytes (memset, ~µs/100k)
-     * and is outside every timed section. */
+    /* Objects that left the view become unseen. The whole scene array is cleared (a memset of
+     * scene_count bytes), which is outside every timed section. */
     bopt_work_forget(w);
     for (size_t k = 0; k < w->n; ++k)
         w->last_level[w->visible[k]] = w->level_out[k] == LOD_DROP ? LOD_UNSEEN : w->level_out[k];

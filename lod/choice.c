@@ -150,6 +150,6 @@ void lod_level_of_choice(const struct lod_problem *p, const uint8_t *choice, uin
 size_t lod_scratch_bytes(size_t max_objects, size_t max_candidates)
 {
     size_t greedy = (max_candidates + max_objects) * sizeof(struct lod_step);
-    size_t fs = max_objects * (4 * sizeof(uint32_t) + 2 * sizeof(double)) + max_objects * sizeof(struct lod_step);
-    return (greedy > fs ? greedy : fs) + 64;
+    size_t fs = max_objects * (2 * 16 + 2 * sizeof(uint32_t) + sizeof(struct lod_step)); /* heaps, slots, order */
+    return (greedy > fs ? greedy : fs) + 128;
 }

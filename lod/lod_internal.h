@@ -26,7 +26,11 @@ static inline double lod_value_of(const struct lod_problem *p, uint32_t c) /* st
 #define LOD_UNITS_PER_MS 1e8
 static inline int64_t lod_cost_units(double cost_ms)
 {
-    return cost_ms >= 1e4 ? (int64_t)1e12 : (int64_t)(cost_ms * LOD_UNITS_PER_MS) + 1;
+    if (cost_ms >= 1e4)
+        return (int64_t)1e12;
+    double u = cost_ms * LOD_UNITS_PER_MS;
+    int64_t k = (int64_t)u;
+    return k + (u > (double)k); /* up, and only when there is a remainder: whole costs stay exact */
 }
 static inline int64_t lod_budget_units(double budget_ms)
 {
@@ -54,6 +58,12 @@ int64_t lod_drop_to_fit(const struct lod_problem *p, int64_t total, int64_t budg
  * benefit; switches the choice to it when it is worth more. Returns 1 when it switched. */
 int lod_guard_single_item(const struct lod_problem *p, int64_t budget, uint8_t *choice, double *benefit_inout,
                           int64_t *total_inout);
+/* The guard's cheap pre-check: no single upgrade can beat `benefit` when even the largest rise of
+ * any one object over all-candidate-0 does not (with a margin for the sums' rounding). */
+static inline int lod_guard_may_switch(double base_benefit, double max_gain, double benefit)
+{
+    return base_benefit + max_gain > benefit - 1e-9 * fabs(benefit);
+}
 /* Σ benefit and Σ units of a choice, in object order. */
 double lod_choice_benefit(const struct lod_problem *p, const uint8_t *choice);
 

@@ -226,7 +226,7 @@ static int setup_case(struct opt_case *c, uint32_t target, const struct bopt_vie
      * every object at its perceptual ceiling, on the first frame — a budget that binds (the llvmpipe
      * model's absolute figures would leave 10k objects far over any frame time). */
     bopt_cull(v, &c->scene, NULL, &p0, &c->w);
-    bopt_build(v, &c->scene, &p0, 0.0, &c->w);
+    bopt_build(v, &c->scene, &p0, INFINITY, &c->w);
     double lo, hi;
     bopt_cost_range(&c->w, &lo, &hi);
     c->budget_ms = lo + budget_share * (hi - lo);
@@ -405,7 +405,7 @@ static int run_scale(uint32_t objects, const struct bopt_view *v, const struct o
         int64_t t0 = hl_clock_now_ns();
         bopt_cull(v, &s, &cu, &pose, &w);
         int64_t t1 = hl_clock_now_ns();
-        bopt_build(v, &s, &pose, *budget_ms, &w);
+        bopt_build(v, &s, &pose, *budget_ms > 0 ? *budget_ms : INFINITY, &w);
         if (*budget_ms <= 0) { /* the first scene's first frame fixes the budget for all three */
             double lo, hi;
             bopt_cost_range(&w, &lo, &hi);

@@ -38,6 +38,7 @@ struct bopt_work {
     uint32_t *visible, *object_id, *first, *samples, *chain_of_object;
     double *pixels_px, *ecc_deg, *vel_degps, *diam_deg, *cost_ms, *benefit;
     uint8_t *ceiling, *previous, *count, *level, *choice, *choice_ref, *level_out, *last_level;
+    int64_t *hull_scratch; /* cap entries, for lod_hull_reduce */
     void *scratch;
     struct lod_problem p;
 };
@@ -53,7 +54,8 @@ size_t bopt_cull(const struct bopt_view *v, const struct scn_scene *s, struct sc
 
 /* Builds the problem of the visible objects for a pose (DESIGN.md steps 4–6): viewing geometry,
  * projected pixels, Reddy's ceiling, each level's cost, benefit with hysteresis from last_level,
- * the convex hull; then lod_choice_start into w->choice. The problem's budget is budget_ms. */
+ * the convex hull (capped by budget_ms; +INFINITY: no cap); then lod_choice_start into w->choice.
+ * The problem's budget is budget_ms. */
 void bopt_build(const struct bopt_view *v, const struct scn_scene *s, const struct trk_pose *pose,
                 double budget_ms, struct bopt_work *w);
 

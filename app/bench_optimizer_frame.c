@@ -63,10 +63,12 @@ int bopt_work_alloc(struct bopt_work *w, size_t cap, size_t scene_count)
     w->choice_ref = malloc(cap);
     w->level_out = malloc(cap);
     w->last_level = malloc(scene_count);
+    w->hull_scratch = malloc(cap * sizeof *w->hull_scratch);
     w->scratch = malloc(lod_scratch_bytes(cap, cand));
     if (!w->visible || !w->object_id || !w->first || !w->samples || !w->chain_of_object || !w->pixels_px ||
         !w->ecc_deg || !w->vel_degps || !w->diam_deg || !w->cost_ms || !w->benefit || !w->ceiling || !w->previous ||
-        !w->count || !w->level || !w->choice || !w->choice_ref || !w->level_out || !w->last_level || !w->scratch) {
+        !w->count || !w->level || !w->choice || !w->choice_ref || !w->level_out || !w->last_level || !w->hull_scratch ||
+        !w->scratch) {
         bopt_work_free(w);
         return -1;
     }
@@ -80,7 +82,7 @@ void bopt_work_free(struct bopt_work *w)
 {
     void *all[] = {w->visible, w->object_id, w->first, w->samples, w->chain_of_object, w->pixels_px, w->ecc_deg,
                    w->vel_degps, w->diam_deg, w->cost_ms, w->benefit, w->ceiling, w->previous, w->count, w->level,
-                   w->choice, w->choice_ref, w->level_out, w->last_level, w->scratch};
+                   w->choice, w->choice_ref, w->level_out, w->last_level, w->hull_scratch, w->scratch};
     for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k)
         free(all[k]);
     memset(w, 0, sizeof *w);
@@ -147,7 +149,7 @@ void bopt_build(const struct bopt_view *v, const struct scn_scene *s, const stru
     }
     lod_benefit_fill(&v->benefit, n, w->first, w->count, w->level, w->samples, w->pixels_px, NULL, w->ceiling,
                      w->previous, w->benefit);
-    lod_hull_reduce(n, w->first, w->count, w->cost_ms, w->benefit, w->level);
+    lod_hull_reduce(n, w->first, w->count, w->cost_ms, w->benefit, w->level, budget_ms, w->hull_scratch);
     w->p = (struct lod_problem){.object_count = n, .object_id = w->object_id, .first = w->first, .count = w->count,
                                 .cost_ms = w->cost_ms, .benefit = w->benefit, .level = w->level, .budget_ms = budget_ms};
     lod_choice_start(&w->p, w->previous, w->choice);

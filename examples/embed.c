@@ -66,6 +66,7 @@ static uint8_t count[OBJECTS];
 static double cost_ms[OBJECTS * LEVELS], benefit[OBJECTS * LEVELS];
 static uint8_t level[OBJECTS * LEVELS];
 static uint32_t samples[OBJECTS * LEVELS];
+static int64_t hull_scratch[OBJECTS];
 
 /* Deterministic scene: a Fibonacci sphere of directions (even coverage), distances and sizes from a
  * small LCG, so the printout is the same on every machine. */
@@ -163,11 +164,13 @@ static size_t run_frame(const struct acu_limits *lim, const struct lod_chain *ch
         }
     }
 
-    /* 5–6. Benefit (size · accuracy · hysteresis, nothing above the ceiling), then the hull. */
+    /* 5–6. Benefit (size · accuracy · hysteresis, nothing above the ceiling), then the hull, which
+     * also drops levels that could not fit even with every other object at its coarsest. */
+    double budget_ms = frame_budget_ms - cost_model.c0_ms;
     struct lod_benefit_params bp;
     lod_benefit_params_default(&bp);
     lod_benefit_fill(&bp, n, first, count, level, samples, pixels_px, NULL, ceiling, previous, benefit);
-    size_t bad = lod_hull_reduce(n, first, count, cost_ms, benefit, level);
+    size_t bad = lod_hull_reduce(n, first, count, cost_ms, benefit, level, budget_ms, hull_scratch);
     if (bad)
         fprintf(stderr, "embed: %zu candidates had non-finite or negative cost or benefit\n", bad);
 
@@ -177,7 +180,7 @@ static size_t run_frame(const struct acu_limits *lim, const struct lod_chain *ch
     struct lod_problem p = {
         .object_count = n, .object_id = object_id, .first = first, .count = count,
         .cost_ms = cost_ms, .benefit = benefit, .level = level,
-        .budget_ms = frame_budget_ms - cost_model.c0_ms,
+        .budget_ms = budget_ms,
     };
     lod_choice_start(&p, previous, choice);
     lod_optimize_fs(&p, 0.0, scratch, choice, result);

@@ -479,7 +479,7 @@ int bench_optimizer(int argc, char **argv, int full_argc, char **full_argv)
     int rc = 1;
     struct opt_case cases[N_SIZES];
     memset(cases, 0, sizeof cases);
-    struct size_row rows[N_SIZES];
+    struct size_row rows[N_SIZES], rows_still[N_SIZES];
     struct turn_row turns[N_TURN_BINS];
     struct size_row budgets[N_BUDGETS];
     struct size_row limited[2];
@@ -495,6 +495,17 @@ int bench_optimizer(int argc, char **argv, int full_argc, char **full_argv)
             fprintf(stderr, "hmdlod bench optimizer: out of memory for %u objects\n", sizes[k]);
             goto done;
         }
+    }
+    /* The same frames with no hysteresis: with Funkhouser's accuracy nearly saturated (1 − 0.5/v² is
+     * above 0.999 from 26 vertices), hysteresis alone can hold every level where it was, and fs then
+     * has nothing to do; this run shows the optimizer's work when levels are free to move. */
+    struct bopt_view view_free = view;
+    view_free.benefit.hysteresis_per_level = 0.0;
+    int run_free = view.benefit.hysteresis_per_level > 0;
+    for (int k = 0; k < N_SIZES && run_free; ++k) {
+        fprintf(stderr, "hmdlod bench optimizer: %u visible objects, no hysteresis\n", sizes[k]);
+        if (run_trace(&cases[k], &view_free, &tr, o.frames, cases[k].budget_ms, 0.0, &rows_still[k], NULL) != 0)
+            goto done;
     }
     struct opt_case *c10k = &cases[1];
     const double budget_10k_ms = c10k->budget_ms; /* kept for the tables: the cases are freed first */
@@ -545,14 +556,17 @@ int bench_optimizer(int argc, char **argv, int full_argc, char **full_argv)
                "cold start µs fs / greedy | fs iterations median / p99 | benefit / LP bound median / min | fs = greedy | "
                "cost > budget | frames with drops | build µs median |\n");
     bench_emit("|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n");
-    for (int k = 0; k < N_SIZES; ++k) {
-        const struct size_row *r = &rows[k];
-        bench_emit("| %.0f (%u) | %.3f | %.1f / %.1f | %.1f / %.1f | **×%.1f** | %.1f / %.1f | %.0f / %.0f | %.4f / %.4f | "
-                   "%.1f %% | %ld | %ld | %.0f |\n",
-                   r->visible_mean, r->scene_objects, r->budget_ms, r->fs_med, r->fs_p99, r->gr_med, r->gr_p99,
-                   r->ratio_med, r->cold_fs_us, r->cold_gr_us, r->iter_med, r->iter_p99, r->lp_med, r->lp_min,
-                   100.0 * r->equal_share, r->over_budget, r->drop_frames, r->build_med);
-    }
+    for (int pass = 0; pass < 1 + run_free; ++pass)
+        for (int k = 0; k < N_SIZES; ++k) {
+            const struct size_row *r = pass ? &rows_still[k] : &rows[k];
+            if (pass && k == 0)
+                bench_emit("| *the same, hysteresis 0* | | | | | | | | | | | |\n");
+            bench_emit("| %.0f (%u) | %.3f | %.1f / %.1f | %.1f / %.1f | **×%.1f** | %.1f / %.1f | %.0f / %.0f | %.4f / %.4f | "
+                       "%.1f %% | %ld | %ld | %.0f |\n",
+                       r->visible_mean, r->scene_objects, r->budget_ms, r->fs_med, r->fs_p99, r->gr_med, r->gr_p99,
+                       r->ratio_med, r->cold_fs_us, r->cold_gr_us, r->iter_med, r->iter_p99, r->lp_med, r->lp_min,
+                       100.0 * r->equal_share, r->over_budget, r->drop_frames, r->build_med);
+        }
     bench_emit("\nmb (Mason & Blake, hierarchical): %s\n", BOPT_HAVE_MB ? "see its column" : "not in this build (lod_optimize_mb is not on this branch yet); the hook is marked in app/bench_optimizer.c");
     const struct size_row *r10 = &rows[1], *r100 = &rows[2];
     double lp_min_all = fmin(fmin(rows[0].lp_min, r10->lp_min), r100->lp_min);
@@ -561,6 +575,11 @@ int bench_optimizer(int argc, char **argv, int full_argc, char **full_argv)
                r10->fs_med, goal(r10->fs_med <= 100), r10->cold_fs_us * 1e-3, goal(r10->cold_fs_us <= 5000), r100->fs_med,
                goal(r100->fs_med <= 1000), r10->ratio_med, goal(r10->ratio_med >= 20), 100 * lp_min_all,
                goal(lp_min_all >= 0.99));
+    if (run_free)
+        bench_emit("With hysteresis 0: 10k fs median %.1f µs, greedy/fs ×%.1f; 100k fs median %.1f µs, greedy/fs ×%.1f; "
+                   "LP share min %.2f %%.\n",
+                   rows_still[1].fs_med, rows_still[1].ratio_med, rows_still[2].fs_med, rows_still[2].ratio_med,
+                   100 * fmin(fmin(rows_still[0].lp_min, rows_still[1].lp_min), rows_still[2].lp_min));
 
     bench_emit("\n### fs time against the turn between frames (10k objects, budget %.3f ms)\n\n", budget_10k_ms);
     bench_emit("| turn ° | pairs | objects newly visible | fs µs median / p99 / max | fs iterations median / p99 | greedy µs median | "

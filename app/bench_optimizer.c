@@ -222,6 +222,14 @@ int bench_optimizer(int argc, char **argv, int full_argc, char **full_argv)
     bench_print_context(full_argc, full_argv, NULL);
     bench_emit("- head motion: %s at %.0f Hz, %ld frames per run; eyes: %s; 4 LODs per object; no GL (acuity + lod only)\n",
                trace_label, BOPT_RATE_HZ, o.frames, display.name);
+    char load[128] = "unknown";
+    FILE *lf = fopen("/proc/loadavg", "r");
+    if (lf) {
+        if (fgets(load, sizeof load, lf))
+            load[strcspn(load, "\n")] = '\0';
+        fclose(lf);
+    }
+    bench_emit("- load average at the end (1, 5, 15 min; other work on the machine): %s\n", load);
     bench_emit("- benefit: base error %.2f, m %.0f (samples = vertices), hysteresis %.3f per level\n\n", view.benefit.base_error,
                view.benefit.exponent_m, view.benefit.hysteresis_per_level);
     bench_emit("### fs against the from-scratch greedy, per frame\n\n");

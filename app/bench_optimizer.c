@@ -311,7 +311,7 @@ int bench_optimizer(int argc, char **argv, int full_argc, char **full_argv)
                (double)scales[N_SCALES - 1].objects / scales[0].objects, scales[N_SCALES - 1].visible_mean / fmax(scales[0].visible_mean, 1e-9),
                scales[N_SCALES - 1].cull_med / scales[0].cull_med, scales[N_SCALES - 1].build_med / scales[0].build_med,
                scales[N_SCALES - 1].fs_med / scales[0].fs_med, scales[N_SCALES - 1].total_med / scales[0].total_med);
-    bench_emit("\nHow measured (app/bench_optimizer.c, app/bench_optimizer_frame.c): each frame takes the trace's head pose "
+    bench_emit("\nHow measured (app/bench_optimizer.c, app/bench_optimizer_frame.c, app/bench_optimizer_runs.c): each frame takes the trace's head pose "
                "(slerp, looped) and does what an engine embedding acuity + lod does: cull (scn_cull against the union of "
                "both eye frusta), then acu_compute_geometry, acu_compute_pixels, lod_select_reddy (the ceiling), each "
                "level's cost from an additive model with llvmpipe-like coefficients (assumed: c0 1.5 ms, 4e-5 ms/triangle, "

@@ -4,12 +4,21 @@
 #define HMDLOD_APP_BENCH_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 /* One sub-bench: argv[0] is its name; full_argc/full_argv start at "bench" (for the context). */
 int bench_tracking(int argc, char **argv, int full_argc, char **full_argv); /* app/bench_tracking.c */
 int bench_replay(int argc, char **argv, int full_argc, char **full_argv);   /* app/bench_replay.c */
 int bench_lodgen(int argc, char **argv, int full_argc, char **full_argv);   /* app/bench_lodgen.c */
 int bench_cull(int argc, char **argv, int full_argc, char **full_argv);     /* app/bench_cull.c */
+int bench_optimizer(int argc, char **argv, int full_argc, char **full_argv); /* app/bench_optimizer.c */
+
+/* bench cull's generated scene, shared with bench optimizer's scaling table: n objects on a ground
+ * grid 2 m apart around the origin, grouped as a quadtree of 4 × 4 (app/bench_cull.c). Allocates
+ * the scene's arrays (scn_scene_free releases them); 0, or −1 with err. */
+struct scn_scene;
+struct hl_error;
+int bench_cull_make_grid(uint32_t n, uint64_t seed, struct scn_scene *s, struct hl_error *err);
 
 /* printf to stdout, and to the results copy while one is open. */
 void bench_emit(const char *fmt, ...)

@@ -94,7 +94,7 @@ static double mix_uniform(uint64_t *s) { return (double)(mix_next(s) >> 11) * 0x
  * Groups top-down, breadth first (parents before children, siblings consecutive): level 0 are the
  * slots, a node of level l covers FANOUT × FANOUT nodes of level l − 1; the roots are the level whose
  * side is ≤ FANOUT. Objects are numbered leaf by leaf. */
-static int make_scene(uint32_t n, uint64_t seed, struct scn_scene *s, struct hl_error *err)
+int bench_cull_make_grid(uint32_t n, uint64_t seed, struct scn_scene *s, struct hl_error *err)
 {
     memset(s, 0, sizeof *s);
     snprintf(s->name, sizeof s->name, "grid%u", n);
@@ -226,7 +226,7 @@ static int run_size(uint32_t n, const struct cull_opts *o, struct trk_pose_sourc
         fprintf(stderr, "hmdlod bench cull: out of memory\n");
         goto done;
     }
-    if (make_scene(n, (uint64_t)o->seed, &s, &err) != 0 || scn_culler_init(&c, &s, &err) != 0) {
+    if (bench_cull_make_grid(n, (uint64_t)o->seed, &s, &err) != 0 || scn_culler_init(&c, &s, &err) != 0) {
         fprintf(stderr, "hmdlod bench cull: %s\n", err.msg);
         scn_scene_free(&s);
         goto done;

@@ -318,10 +318,10 @@ static void test_motion_nested(void)
     s.group_instances = calloc(2, sizeof(uint32_t));
     s.group_children = calloc(1, sizeof(uint32_t));
     s.groups[0] = (struct scn_group){.name = "root", .parent = SCN_NONE, .first_child = 0, .child_count = 1,
-                                     .first_instance = 0, .instance_count = 1, .impostor_chain = SCN_NONE,
+                                     .first_instance = 0, .instance_count = 1, .impostor_chain = SCN_NONE, .impostor_instance = SCN_NONE,
                                      .importance = 1, .center_m = {11, 0, 0}, .radius_m = 1.1};
     s.groups[1] = (struct scn_group){.name = "child", .parent = 0, .first_instance = 1, .instance_count = 1,
-                                     .impostor_chain = SCN_NONE, .importance = 1, .center_m = {12, 0, 0},
+                                     .impostor_chain = SCN_NONE, .impostor_instance = SCN_NONE, .importance = 1, .center_m = {12, 0, 0},
                                      .radius_m = 0.1};
     s.group_children[0] = 1;
     s.group_instances[0] = 0, s.group_instances[1] = 1;
@@ -541,6 +541,63 @@ static void test_impostor(enum scn_simplifier simplifier)
     scn_scene_free(&s);
 }
 
+/* Each dome's impostor is a drawable instance after the struts: at the dome's frame, moved with it,
+ * and never a scene object (culling and per-object loops stop at instance_count). */
+static void test_domes_impostor_instances(void)
+{
+    struct scn_scene s;
+    struct hl_error err = {{0}};
+    struct scn_scene_params p = {.object_count = 3, .seed = 5};
+    CHECK(scn_scene_build("domes", &p, &s, &err) == 0);
+    CHECK(s.instance_count == 360 && s.impostor_instance_count == 3);
+    hl_vec3d offset0[3];
+    for (uint32_t g = 0; g < s.group_count; ++g) {
+        const struct scn_group *gr = &s.groups[g];
+        uint32_t k = gr->impostor_instance;
+        CHECK(k == s.instance_count + g);
+        if (k != s.instance_count + g)
+            continue;
+        CHECK(s.instances[k].chain == gr->impostor_chain && s.chain_of_instance[k] == gr->impostor_chain);
+        hl_vec3d c = hl_v3(gr->center_m[0], gr->center_m[1], gr->center_m[2]);
+        CHECK(hl_v3_length(hl_v3_sub(center_of(&s, k), c)) < 1e-12);
+        CHECK_NEAR(s.radius_m[k], s.chains[gr->impostor_chain].bound_radius_m, 1e-12);
+        uint32_t strut = s.group_instances[gr->first_instance];
+        offset0[g] = hl_v3_sub(center_of(&s, strut), center_of(&s, k));
+    }
+    /* No planes: everything visible, and only the 360 struts are listed. */
+    struct scn_culler culler;
+    CHECK(scn_culler_init(&culler, &s, &err) == 0);
+    uint32_t visible[400];
+    uint32_t n = scn_cull(&s, NULL, 0, &culler, visible, NULL);
+    CHECK(n == s.instance_count);
+    for (uint32_t j = 0; j < n; ++j)
+        CHECK(visible[j] < s.instance_count);
+    CHECK(scn_cull_flat(&s, NULL, 0, visible, NULL) == s.instance_count);
+    scn_culler_free(&culler);
+    /* After 4.2 s of spin and swing: at the moved centre, turned by the group's rotation, so a strut
+     * keeps its place in the impostor's frame. */
+    rpl_motion_step(&s, 4.2);
+    for (uint32_t g = 0; g < s.group_count; ++g) {
+        const struct scn_group *gr = &s.groups[g];
+        uint32_t k = gr->impostor_instance;
+        if (k == SCN_NONE)
+            continue;
+        const struct scn_instance *in = &s.instances[k];
+        hl_vec3d pos = hl_v3(in->position_m[0], in->position_m[1], in->position_m[2]);
+        CHECK(hl_v3_length(hl_v3_sub(pos, hl_v3(gr->center_m[0], gr->center_m[1], gr->center_m[2]))) < 1e-12);
+        CHECK(hl_v3_length(hl_v3_sub(pos, hl_v3(s.motion->rest_group_center_m[3 * g],
+                                                 s.motion->rest_group_center_m[3 * g + 1],
+                                                 s.motion->rest_group_center_m[3 * g + 2]))) > 1e-3);
+        double turned = 2.0 * acos(fmin(1.0, fabs(in->rotation.w)));
+        CHECK(turned > 1e-3);
+        uint32_t strut = s.group_instances[gr->first_instance];
+        hl_vec3d moved = hl_v3_sub(center_of(&s, strut), center_of(&s, k));
+        hl_vec3d expect = hl_q_rotate(in->rotation, offset0[g]);
+        CHECK(hl_v3_length(hl_v3_sub(moved, expect)) < 1e-9);
+    }
+    scn_scene_free(&s);
+}
+
 int main(void)
 {
     test_motion_eval();
@@ -549,6 +606,7 @@ int main(void)
     test_static_scene();
     test_domes_counts();
     test_domes_determinism();
+    test_domes_impostor_instances();
     test_impostor(SCN_SIMPLIFIER_OPENMESH);
     test_impostor(SCN_SIMPLIFIER_MESHOPT);
     return tu_finish("domes");

@@ -38,3 +38,19 @@ void lod_select_reddy(const struct acu_limits *lim, const struct lod_chain *chai
         stats->model_skips += count - evaluations;
     }
 }
+
+/* Funkhouser & Séquin 1993 §7 "Static": the average triangle of the chosen level covers at least the
+ * threshold; finer levels have more, smaller triangles, so walk from the finest until it holds. */
+void lod_select_static(double min_px_per_triangle, const uint32_t *triangles, const uint8_t *lod_count,
+                       const uint32_t *chain_of_object, const uint32_t *index, size_t count,
+                       const double *pixels_px, uint8_t *lod_out)
+{
+    for (size_t k = 0; k < count; ++k) {
+        uint32_t c = chain_of_object[index[k]];
+        int levels = lod_count[c] > 0 ? lod_count[c] : 1;
+        int lod = 0;
+        while (lod + 1 < levels && pixels_px[k] < min_px_per_triangle * (double)triangles[c * LOD_MAX_LEVELS + lod])
+            ++lod;
+        lod_out[k] = (uint8_t)lod;
+    }
+}

@@ -1,0 +1,55 @@
+/* Benefit (Funkhouser & Séquin 1993 §5), with Reddy's acuity (1998 §3.3) as the perceptual ceiling in
+ * place of the paper's ad-hoc Focus and Motion factors. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "lod/lod.h"
+
+void lod_benefit_params_default(struct lod_benefit_params *p)
+{
+    p->base_error = 0.5;
+    p->exponent_m = 2.0;
+    p->hysteresis_per_level = 0.05;
+}
+
+/* §5: Accuracy = 1 − BaseError / Samples^m, Samples never more than the pixels covered. */
+static double accuracy(const struct lod_benefit_params *p, double samples, double size_px)
+{
+    double s = fmax(fmin(samples, size_px), 1.0);
+    return 1.0 - p->base_error / pow(s, p->exponent_m);
+}
+
+static double hysteresis(const struct lod_benefit_params *p, uint8_t level, uint8_t previous)
+{
+    if (previous == LOD_UNSEEN)
+        return 1.0;
+    int a = level == LOD_DROP ? LOD_MAX_LEVELS : level;
+    int b = previous == LOD_DROP ? LOD_MAX_LEVELS : previous;
+    return fmax(0.0, 1.0 - p->hysteresis_per_level * abs(a - b));
+}
+
+void lod_benefit_fill(const struct lod_benefit_params *p, size_t object_count, const uint32_t *first,
+                      const uint8_t *count, const uint8_t *level, const uint32_t *samples,
+                      const double *size_px, const double *importance, const uint8_t *ceiling_level,
+                      const uint8_t *previous_level, double *benefit)
+{
+    for (size_t i = 0; i < object_count; ++i) {
+        double weight = size_px[i] * (importance ? importance[i] : 1.0);
+        uint32_t c0 = first[i];
+        /* The ceiling level's own benefit first: finer levels earn exactly that and no more. */
+        double ceiling_benefit = -1.0;
+        for (uint32_t c = c0; c < c0 + count[i]; ++c)
+            if (level[c] == ceiling_level[i])
+                ceiling_benefit = weight * accuracy(p, samples[c], size_px[i]) *
+                                  hysteresis(p, level[c], previous_level[i]);
+        for (uint32_t c = c0; c < c0 + count[i]; ++c) {
+            if (level[c] == LOD_DROP) {
+                benefit[c] = 0.0;
+            } else if (level[c] < ceiling_level[i] && ceiling_benefit >= 0.0) {
+                benefit[c] = ceiling_benefit; /* detail beyond the acuity limit is invisible */
+            } else {
+                benefit[c] = weight * accuracy(p, samples[c], size_px[i]) * hysteresis(p, level[c], previous_level[i]);
+            }
+        }
+    }
+}

@@ -8,8 +8,9 @@
  * Values are those of hull steps, Δbenefit / Δcost, as in the flat greedy (Funkhouser & Séquin §6),
  * so a tree without groups gives the greedy's answer. Opening a group replaces its top impostor by
  * all its children at their cheapest: in §6's terms the replacement set R taken as one item, whose
- * value is what it adds per millisecond. */
-#include "lod/lod.h"
+ * value is what it adds per millisecond. Fits are decided in the flat optimizers' integer cost units
+ * (lod_internal.h), so "within budget" is exact and the same as theirs however the sum was reached. */
+#include "lod/lod_internal.h"
 
 #include <float.h>
 #include <math.h>
@@ -29,6 +30,7 @@ struct mb {
     double *min_cost, *min_benefit;   /* the node's cheapest representation */
     double *open_cost, *open_benefit; /* Σ of its children's cheapest: the price of opening it */
     double *hi_val, *lo_val;          /* best step up / down in the node's representation subtree */
+    int64_t *min_units, *open_units, *path_units; /* the same costs in integer units */
     struct mb_drop *drop;
     uint32_t *hi_term, *lo_term;      /* the terminal node with that step, NONE when there is none */
     uint32_t *nonmin;                 /* children not at their cheapest (a group closes only at 0) */
@@ -37,7 +39,8 @@ struct mb {
     uint8_t *eff;                     /* candidates the node may take (a group's impostors after §3's check) */
     uint8_t *atmin;                   /* 1: the node is at its cheapest representation */
     uint8_t *mark;
-    double cost, benefit;
+    int64_t units, budget;            /* Σ cost units of the current choice; the budget in units */
+    double benefit;
 };
 
 static size_t align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
@@ -45,7 +48,7 @@ static size_t align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
 size_t lod_mb_scratch_bytes(size_t max_nodes)
 {
     size_t n = max_nodes ? max_nodes : 1;
-    return align8(6 * n * sizeof(double)) + align8(n * sizeof(struct mb_drop)) + align8(7 * n * sizeof(uint32_t)) +
+    return align8(6 * n * sizeof(double)) + align8(3 * n * sizeof(int64_t)) + align8(n * sizeof(struct mb_drop)) + align8(7 * n * sizeof(uint32_t)) +
            align8(3 * n) + 64;
 }
 
@@ -56,6 +59,9 @@ static void mb_carve(struct mb *m, void *scratch, size_t n)
     m->min_cost = d, m->min_benefit = d + n, m->open_cost = d + 2 * n, m->open_benefit = d + 3 * n;
     m->hi_val = d + 4 * n, m->lo_val = d + 5 * n;
     p += align8(6 * n * sizeof(double));
+    int64_t *w = (int64_t *)p;
+    m->min_units = w, m->open_units = w + n, m->path_units = w + 2 * n;
+    p += align8(3 * n * sizeof(int64_t));
     m->drop = (struct mb_drop *)p;
     p += align8(n * sizeof(struct mb_drop));
     uint32_t *u = (uint32_t *)p;
@@ -67,6 +73,10 @@ static void mb_carve(struct mb *m, void *scratch, size_t n)
 
 static inline double cand_cost(const struct lod_tree *t, uint32_t n, unsigned k) { return t->cost_ms[t->first[n] + k]; }
 static inline double cand_benefit(const struct lod_tree *t, uint32_t n, unsigned k) { return t->benefit[t->first[n] + k]; }
+static inline int64_t cand_units(const struct lod_tree *t, uint32_t n, unsigned k)
+{
+    return lod_cost_units(t->cost_ms[t->first[n] + k]);
+}
 static inline int is_leaf(const struct lod_tree *t, uint32_t n) { return t->child_count[n] == 0; }
 static inline int is_choice(uint8_t s) { return s < LOD_MB_BELOW; }
 
@@ -250,11 +260,11 @@ static void node_increment(struct mb *m, uint32_t n)
     const struct lod_tree *t = m->t;
     uint8_t s = m->state[n];
     if (s + 1u < m->eff[n]) {
-        m->cost += cand_cost(t, n, s + 1u) - cand_cost(t, n, s);
+        m->units += cand_units(t, n, s + 1u) - cand_units(t, n, s);
         m->benefit += cand_benefit(t, n, s + 1u) - cand_benefit(t, n, s);
         m->state[n] = (uint8_t)(s + 1u);
     } else { /* open into the children at their cheapest */
-        m->cost += m->open_cost[n] - cand_cost(t, n, s);
+        m->units += m->open_units[n] - cand_units(t, n, s);
         m->benefit += m->open_benefit[n] - cand_benefit(t, n, s);
         m->state[n] = LOD_MB_OPEN;
         m->nonmin[n] = 0;
@@ -271,12 +281,12 @@ static void node_decrement(struct mb *m, uint32_t n)
     uint8_t s = m->state[n];
     if (s == LOD_MB_OPEN) { /* close: every child is at its cheapest */
         unsigned top = m->eff[n] - 1u;
-        m->cost -= m->open_cost[n] - cand_cost(t, n, top);
+        m->units -= m->open_units[n] - cand_units(t, n, top);
         m->benefit -= m->open_benefit[n] - cand_benefit(t, n, top);
         m->state[n] = (uint8_t)top;
         subtree_deactivate(m, n);
     } else {
-        m->cost -= cand_cost(t, n, s) - cand_cost(t, n, s - 1u);
+        m->units -= cand_units(t, n, s) - cand_units(t, n, s - 1u);
         m->benefit -= cand_benefit(t, n, s) - cand_benefit(t, n, s - 1u);
         m->state[n] = (uint8_t)(s - 1u);
     }
@@ -300,15 +310,18 @@ static void mb_prepare(struct mb *m)
         if (is_leaf(t, n)) {
             m->eff[n] = (uint8_t)e;
             m->min_cost[n] = e ? cand_cost(t, n, 0) : 0.0;
+            m->min_units[n] = e ? cand_units(t, n, 0) : 0;
+            m->open_units[n] = 0;
             m->min_benefit[n] = e ? cand_benefit(t, n, 0) : 0.0;
             m->open_cost[n] = m->open_benefit[n] = 0.0;
             continue;
         }
         double oc = 0.0, ob = 0.0;
+        int64_t ou = 0;
         const uint32_t *ch = t->child + t->first_child[n];
         for (uint32_t k = 0; k < t->child_count[n]; ++k)
-            oc += m->min_cost[ch[k]], ob += m->min_benefit[ch[k]];
-        while (e > 0 && !(cand_cost(t, n, e - 1) < oc && cand_benefit(t, n, e - 1) < ob))
+            oc += m->min_cost[ch[k]], ob += m->min_benefit[ch[k]], ou += m->min_units[ch[k]];
+        while (e > 0 && !(cand_units(t, n, e - 1) < ou && cand_benefit(t, n, e - 1) < ob))
             --e;
         while (e >= 2 && step_up_value(t, n, e - 2) <
                              step_value(oc - cand_cost(t, n, e - 1), ob - cand_benefit(t, n, e - 1)))
@@ -316,6 +329,8 @@ static void mb_prepare(struct mb *m)
         m->eff[n] = (uint8_t)e;
         m->open_cost[n] = oc, m->open_benefit[n] = ob;
         m->min_cost[n] = e ? cand_cost(t, n, 0) : oc;
+        m->open_units[n] = ou;
+        m->min_units[n] = e ? cand_units(t, n, 0) : ou;
         m->min_benefit[n] = e ? cand_benefit(t, n, 0) : ob;
     }
 }
@@ -387,9 +402,9 @@ static uint32_t mb_drop_over_budget(struct mb *m)
     }
     qsort(m->drop, k, sizeof *m->drop, drop_cmp);
     uint32_t dropped = 0;
-    for (uint32_t j = 0; j < k && m->cost > t->budget_ms; ++j) {
+    for (uint32_t j = 0; j < k && m->units > m->budget; ++j) {
         uint32_t n = m->drop[j].node;
-        m->cost -= cand_cost(t, n, m->state[n]);
+        m->units -= cand_units(t, n, m->state[n]);
         m->benefit -= cand_benefit(t, n, m->state[n]);
         m->state[n] = LOD_DROPPED;
         subtree_deactivate(m, n);
@@ -402,18 +417,19 @@ static uint32_t mb_drop_over_budget(struct mb *m)
  * brought into it (its ancestors opened, their other children at their cheapest) at one of its
  * candidates — so a group's opening, the step the greedy may have split, is an item too. The best
  * that fits replaces the greedy's answer when it earns more (returns 1, written into state).
- * O(candidates); hi_val / lo_val are free by now and hold each node's price of being present. */
+ * O(candidates); lo_val is free by now and holds, with path_units, each node's price of being present. */
 static int mb_single_item(struct mb *m)
 {
     const struct lod_tree *t = m->t;
-    double base_c = 0.0, base_b = 0.0, *path_c = m->hi_val, *path_b = m->lo_val;
+    double base_b = 0.0, *path_b = m->lo_val;
+    int64_t base_u = 0, *path_u = m->path_units;
     for (size_t i = 0; i < t->node_count; ++i) {
         uint32_t n = (uint32_t)i, p = t->parent[n];
         if (p == LOD_MB_ROOT) {
-            base_c += m->min_cost[n], base_b += m->min_benefit[n];
-            path_c[n] = path_b[n] = 0.0;
+            base_u += m->min_units[n], base_b += m->min_benefit[n];
+            path_u[n] = 0, path_b[n] = 0.0;
         } else { /* the parent present, then opened from its cheapest */
-            path_c[n] = path_c[p] + m->open_cost[p] - m->min_cost[p];
+            path_u[n] = path_u[p] + m->open_units[p] - m->min_units[p];
             path_b[n] = path_b[p] + m->open_benefit[p] - m->min_benefit[p];
         }
     }
@@ -423,13 +439,13 @@ static int mb_single_item(struct mb *m)
     for (size_t i = 0; i < t->node_count; ++i) {
         uint32_t n = (uint32_t)i;
         for (unsigned k = 0; k < m->eff[n]; ++k) {
-            double c = base_c + path_c[n] + cand_cost(t, n, k) - m->min_cost[n];
+            int64_t u = base_u + path_u[n] + cand_units(t, n, k) - m->min_units[n];
             double b = base_b + path_b[n] + cand_benefit(t, n, k) - m->min_benefit[n];
-            if (c <= t->budget_ms && b > best_b)
+            if (u <= m->budget && b > best_b)
                 best_b = b, best_n = n, best_k = k;
         }
     }
-    if (base_c > t->budget_ms || !(best_b > m->benefit))
+    if (base_u > m->budget || !(best_b > m->benefit))
         return 0;
     memset(m->mark, 0, t->node_count);
     if (best_n != NONE)
@@ -458,6 +474,7 @@ void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scrat
         return;
     struct mb m = {.t = t, .state = state};
     mb_carve(&m, scratch, t->node_count);
+    m.budget = lod_budget_units(t->budget_ms);
     mb_prepare(&m);
     mb_repair_state(&m);
 
@@ -474,7 +491,7 @@ void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scrat
         }
         node_update(&m, n);
         if (is_choice(state[n]))
-            m.cost += cand_cost(t, n, state[n]), m.benefit += cand_benefit(t, n, state[n]);
+            m.units += cand_units(t, n, state[n]), m.benefit += cand_benefit(t, n, state[n]);
     }
     for (uint32_t n = 0; n < (uint32_t)t->node_count; ++n)
         if (t->parent[n] == LOD_MB_ROOT) {
@@ -495,21 +512,21 @@ void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scrat
         /* Nirenstein §5.5: stop only between iterations, when the choice is within budget; the clock
          * runs from the call (set-up included), and one iteration always runs so that frames whose
          * set-up alone uses the limit still make progress: the skipped work is repaid later. */
-        if (limit_ns > 0 && iterations > 0 && m.cost <= t->budget_ms && hl_clock_now_ns() - t0 >= limit_ns) {
+        if (limit_ns > 0 && iterations > 0 && m.units <= m.budget && hl_clock_now_ns() - t0 >= limit_ns) {
             r->truncated = 1;
             break;
         }
         if (iterations >= cap)
             break;
         uint32_t up = m.hi_term[m.heap[0][0]];
-        if (up == NONE && m.cost <= t->budget_ms)
+        if (up == NONE && m.units <= m.budget)
             break; /* rule 1 */
         if (up != NONE) {
             node_increment(&m, up);
             ++iterations;
         }
         int same = 0;
-        while (m.cost > t->budget_ms) {
+        while (m.units > m.budget) {
             uint32_t down = m.lo_term[m.heap[1][0]];
             if (down == NONE) { /* rule 2 */
                 over = 1;

@@ -9,6 +9,9 @@
 #include "test_util.h"
 
 enum { MAXN = 4096, MAXC = 4096 * 9 };
+/* Fits are decided in units of 1e−8 ms, each candidate rounded up (lod_internal.h): a budget that
+ * should hold a set of candidates exactly gets this much slack. */
+#define EPS 1e-6
 
 /* A tree under construction: nodes parents first, children listed contiguously per parent. */
 struct tb {
@@ -311,10 +314,10 @@ static void test_hand_dome(void)
 {
     struct lod_result r;
     build_dome(&T);
-    run_mb(&T, 1.0, 0, state, 1, &r); /* only the impostor fits */
+    run_mb(&T, 1.0 + EPS, 0, state, 1, &r); /* only the impostor fits */
     CHECK(state[0] == 0 && state[1] == LOD_MB_BELOW && !r.over_budget);
     CHECK_NEAR(r.benefit, 5.0, 1e-12);
-    run_mb(&T, 3.0, 0, state, 1, &r); /* opened, struts at their coarsest */
+    run_mb(&T, 3.0 + EPS, 0, state, 1, &r); /* opened, struts at their coarsest */
     CHECK(state[0] == LOD_MB_OPEN && state[1] == 0 && state[2] == 0 && state[3] == 0);
     CHECK_NEAR(r.cost_ms, 3.0, 1e-12);
     CHECK_NEAR(r.benefit, 9.0, 1e-12);
@@ -329,16 +332,16 @@ static void test_hand_dome(void)
     for (int k = 1; k <= 3; ++k)
         state[k] = 1;
     state[0] = LOD_MB_OPEN;
-    run_mb(&T, 1.0, 0, state, 0, &r);
-    CHECK(state[0] == 0 && state[1] == LOD_MB_BELOW && r.cost_ms <= 1.0);
+    run_mb(&T, 1.0 + EPS, 0, state, 0, &r);
+    CHECK(state[0] == 0 && state[1] == LOD_MB_BELOW && r.cost_ms <= 1.0 + EPS);
     CHECK_NEAR(r.benefit, 5.0, 1e-12);
 
     /* §3 broken: an impostor dearer than its children is ignored (the group is always open). */
     T.cost[0] = 3.5;
-    run_mb(&T, 3.0, 0, state, 1, &r);
-    CHECK(state[0] == LOD_MB_OPEN && state[1] == 0 && r.cost_ms <= 3.0);
+    run_mb(&T, 3.0 + EPS, 0, state, 1, &r);
+    CHECK(state[0] == LOD_MB_OPEN && state[1] == 0 && r.cost_ms <= 3.0 + EPS);
     CHECK_NEAR(r.benefit, 9.0, 1e-12);
-    run_mb(&T, 2.0, 0, state, 1, &r); /* over budget without it: equal values, the lowest id goes */
+    run_mb(&T, 2.0 + EPS, 0, state, 1, &r); /* over budget without it: equal values, the lowest id goes */
     CHECK(r.over_budget && r.dropped == 1 && state[1] == LOD_DROPPED && state[2] == 0 && state[3] == 0);
 }
 
@@ -352,10 +355,10 @@ static void test_single_item(void)
     tb_node(&T, LOD_MB_ROOT, 2, bc, bb);
     tb_link(&T);
     struct lod_result r;
-    run_mb(&T, 10.0, 0, state, 1, &r);
+    run_mb(&T, 10.0 + EPS, 0, state, 1, &r);
     CHECK(r.single_item == 1 && state[0] == 0 && state[1] == 1);
     CHECK_NEAR(r.benefit, 10.0, 1e-12);
-    CHECK_NEAR(brute_best(&T, 10.0), 10.0, 1e-12);
+    CHECK_NEAR(brute_best(&T, 10.0 + EPS), 10.0, 1e-12);
 }
 
 static void test_brute_force(void)
@@ -371,7 +374,7 @@ static void test_brute_force(void)
         for (uint32_t n = 0; n < T.n; ++n)
             if (T.parent[n] == LOD_MB_ROOT)
                 lo += min_cost_of(&T, n), hi += max_cost_of(&T, n);
-        double budget = lo + (hi - lo) * urand();
+        double budget = lo + (hi - lo) * urand() + EPS;
         double best = brute_best(&T, budget);
         struct lod_result r;
         run_mb(&T, budget, 0, state, 1, &r);
@@ -448,13 +451,13 @@ static void test_ties(void)
         T.id[0] = order ? 9 : 4, T.id[1] = order ? 4 : 9;
         tb_link(&T);
         struct lod_result r;
-        run_mb(&T, 3.0, 0, state, 1, &r); /* room for one step: id 4 takes it */
+        run_mb(&T, 3.0 + EPS, 0, state, 1, &r); /* room for one step: id 4 takes it */
         uint32_t n4 = order ? 1 : 0;
         CHECK(state[n4] == 1 && state[1 - n4] == 0);
     }
 }
 
-/* A flat reference greedy (Funkhouser & Séquin §6 with the single-item guard): every object at
+/* A flat reference greedy (Funkhouser & Séquin §6, without the single-item guard): every object at
  * candidate 0, steps in falling value (ties: lower id first), stop at the first that does not fit. */
 struct step { double v, dc, db; uint32_t id, node; };
 static int step_cmp(const void *a, const void *b)
@@ -509,6 +512,21 @@ static void test_flat_equals_greedy(void)
         double budget = lo + (hi - lo) * urand();
         struct lod_result r;
         run_mb(&T, budget, 0, state, 1, &r);
+        /* lod_optimize_greedy and lod_optimize_fs (from scratch) on the same objects: the same choice */
+        static uint8_t level[MAXC], choice[MAXN], fs_choice[MAXN];
+        static unsigned char flat_scratch[MAXN * 256];
+        for (uint32_t n = 0; n < T.n; ++n)
+            for (int k = 0; k < T.count[n]; ++k)
+                level[T.first[n] + k] = (uint8_t)(T.count[n] - 1 - k);
+        struct lod_problem p = {T.n, T.id, T.first, T.count, T.cost, T.benefit, level, budget};
+        CHECK(lod_scratch_bytes(T.n, T.nc) <= sizeof flat_scratch);
+        struct lod_result rg, rf;
+        lod_optimize_greedy(&p, flat_scratch, choice, &rg);
+        memset(fs_choice, 0, T.n);
+        lod_optimize_fs(&p, 0, flat_scratch, fs_choice, &rf);
+        CHECK(memcmp(state, choice, T.n) == 0 && r.single_item == rg.single_item);
+        CHECK(memcmp(state, fs_choice, T.n) == 0);
+        CHECK_NEAR(r.benefit, rg.benefit, 1e-9 * (1 + rg.benefit));
         double g = flat_greedy(&T, budget, state2);
         ++cases;
         if (!r.single_item) {
@@ -519,7 +537,8 @@ static void test_flat_equals_greedy(void)
             CHECK(r.benefit > g);
         }
     }
-    printf("flat trees: mb equals the flat greedy on %d of %d\n", equal, cases);
+    printf("flat trees: mb equals lod_optimize_greedy and lod_optimize_fs on all %d, and the plain greedy (no "
+           "guard) on %d\n", cases, equal);
 }
 
 /* Nirenstein §5.5: a limit far below the run's length stops it early, still complete and within

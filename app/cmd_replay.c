@@ -9,6 +9,8 @@ static const char replay_usage[] =
     "usage: hmdlod replay --trace FILE|--raw FILE --scene NAME --display NAME|FILE --selector NAME --out DIR\n"
     "                     [--rate HZ] [--frames N] [--capture EVERY] [--objects N] [--seed S]\n"
     "                     [--acuity-scale S] [--render-scale F] [--frequency-reading R] [--quiet]\n"
+    "                     [--budget-ms T] [--cost-profile FILE] [--opt-limit-us T] [--static-px N]\n"
+    "                     [--cost-correction on|off]\n"
     "  Replays a head-motion trace on a virtual clock through a scene, rendering both eyes headless.\n"
     "  --trace FILE       hmdlod CSV (t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]), a Corbillon MMSys'18\n"
     "                     quaternion file or a Nasrabadi MMSys'19 CSV; omitted: the built-in 8 s clip\n"
@@ -17,7 +19,10 @@ static const char replay_usage[] =
     "                     (Mason & Blake's; default field), or a\n"
     "                     scene file (ends in .json, or an existing file: docs/scene-format.md)\n"
     "  --display NAME     built-in display (hmdlod display list) or a JSON profile (default vive)\n"
-    "  --selector NAME    none (finest LOD) or reddy (acuity-driven, default)\n"
+    "  --selector NAME    none (finest LOD), reddy (acuity-driven, default), static (finest LOD whose\n"
+    "                     average triangle covers --static-px pixels), feedback (static's threshold\n"
+    "                     steered by measured frame times), fs (Funkhouser-Sequin's cost-bounded\n"
+    "                     incremental optimizer, capped by Reddy's acuity: docs/optimizer.md)\n"
     "  --out DIR          output folder: frames.csv, summary.json, frame_NNNNNN.png (created)\n"
     "  --rate HZ          frame rate of the virtual clock (default: the display's refresh)\n"
     "  --frames N         frames to replay (default: the whole trace)\n"
@@ -29,6 +34,14 @@ static const char replay_usage[] =
     "  --frequency-reading R  the lost-detail frequency the selector uses: narrow (default; the\n"
     "                     thickness of the thickest feature Reddy's image analysis sees lost), long\n"
     "                     (the longest lost chord) or geometric (R/eps, no rendering); docs/analysis.md\n"
+    "  --budget-ms T      frame budget in ms (default: the display's frame period)\n"
+    "  --cost-profile FILE  machine cost profile from hmdlod calibrate (default: the built-in one\n"
+    "                     for llvmpipe)\n"
+    "  --opt-limit-us T   stop fs after T microseconds per frame (default 0: run to the end); the\n"
+    "                     choice is feasible after every iteration (Nirenstein et al. 5.5)\n"
+    "  --static-px N      static's pixels per triangle (default 64); feedback starts from it\n"
+    "  --cost-correction on|off  scale fs's budget by the smoothed measured/predicted draw time\n"
+    "                     (default on)\n"
     "  --quiet            no summary table on stdout\n";
 
 /* Parses the options replay and demo share; returns 0, or 1 after printing the message. */
@@ -83,6 +96,28 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
             if (app_parse_double(opt, val, &d))
                 return 1;
             o->acuity_scale = d;
+        } else if (!strcmp(opt, "--budget-ms")) {
+            if (app_parse_double(opt, val, &d))
+                return 1;
+            if (!(d > 0.0)) {
+                fprintf(stderr, "hmdlod: --budget-ms: %s is not a positive number of milliseconds\n", val);
+                return 1;
+            }
+            o->budget_ms = d;
+        } else if (!strcmp(opt, "--cost-profile")) {
+            o->cost_profile = val;
+        } else if (!strcmp(opt, "--opt-limit-us")) {
+            if (app_parse_double(opt, val, &o->opt_limit_us))
+                return 1;
+        } else if (!strcmp(opt, "--static-px")) {
+            if (app_parse_double(opt, val, &o->static_px_per_triangle))
+                return 1;
+        } else if (!strcmp(opt, "--cost-correction")) {
+            if (strcmp(val, "on") && strcmp(val, "off")) {
+                fprintf(stderr, "hmdlod: --cost-correction: '%s' is neither on nor off\n", val);
+                return 1;
+            }
+            o->cost_correction = !strcmp(val, "on");
         } else if (!strcmp(opt, "--render-scale")) {
             if (app_parse_double(opt, val, &d))
                 return 1;

@@ -33,7 +33,9 @@ void lod_cost_correction_update(struct lod_cost_correction *c, double measured_m
     c->ratio = fmin(fmax(c->ratio, 0.25), 4.0);
 }
 
+/* Only ever tightens: a model that over-predicts keeps its own (safe) prediction as the bound, so
+ * the predicted cost of a frame never exceeds the budget either. */
 double lod_cost_correction_budget_ms(const struct lod_cost_correction *c, double budget_ms)
 {
-    return budget_ms / c->ratio;
+    return c->ratio > 1.0 ? budget_ms / c->ratio : budget_ms;
 }

@@ -39,21 +39,52 @@ static int already_hull(uint32_t base, uint8_t n, const double *cost, const doub
     return 1;
 }
 
+static int valid(double cost, double benefit)
+{
+    return isfinite(cost) && isfinite(benefit) && cost >= 0.0 && benefit >= 0.0;
+}
+
+/* Σ over the objects of their cheapest valid candidate, in the optimizers' exact units. */
+static int64_t cheapest_total(size_t object_count, const uint32_t *first, const uint8_t *count,
+                              const double *cost_ms, const double *benefit, int64_t *cheapest)
+{
+    int64_t total = 0;
+    for (size_t i = 0; i < object_count; ++i) {
+        int64_t best = INT64_MAX;
+        for (uint32_t k = first[i]; k < first[i] + count[i]; ++k)
+            if (valid(cost_ms[k], benefit[k]) && lod_cost_units(cost_ms[k]) < best)
+                best = lod_cost_units(cost_ms[k]);
+        cheapest[i] = best;
+        total += best == INT64_MAX ? 0 : best;
+    }
+    return total;
+}
+
 size_t lod_hull_reduce(size_t object_count, const uint32_t *first, uint8_t *count, double *cost_ms,
-                       double *benefit, uint8_t *level)
+                       double *benefit, uint8_t *level, double budget_ms, int64_t *scratch)
 {
     size_t rejected = 0;
+    int64_t budget = isfinite(budget_ms) ? lod_budget_units(budget_ms) : INT64_MAX;
+    int64_t base = budget == INT64_MAX ? 0 : cheapest_total(object_count, first, count, cost_ms, benefit, scratch);
     for (size_t i = 0; i < object_count; ++i) {
-        uint32_t base = first[i];
-        if (already_hull(base, count[i], cost_ms, benefit))
+        /* A candidate that cannot fit even with every other object at its cheapest can never be
+         * chosen: removing it before the hull keeps the fitting candidates it would have shadowed,
+         * and keeps the greedy from stopping at a step that can never fit (which would break its
+         * half-optimality). The cheapest candidate always stays. */
+        int64_t cap = budget == INT64_MAX || scratch[i] == INT64_MAX ? INT64_MAX : budget - (base - scratch[i]);
+        uint32_t base_c = first[i];
+        if (already_hull(base_c, count[i], cost_ms, benefit) &&
+            (cap == INT64_MAX || lod_cost_units(cost_ms[base_c + count[i] - 1]) <= cap))
             continue;
         struct cand c[LOD_MAX_LEVELS + 1];
         int n = 0;
-        for (uint32_t k = base; k < base + count[i] && n < LOD_MAX_LEVELS + 1; ++k) {
-            if (!isfinite(cost_ms[k]) || !isfinite(benefit[k]) || cost_ms[k] < 0.0 || benefit[k] < 0.0) {
+        for (uint32_t k = base_c; k < base_c + count[i] && n < LOD_MAX_LEVELS + 1; ++k) {
+            if (!valid(cost_ms[k], benefit[k])) {
                 ++rejected;
                 continue;
             }
+            if (cap != INT64_MAX && lod_cost_units(cost_ms[k]) > cap && lod_cost_units(cost_ms[k]) > scratch[i])
+                continue; /* can never fit (not counted: it is valid) */
             struct cand x = {cost_ms[k], benefit[k], level[k]};
             int j = n++;
             while (j > 0 && cand_before(&x, &c[j - 1])) { /* insertion sort: ≤ 9 items */
@@ -74,9 +105,9 @@ size_t lod_hull_reduce(size_t object_count, const uint32_t *first, uint8_t *coun
             c[top++] = c[k];
         }
         for (int k = 0; k < top; ++k) {
-            cost_ms[base + k] = c[k].cost;
-            benefit[base + k] = c[k].benefit;
-            level[base + k] = c[k].level;
+            cost_ms[base_c + k] = c[k].cost;
+            benefit[base_c + k] = c[k].benefit;
+            level[base_c + k] = c[k].level;
         }
         count[i] = (uint8_t)top;
     }

@@ -26,7 +26,11 @@ static inline double lod_value_of(const struct lod_problem *p, uint32_t c) /* st
 #define LOD_UNITS_PER_MS 1e8
 static inline int64_t lod_cost_units(double cost_ms)
 {
-    return cost_ms >= 1e4 ? (int64_t)1e12 : (int64_t)(cost_ms * LOD_UNITS_PER_MS) + 1;
+    if (cost_ms >= 1e4)
+        return (int64_t)1e12;
+    double u = cost_ms * LOD_UNITS_PER_MS;
+    int64_t k = (int64_t)u;
+    return k + (u > (double)k); /* up, and only when there is a remainder: whole costs stay exact */
 }
 static inline int64_t lod_budget_units(double budget_ms)
 {

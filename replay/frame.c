@@ -53,6 +53,22 @@ static void eye_views(const struct rpl_session *s, const struct trk_pose *pose, 
     }
 }
 
+/* The eyes as acuity/ sees them for projected coverage: the views' poses, the frusta, the image. */
+static void acuity_eyes(const struct rpl_session *s, const struct rnd_eye_view views[2], struct acu_eye eyes[2])
+{
+    int w, h;
+    rnd_renderer_size(s->renderer, &w, &h);
+    for (int e = 0; e < 2; ++e) {
+        eyes[e] = (struct acu_eye){
+            .position_m = hl_v3(views[e].position_m[0], views[e].position_m[1], views[e].position_m[2]),
+            .orientation = views[e].orientation,
+            .tan_left = s->eyes[e].tan_left, .tan_right = s->eyes[e].tan_right,
+            .tan_up = s->eyes[e].tan_up, .tan_down = s->eyes[e].tan_down,
+            .width_px = 0.5 * w, .height_px = h,
+        };
+    }
+}
+
 int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_frame_record *rec,
                   struct hl_error *err)
 {
@@ -86,24 +102,27 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
                          a->eccentricity_deg, a->velocity_degps, a->diameter_deg);
     int64_t t1 = hl_clock_now_ns();
 
-    struct lod_select_stats stats = {0};
-    if (s->selector == RPL_SELECT_REDDY)
-        lod_select_reddy(&s->limits, s->chains, s->scene.chain_of_instance, a->visible, n, a->eccentricity_deg,
-                         a->velocity_degps, a->diameter_deg, a->lod, a->ceiling_cpd, &stats);
-    else
-        lod_select_finest(n, a->lod);
-    rec->acuity_evaluations = stats.model_evaluations;
+    struct rnd_eye_view views[2];
+    eye_views(s, &pose, views);
+    struct acu_eye eyes[2];
+    acuity_eyes(s, views, eyes);
+    struct rpl_view_inputs in = {a->visible, n, a->eccentricity_deg, a->velocity_degps, a->diameter_deg,
+                                 &s->limits, s->chains, eyes};
+    size_t extra = 0;
+    rpl_select_frame(&s->select, &s->scene, &in, a->lod, a->draw_index + n, a->draw_lod + n, &extra, &rec->sel);
+    rec->acuity_evaluations = rec->sel.acuity_evaluations;
     for (uint32_t k = 0; k < n; ++k) {
         const struct scn_chain *chain = &s->scene.chains[s->scene.chain_of_instance[a->visible[k]]];
         rec->triangles_finest += chain->lods[0].triangle_count;
-        rec->lod_histogram[a->lod[k]]++;
+        if (a->lod[k] != LOD_DROP)
+            rec->lod_histogram[a->lod[k]]++;
+        a->draw_index[k] = a->visible[k];
+        a->draw_lod[k] = a->lod[k];
     }
     int64_t t2 = hl_clock_now_ns();
 
-    struct rnd_eye_view views[2];
-    eye_views(s, &pose, views);
     struct rnd_draw_stats draw = {{0}, 0};
-    if (rnd_renderer_draw_stereo(s->renderer, &s->scene, views, a->visible, a->lod, n, &draw) != 0)
+    if (rnd_renderer_draw_stereo(s->renderer, &s->scene, views, a->draw_index, a->draw_lod, n + extra, &draw) != 0)
         return hl_fail(err, "frame %ld: drawing failed", frame);
     int64_t t3 = hl_clock_now_ns();
 
@@ -112,6 +131,7 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
     rec->select_us = (double)(t2 - t1) * 1e-3;
     rec->draw_ms = (double)(t3 - t2) * 1e-6;
     rec->frame_ms = (double)(t3 - t0) * 1e-6;
-    rec->deadline_met = rec->frame_ms <= 1000.0 / s->display.refresh_hz;
+    rec->deadline_met = rec->frame_ms <= s->select.budget_ms;
+    rpl_select_measured(&s->select, &rec->sel, rec->draw_ms, rec->frame_ms);
     return 0;
 }

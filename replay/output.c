@@ -20,20 +20,30 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
     fputs("frame,time_s,head_speed_degps,visible,acuity_evaluations,triangles_per_eye,triangles_finest", o->csv);
     for (int k = 0; k < max_lods; ++k)
         fprintf(o->csv, ",lod%d", k);
-    fputs(",acuity_us,select_us,draw_ms,frame_ms,deadline_met\n", o->csv);
+    fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
+          "over_budget,acuity_us,select_us,optimizer_us,draw_ms,frame_ms,deadline_met\n", o->csv);
     return 0;
 }
 
 void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int max_lods)
 {
-    /* The columns before acuity_us are deterministic; the last five are wall-clock timings. */
     fprintf(o->csv, "%ld,%.6f,%.3f,%u,%llu,%llu,%llu", r->frame, r->time_s, r->head_speed_degps, r->visible,
             (unsigned long long)r->acuity_evaluations, (unsigned long long)r->triangles_per_eye,
             (unsigned long long)r->triangles_finest);
     for (int k = 0; k < max_lods; ++k)
         fprintf(o->csv, ",%u", r->lod_histogram[k]);
-    fprintf(o->csv, ",%.2f,%.2f,%.3f,%.3f,%d\n", r->acuity_us, r->select_us, r->draw_ms, r->frame_ms,
-            r->deadline_met);
+    /* lp_gap: the share of the LP bound the choice misses (empty where no bound was computed). */
+    const struct rpl_select_record *q = &r->sel;
+    fprintf(o->csv, ",%u,%.4f,%.4f,%.6g", q->dropped, q->predicted_ms, q->optimizer_budget_ms, q->benefit);
+    if (isfinite(q->lp_bound) && q->lp_bound > 0.0)
+        fprintf(o->csv, ",%.6g,%.6f", q->lp_bound, 1.0 - q->benefit / q->lp_bound);
+    else
+        fputs(",,", o->csv);
+    fprintf(o->csv, ",%u,%u,%d,%d", q->lod_changes, q->iterations, q->truncated, q->over_budget);
+    /* The timings last: everything before them is deterministic (the optimizer's budget aside, which
+     * follows the measured overhead and correction). */
+    fprintf(o->csv, ",%.2f,%.2f,%.2f,%.3f,%.3f,%d\n", r->acuity_us, r->select_us, q->optimizer_us, r->draw_ms,
+            r->frame_ms, r->deadline_met);
 }
 
 int rpl_output_commit(struct rpl_output *o, struct hl_error *err)
@@ -150,6 +160,20 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
     a->triangles_sum += (double)r->triangles_per_eye;
     a->finest_sum += (double)r->triangles_finest;
     a->deadlines_met += r->deadline_met;
+    const struct rpl_select_record *q = &r->sel;
+    a->predicted_within += q->predicted_ms <= q->budget_ms;
+    a->truncated_frames += q->truncated;
+    a->over_budget_frames += q->over_budget;
+    a->lod_changes_sum += q->lod_changes;
+    a->optimizer_us_sum += q->optimizer_us;
+    a->optimizer_us_max = fmax(a->optimizer_us_max, q->optimizer_us);
+    a->iterations_sum += q->iterations;
+    if (isfinite(q->lp_bound) && q->lp_bound > 0.0) {
+        double share = q->benefit / q->lp_bound;
+        a->benefit_share_min = a->benefit_share_frames ? fmin(a->benefit_share_min, share) : share;
+        a->benefit_share_sum += share;
+        a->benefit_share_frames++;
+    }
 }
 
 void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
@@ -176,6 +200,17 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     s->triangles_per_eye_mean = a->triangles_sum / n;
     s->triangles_relative_to_none = a->finest_sum > 0 ? a->triangles_sum / a->finest_sum : 1.0;
     s->deadline_met_fraction = (double)a->deadlines_met / n;
+    s->predicted_within_fraction = (double)a->predicted_within / n;
+    s->truncated_fraction = (double)a->truncated_frames / n;
+    s->over_budget_fraction = (double)a->over_budget_frames / n;
+    s->optimizer_us_mean = a->optimizer_us_sum / n;
+    s->optimizer_us_max = a->optimizer_us_max;
+    s->iterations_mean = a->iterations_sum / n;
+    s->benefit_share_of_lp_mean = a->benefit_share_frames ? a->benefit_share_sum / (double)a->benefit_share_frames : NAN;
+    s->benefit_share_of_lp_min = a->benefit_share_frames ? a->benefit_share_min : NAN;
+    /* per visible object per second: changes / (object-frames) × frames per second; the caller
+     * knows the rate and scales (rpl_run). */
+    s->lod_changes_per_object_s = a->visible_sum > 0 ? a->lod_changes_sum / a->visible_sum : 0.0;
     for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
         s->band_frames[b] = a->band_frames[b];
         s->band_triangle_share[b] = a->band_finest[b] > 0 ? a->band_triangles[b] / a->band_finest[b] : NAN;
@@ -219,6 +254,24 @@ int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddNumberToObject(root, "triangles_per_eye_mean", s->triangles_per_eye_mean);
     cJSON_AddNumberToObject(root, "triangles_relative_to_none", s->triangles_relative_to_none);
     cJSON_AddNumberToObject(root, "deadline_met_fraction", s->deadline_met_fraction);
+    cJSON_AddStringToObject(root, "cost_profile", s->cost_profile);
+    cJSON_AddNumberToObject(root, "rate_hz", s->rate_hz);
+    cJSON_AddNumberToObject(root, "predicted_within_budget_fraction", s->predicted_within_fraction);
+    cJSON_AddNumberToObject(root, "frame_ms_p99_share_of_budget", s->frame_ms_p99_share_of_budget);
+    cJSON_AddNumberToObject(root, "frame_ms_stddev_share_of_budget", s->frame_ms_stddev_share_of_budget);
+    cJSON_AddNumberToObject(root, "optimizer_truncated_fraction", s->truncated_fraction);
+    cJSON_AddNumberToObject(root, "over_budget_fraction", s->over_budget_fraction);
+    cJSON_AddNumberToObject(root, "optimizer_us_mean", s->optimizer_us_mean);
+    cJSON_AddNumberToObject(root, "optimizer_us_max", s->optimizer_us_max);
+    cJSON_AddNumberToObject(root, "optimizer_iterations_mean", s->iterations_mean);
+    cJSON_AddNumberToObject(root, "lod_changes_per_object_s", s->lod_changes_per_object_s);
+    if (isfinite(s->benefit_share_of_lp_mean)) {
+        cJSON_AddNumberToObject(root, "benefit_share_of_lp_mean", s->benefit_share_of_lp_mean);
+        cJSON_AddNumberToObject(root, "benefit_share_of_lp_min", s->benefit_share_of_lp_min);
+    } else {
+        cJSON_AddNullToObject(root, "benefit_share_of_lp_mean");
+        cJSON_AddNullToObject(root, "benefit_share_of_lp_min");
+    }
     cJSON *bands = cJSON_AddArrayToObject(root, "head_speed_bands");
     for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
         cJSON *band = cJSON_CreateObject();
@@ -256,7 +309,7 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
 {
     fprintf(f, "\n%s on %s, selector %s, %ld frames (renderer: %s)\n", s->scene, s->display, s->selector,
             s->frames, s->renderer);
-    fprintf(f, "  %-34s %10.3f ms (display period)\n", "budget", s->budget_ms);
+    fprintf(f, "  %-34s %10.3f ms; cost model: %s\n", "budget", s->budget_ms, s->cost_profile);
     fprintf(f, "  %-34s %10.3f / %.3f / %.3f ms\n", "frame time mean / max / stddev", s->frame_ms_mean,
             s->frame_ms_max, s->frame_ms_stddev);
     fprintf(f, "  %-34s %10.3f / %.3f / %.3f ms\n", "frame time median / p95 / p99", s->frame_ms_median,
@@ -272,6 +325,17 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
     fprintf(f, "  %-34s %10.0f\n", "triangles per eye mean", s->triangles_per_eye_mean);
     fprintf(f, "  %-34s %10.3f\n", "triangles relative to none", s->triangles_relative_to_none);
     fprintf(f, "  %-34s %10.1f %%\n", "frames within the budget", 100.0 * s->deadline_met_fraction);
+    fprintf(f, "  %-34s %10.1f %%\n", "frames predicted within the budget", 100.0 * s->predicted_within_fraction);
+    fprintf(f, "  %-34s %10.1f / %.1f %% of the budget\n", "frame time p99 / stddev", 100.0 * s->frame_ms_p99_share_of_budget,
+            100.0 * s->frame_ms_stddev_share_of_budget);
+    fprintf(f, "  %-34s %10.3f\n", "LOD changes per object per second", s->lod_changes_per_object_s);
+    if (s->iterations_mean > 0.0 || s->optimizer_us_mean > 0.0)
+        fprintf(f, "  %-34s %10.1f / %.1f us, %.1f iterations, %.1f %% truncated, %.1f %% over budget\n",
+                "optimizer mean / max", s->optimizer_us_mean, s->optimizer_us_max, s->iterations_mean,
+                100.0 * s->truncated_fraction, 100.0 * s->over_budget_fraction);
+    if (isfinite(s->benefit_share_of_lp_mean))
+        fprintf(f, "  %-34s %10.4f mean, %.4f min\n", "benefit / LP bound", s->benefit_share_of_lp_mean,
+                s->benefit_share_of_lp_min);
     if (s->vm_hwm_kib >= 0 && s->vm_rss_kib >= 0)
         fprintf(f, "  %-34s %10.1f / %.1f MiB\n", "resident memory peak / at the end", s->vm_hwm_kib / 1024.0,
                 s->vm_rss_kib / 1024.0);

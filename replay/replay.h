@@ -78,7 +78,7 @@ struct rpl_options {
     const char *scene;       /* built-in scene name, or a scene file (rpl_scene_is_file) */
     const struct scn_asset_resolver *resolver; /* scene files' meshes; NULL = scene/'s default */
     const char *display;     /* built-in name or JSON file */
-    const char *selector;    /* "none" | "reddy" */
+    const char *selector;    /* "none" | "reddy" | "static" | "feedback" | "fs" */
     const char *frequency_reading; /* "narrow" (default) | "long" | "geometric" (replay/assets.h) */
     const char *out_dir;     /* created if missing */
     double rate_hz;          /* 0 → the display's refresh */
@@ -89,6 +89,11 @@ struct rpl_options {
     double acuity_scale;     /* Reddy §6 s; 1 by default */
     double render_scale;     /* per-eye resolution factor (1 = the display's pixels) */
     int quiet;               /* no summary table on stdout */
+    double budget_ms;        /* frame budget; 0 → the display's frame period */
+    const char *cost_profile; /* JSON from hmdlod calibrate; NULL → the built-in llvmpipe profile */
+    double opt_limit_us;     /* fs/mb time limit per frame (Nirenstein §5.5); 0 = none */
+    double static_px_per_triangle; /* static: the average triangle covers at least this (default 64) */
+    int cost_correction;     /* 1 (default): budget scaled by the smoothed measured/predicted ratio */
 };
 void rpl_options_defaults(struct rpl_options *o);
 /* 1 when a --scene value names a scene file (docs/scene-format.md): it ends in .json or is an
@@ -113,6 +118,15 @@ struct rpl_summary {
     uint32_t scene_instances, scene_groups;
     long vm_hwm_kib, vm_rss_kib; /* resident memory at the end (/proc/self/status VmHWM, VmRSS); −1 unknown */
     double budget_ms;
+    /* against the budget (DESIGN.md "One frame" step 7; issue: frames that hold their rate) */
+    double frame_ms_stddev_share_of_budget, frame_ms_p99_share_of_budget;
+    double predicted_within_fraction;  /* frames whose predicted cost ≤ budget */
+    double truncated_fraction, over_budget_fraction; /* optimizer stopped at its limit; cheapest set did not fit */
+    double lod_changes_per_object_s;   /* popping: level changes per visible object per second */
+    double optimizer_us_mean, optimizer_us_max, iterations_mean;
+    double benefit_share_of_lp_mean, benefit_share_of_lp_min; /* NaN when not measured */
+    double rate_hz;
+    char cost_profile[160];
     long band_frames[RPL_SPEED_BAND_COUNT];
     double band_triangle_share[RPL_SPEED_BAND_COUNT]; /* triangles drawn / finest, per band */
     char renderer[128];

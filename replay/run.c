@@ -19,6 +19,8 @@ void rpl_options_defaults(struct rpl_options *o)
     o->seed = 1;
     o->acuity_scale = 1.0;
     o->render_scale = 1.0;
+    o->static_px_per_triangle = 64.0;
+    o->cost_correction = 1;
 }
 
 static int make_dirs(const char *dir, struct hl_error *err)
@@ -48,12 +50,14 @@ static int check_options(const struct rpl_options *o, enum rpl_selector *selecto
 {
     if (rpl_freq_reading_parse(o->frequency_reading ? o->frequency_reading : "narrow", reading, err) != 0)
         return -1;
-    if (!strcmp(o->selector, "none"))
-        *selector = RPL_SELECT_NONE;
-    else if (!strcmp(o->selector, "reddy"))
-        *selector = RPL_SELECT_REDDY;
-    else
-        return hl_fail(err, "--selector: unknown selector '%s' (known: none, reddy)", o->selector);
+    if (rpl_selector_parse(o->selector, selector, err) != 0)
+        return -1;
+    if (o->budget_ms < 0.0 || !isfinite(o->budget_ms) || o->budget_ms > 10000.0)
+        return hl_fail(err, "--budget-ms: %g ms is outside (0, 10000]", o->budget_ms);
+    if (o->opt_limit_us < 0.0 || !isfinite(o->opt_limit_us) || o->opt_limit_us > 1e7)
+        return hl_fail(err, "--opt-limit-us: %g us is outside [0, 1e7]", o->opt_limit_us);
+    if (!(o->static_px_per_triangle > 0.0) || !isfinite(o->static_px_per_triangle))
+        return hl_fail(err, "--static-px: %g is not a positive number of pixels", o->static_px_per_triangle);
     if (!o->out_dir || !*o->out_dir)
         return hl_fail(err, "--out: an output folder is required");
     if (o->rate_hz < 0.0 || !isfinite(o->rate_hz) || (o->rate_hz > 0.0 && o->rate_hz < 1.0) || o->rate_hz > 10000.0)
@@ -123,10 +127,11 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     s->arrays.eccentricity_deg = calloc(n ? n : 1, sizeof(double));
     s->arrays.velocity_degps = calloc(n ? n : 1, sizeof(double));
     s->arrays.diameter_deg = calloc(n ? n : 1, sizeof(double));
-    s->arrays.ceiling_cpd = calloc(n ? n : 1, sizeof(double));
     s->arrays.lod = calloc(n ? n : 1, 1);
+    s->arrays.draw_index = calloc((size_t)n + s->scene.group_count + 1, sizeof(uint32_t));
+    s->arrays.draw_lod = calloc((size_t)n + s->scene.group_count + 1, 1);
     if (!s->chains || !s->arrays.visible || !s->arrays.eccentricity_deg || !s->arrays.velocity_degps ||
-        !s->arrays.diameter_deg || !s->arrays.ceiling_cpd || !s->arrays.lod)
+        !s->arrays.diameter_deg || !s->arrays.lod || !s->arrays.draw_index || !s->arrays.draw_lod)
         return hl_fail(err, "scene '%s': out of memory for %u objects", o->scene, n);
     for (uint32_t c = 0; c < s->scene.chain_count; ++c) {
         const struct scn_chain *chain = &s->scene.chains[c];
@@ -136,6 +141,15 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
         if (chain->lod_count > s->max_lods)
             s->max_lods = chain->lod_count;
     }
+
+    s->select.selector = s->selector;
+    s->select.budget_ms = o->budget_ms > 0.0 ? o->budget_ms : 1000.0 / s->display.refresh_hz;
+    s->select.opt_limit_us = o->opt_limit_us;
+    s->select.static_px = o->static_px_per_triangle;
+    s->select.correct = o->cost_correction;
+    if (rpl_cost_model_load(o->cost_profile, &s->select.cost, s->cost_label, sizeof s->cost_label, err) != 0 ||
+        rpl_select_init(&s->select, &s->scene, err) != 0)
+        return -1;
 
     int eye_w = (int)lround(s->display.eye_width_px * o->render_scale);
     int eye_h = (int)lround(s->display.eye_height_px * o->render_scale);
@@ -156,8 +170,10 @@ static void session_close(struct rpl_session *s)
     free(s->arrays.eccentricity_deg);
     free(s->arrays.velocity_degps);
     free(s->arrays.diameter_deg);
-    free(s->arrays.ceiling_cpd);
     free(s->arrays.lod);
+    free(s->arrays.draw_index);
+    free(s->arrays.draw_lod);
+    rpl_select_free(&s->select);
     memset(s, 0, sizeof *s);
 }
 
@@ -235,7 +251,12 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
         goto done;
 
     rpl_accumulator_finish(&acc, summary);
-    summary->budget_ms = 1000.0 / s.display.refresh_hz;
+    summary->budget_ms = s.select.budget_ms;
+    summary->rate_hz = rate_hz;
+    summary->lod_changes_per_object_s *= rate_hz;
+    summary->frame_ms_p99_share_of_budget = summary->frame_ms_p99 / summary->budget_ms;
+    summary->frame_ms_stddev_share_of_budget = summary->frame_ms_stddev / summary->budget_ms;
+    snprintf(summary->cost_profile, sizeof summary->cost_profile, "%s", s.cost_label);
     snprintf(summary->renderer, sizeof summary->renderer, "%s", rnd_renderer_name(s.renderer));
     snprintf(summary->selector, sizeof summary->selector, "%s", o->selector);
     snprintf(summary->scene, sizeof summary->scene, "%s", o->scene);

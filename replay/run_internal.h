@@ -7,14 +7,15 @@
 #include "hmd/hmd.h"
 #include "render/render.h"
 #include "replay/replay.h"
-
-enum rpl_selector { RPL_SELECT_NONE = 0, RPL_SELECT_REDDY = 1 };
+#include "replay/select.h"
 
 /* Per-frame working arrays, sized once when the scene loads (DESIGN.md: steps 4–7 allocate nothing). */
 struct rpl_frame_arrays {
     uint32_t *visible;
-    double *eccentricity_deg, *velocity_degps, *diameter_deg, *ceiling_cpd;
+    double *eccentricity_deg, *velocity_degps, *diameter_deg;
     uint8_t *lod;
+    uint32_t *draw_index; /* visible objects then group impostors: what the renderer gets */
+    uint8_t *draw_lod;
 };
 
 /* What one frame did, for its CSV row. */
@@ -29,6 +30,7 @@ struct rpl_frame_record {
     uint32_t lod_histogram[SCN_MAX_LODS];
     double acuity_us, select_us, draw_ms, frame_ms;
     int deadline_met;
+    struct rpl_select_record sel;
 };
 
 struct rpl_session {
@@ -41,6 +43,8 @@ struct rpl_session {
     struct rnd_renderer *renderer;
     struct rpl_frame_arrays arrays;
     enum rpl_selector selector;
+    struct rpl_select select;
+    char cost_label[160];     /* where the cost model came from, for the summary */
     enum rpl_freq_reading reading;
     int max_lods;
     double near_m, far_m;
@@ -72,6 +76,10 @@ struct rpl_accumulator {
     double cull_groups_sum, cull_instances_sum;
     double triangles_sum, finest_sum;
     long deadlines_met;
+    long predicted_within, truncated_frames, over_budget_frames;
+    double lod_changes_sum, optimizer_us_sum, optimizer_us_max, iterations_sum;
+    double benefit_share_sum, benefit_share_min; /* benefit / LP bound where the bound is known */
+    long benefit_share_frames;
     /* Per head-speed band (rpl_speed_band_lower_degps): what share of the finest triangles was drawn,
      * so the velocity term's effect shows in one run. */
     long band_frames[RPL_SPEED_BAND_COUNT];

@@ -1,0 +1,237 @@
+/* Steps 5–7 of a frame (DESIGN.md "One frame"): Reddy's perceptual ceiling, each candidate's cost
+ * (the machine's cost profile) and benefit (Funkhouser & Séquin 1993 §5 capped at the ceiling), and
+ * the selector. Everything here is sized in rpl_select_init; a frame allocates nothing. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "replay/select.h"
+
+static const char *const selector_names[] = {"none", "reddy", "static", "feedback", "fs"};
+
+int rpl_selector_parse(const char *name, enum rpl_selector *out, struct hl_error *err)
+{
+    for (int k = 0; k < (int)(sizeof selector_names / sizeof *selector_names); ++k)
+        if (name && !strcmp(name, selector_names[k])) {
+            *out = (enum rpl_selector)k;
+            return 0;
+        }
+    return hl_fail(err, "--selector: unknown selector '%s' (known: none, reddy, static, feedback, fs)",
+                   name ? name : "");
+}
+
+int rpl_cost_model_load(const char *path, struct lod_cost_model *out, char *label_out, size_t label_size,
+                        struct hl_error *err)
+{
+    if (path)
+        return hl_fail(err, "--cost-profile %s: cost profile files are not read yet", path);
+    /* Provisional: fitted by hand to the auditorium and field replays on the 2-core llvmpipe
+     * machine (docs/RESULTS.md "Replay") until hmdlod calibrate measures it. */
+    *out = (struct lod_cost_model){LOD_COST_ADDITIVE, 2.0, 9e-5, 0.0, 2.5e-6, 0.01};
+    snprintf(label_out, label_size, "provisional llvmpipe estimate");
+    return 0;
+}
+
+int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct hl_error *err)
+{
+    size_t n = scene->instance_count ? scene->instance_count : 1;
+    size_t cands = n * (LOD_MAX_LEVELS + 1);
+    size_t chains = scene->chain_count ? scene->chain_count : 1;
+    s->pixels_px = calloc(n, sizeof(double));
+    s->ceiling_level = calloc(n, 1);
+    s->previous_level = calloc(n, 1);
+    s->choice = calloc(n, 1);
+    s->first = calloc(n, sizeof(uint32_t));
+    s->count = calloc(n, 1);
+    s->cand_cost_ms = calloc(cands, sizeof(double));
+    s->cand_benefit = calloc(cands, sizeof(double));
+    s->cand_level = calloc(cands, 1);
+    s->cand_samples = calloc(cands, sizeof(uint32_t));
+    s->level_of_instance = malloc(n);
+    s->last_visible = calloc(n, sizeof(uint32_t));
+    s->chain_triangles = calloc(chains * LOD_MAX_LEVELS, sizeof(uint32_t));
+    s->chain_lod_count = calloc(chains, 1);
+    s->scratch = malloc(lod_scratch_bytes(n, cands));
+    if (!s->pixels_px || !s->ceiling_level || !s->previous_level || !s->choice || !s->first || !s->count ||
+        !s->cand_cost_ms || !s->cand_benefit || !s->cand_level || !s->cand_samples || !s->level_of_instance ||
+        !s->last_visible || !s->chain_triangles || !s->chain_lod_count || !s->scratch)
+        return hl_fail(err, "scene '%s': out of memory for the selector's arrays (%zu objects)", scene->name, n);
+    memset(s->level_of_instance, LOD_UNSEEN, n);
+    for (uint32_t c = 0; c < scene->chain_count; ++c) {
+        const struct scn_chain *ch = &scene->chains[c];
+        s->chain_lod_count[c] = (uint8_t)(ch->lod_count < LOD_MAX_LEVELS ? ch->lod_count : LOD_MAX_LEVELS);
+        for (int l = 0; l < s->chain_lod_count[c]; ++l)
+            s->chain_triangles[c * LOD_MAX_LEVELS + l] = ch->lods[l].triangle_count;
+    }
+    lod_benefit_params_default(&s->benefit);
+    lod_cost_correction_init(&s->correction, 0.1);
+    lod_feedback_init(&s->feedback, s->static_px > 0.0 ? s->static_px : 64.0);
+    return 0;
+}
+
+void rpl_select_free(struct rpl_select *s)
+{
+    free(s->pixels_px);
+    free(s->ceiling_level);
+    free(s->previous_level);
+    free(s->choice);
+    free(s->first);
+    free(s->count);
+    free(s->cand_cost_ms);
+    free(s->cand_benefit);
+    free(s->cand_level);
+    free(s->cand_samples);
+    free(s->level_of_instance);
+    free(s->last_visible);
+    free(s->chain_triangles);
+    free(s->chain_lod_count);
+    free(s->scratch);
+}
+
+/* One object at one level, both eyes: the cost profile's units (lod.h). */
+static double level_cost_ms(const struct lod_cost_model *m, const struct scn_lod *lod, double pixels_px)
+{
+    return lod_cost_object_ms(m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, pixels_px, 2.0);
+}
+
+/* The frame's problem over the visible objects: per object its levels coarsest first (the null
+ * impostor before them where the chain allows drawing nothing), priced and valued, then reduced to
+ * the convex hull. */
+static struct lod_problem build_problem(struct rpl_select *s, const struct scn_scene *scene,
+                                        const struct rpl_view_inputs *in, double budget_ms)
+{
+    uint32_t c = 0;
+    for (size_t k = 0; k < in->count; ++k) {
+        uint32_t inst = in->visible[k];
+        const struct scn_chain *ch = &scene->chains[scene->chain_of_instance[inst]];
+        s->first[k] = c;
+        if (ch->null_impostor) {
+            s->cand_level[c] = LOD_DROP;
+            s->cand_cost_ms[c] = 0.0;
+            s->cand_samples[c] = 0;
+            ++c;
+        }
+        for (int l = s->chain_lod_count[scene->chain_of_instance[inst]] - 1; l >= 0; --l, ++c) {
+            s->cand_level[c] = (uint8_t)l;
+            s->cand_cost_ms[c] = level_cost_ms(&s->cost, &ch->lods[l], s->pixels_px[k]);
+            s->cand_samples[c] = ch->lods[l].vertex_count; /* Gouraud: m = 2 (§5) */
+        }
+        s->count[k] = (uint8_t)(c - s->first[k]);
+        s->previous_level[k] = s->level_of_instance[inst];
+    }
+    lod_benefit_fill(&s->benefit, in->count, s->first, s->count, s->cand_level, s->cand_samples, s->pixels_px,
+                     NULL, s->ceiling_level, s->previous_level, s->cand_benefit);
+    if (scene->importance)
+        for (size_t k = 0; k < in->count; ++k)
+            for (uint32_t j = s->first[k]; j < s->first[k] + s->count[k]; ++j)
+                s->cand_benefit[j] *= scene->importance[in->visible[k]];
+    lod_hull_reduce(in->count, s->first, s->count, s->cand_cost_ms, s->cand_benefit, s->cand_level, budget_ms,
+                    (int64_t *)s->scratch); /* before the optimizer: the scratch is free */
+    return (struct lod_problem){in->count, in->visible, s->first, s->count, s->cand_cost_ms, s->cand_benefit,
+                                s->cand_level, budget_ms};
+}
+
+/* c0 + Σ predicted cost of what is drawn, for any selector. */
+static double predicted_ms(const struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
+                           const uint8_t *lod)
+{
+    double sum = s->cost.c0_ms;
+    for (size_t k = 0; k < in->count; ++k) {
+        if (lod[k] == LOD_DROP)
+            continue;
+        const struct scn_chain *ch = &scene->chains[scene->chain_of_instance[in->visible[k]]];
+        sum += level_cost_ms(&s->cost, &ch->lods[lod[k]], s->pixels_px[k]);
+    }
+    return sum;
+}
+
+/* Popping: levels that changed for objects drawn in both frames; then this frame becomes "last". */
+static uint32_t remember_levels(struct rpl_select *s, const struct rpl_view_inputs *in, const uint8_t *lod)
+{
+    uint32_t changes = 0;
+    for (size_t k = 0; k < in->count; ++k) {
+        uint8_t prev = s->level_of_instance[in->visible[k]];
+        changes += prev != LOD_UNSEEN && prev != lod[k];
+    }
+    for (uint32_t k = 0; k < s->last_visible_count; ++k)
+        s->level_of_instance[s->last_visible[k]] = LOD_UNSEEN;
+    for (size_t k = 0; k < in->count; ++k) {
+        s->level_of_instance[in->visible[k]] = lod[k];
+        s->last_visible[k] = in->visible[k];
+    }
+    s->last_visible_count = (uint32_t)in->count;
+    return changes;
+}
+
+void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
+                      uint8_t *lod_out, uint32_t *extra_index, uint8_t *extra_level, size_t *extra_count,
+                      struct rpl_select_record *rec)
+{
+    memset(rec, 0, sizeof *rec);
+    *extra_count = 0;
+    rec->budget_ms = s->budget_ms;
+    rec->lp_bound = NAN;
+    acu_compute_pixels(in->eyes, 2, scene->center_m, scene->radius_m, in->visible, in->count, s->pixels_px);
+    int needs_ceiling = s->selector == RPL_SELECT_REDDY || s->selector == RPL_SELECT_FS;
+    if (needs_ceiling) {
+        struct lod_select_stats stats = {0};
+        lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
+                         in->velocity_degps, in->diameter_deg, s->ceiling_level, NULL, &stats);
+        rec->acuity_evaluations = stats.model_evaluations;
+    }
+
+    switch (s->selector) {
+    case RPL_SELECT_NONE:
+        lod_select_finest(in->count, lod_out);
+        break;
+    case RPL_SELECT_REDDY:
+        memcpy(lod_out, s->ceiling_level, in->count);
+        break;
+    case RPL_SELECT_STATIC:
+    case RPL_SELECT_FEEDBACK: {
+        double px = s->selector == RPL_SELECT_STATIC ? s->static_px : s->feedback.min_px_per_triangle;
+        lod_select_static(px, s->chain_triangles, s->chain_lod_count, scene->chain_of_instance, in->visible, in->count,
+                          s->pixels_px, lod_out);
+        break;
+    }
+    case RPL_SELECT_FS: {
+        /* What the optimizer may spend: the budget less the frame's own CPU work (smoothed), scaled
+         * by the measured/predicted ratio when correcting, less the per-frame constant c0. */
+        double budget = s->budget_ms - s->overhead_ms;
+        if (s->correct)
+            budget = lod_cost_correction_budget_ms(&s->correction, budget);
+        budget = fmax(0.0, budget - s->cost.c0_ms);
+        rec->optimizer_budget_ms = budget;
+        struct lod_problem p = build_problem(s, scene, in, budget);
+        struct lod_result r;
+        lod_choice_start(&p, s->previous_level, s->choice);
+        lod_optimize_fs(&p, s->opt_limit_us, s->scratch, s->choice, &r);
+        lod_level_of_choice(&p, s->choice, lod_out);
+        rec->iterations = r.iterations;
+        rec->dropped = r.dropped;
+        rec->truncated = r.truncated;
+        rec->over_budget = r.over_budget;
+        rec->optimizer_us = r.elapsed_us;
+        rec->benefit = r.benefit;
+        break;
+    }
+    }
+    rec->predicted_ms = predicted_ms(s, scene, in, lod_out);
+    for (size_t k = 0; k < *extra_count; ++k) {
+        const struct scn_chain *ch = &scene->chains[scene->instances[extra_index[k]].chain];
+        double px = 0.0;
+        acu_compute_pixels(in->eyes, 2, scene->center_m, scene->radius_m, &extra_index[k], 1, &px);
+        rec->predicted_ms += level_cost_ms(&s->cost, &ch->lods[extra_level[k]], px);
+    }
+    rec->lod_changes = remember_levels(s, in, lod_out);
+}
+
+void rpl_select_measured(struct rpl_select *s, const struct rpl_select_record *rec, double draw_ms, double frame_ms)
+{
+    double overhead = fmax(0.0, frame_ms - draw_ms);
+    s->overhead_ms = s->overhead_ms > 0.0 ? s->overhead_ms + 0.1 * (overhead - s->overhead_ms) : overhead;
+    lod_cost_correction_update(&s->correction, draw_ms, rec->predicted_ms);
+    if (s->selector == RPL_SELECT_FEEDBACK)
+        lod_feedback_update(&s->feedback, frame_ms, s->budget_ms);
+}

@@ -1,0 +1,87 @@
+/* Internal to replay/: steps 5–7 of a frame (DESIGN.md "One frame") — perceptual ceiling, cost and
+ * benefit, selection — for every selector: none, reddy, static, feedback, fs. The arrays are
+ * sized when the scene loads; a frame allocates nothing. */
+#ifndef HMDLOD_REPLAY_SELECT_H
+#define HMDLOD_REPLAY_SELECT_H
+
+#include "lod/lod.h"
+#include "scene/scene.h"
+
+enum rpl_selector {
+    RPL_SELECT_NONE = 0,
+    RPL_SELECT_REDDY,
+    RPL_SELECT_STATIC,
+    RPL_SELECT_FEEDBACK,
+    RPL_SELECT_FS,
+};
+/* "none" … "fs" → the enum; −1 with the known names in err for anything else. */
+int rpl_selector_parse(const char *name, enum rpl_selector *out, struct hl_error *err);
+
+struct rpl_select {
+    enum rpl_selector selector;
+    struct lod_cost_model cost;
+    struct lod_benefit_params benefit;
+    double budget_ms;          /* the frame's whole budget (display period unless --budget-ms) */
+    double opt_limit_us;       /* Nirenstein's time limit for fs and mb; 0 = none */
+    double static_px;          /* static: pixels per triangle */
+    int correct;               /* 1: scale the budget by the measured/predicted ratio */
+    struct lod_cost_correction correction;
+    double overhead_ms;        /* smoothed frame time outside the draw (pose, cull, selection) */
+    struct lod_feedback feedback;
+
+    /* per visible object (capacity: the scene's instances) */
+    double *pixels_px;
+    uint8_t *ceiling_level, *previous_level, *choice;
+    uint32_t *first;
+    uint8_t *count;
+    /* per candidate (capacity: instances × (LOD_MAX_LEVELS + 1)) */
+    double *cand_cost_ms, *cand_benefit;
+    uint8_t *cand_level;
+    uint32_t *cand_samples;
+    /* per scene instance: last frame's level (LOD_UNSEEN when not drawn), and the last visible list */
+    uint8_t *level_of_instance;
+    uint32_t *last_visible;
+    uint32_t last_visible_count;
+    /* per chain, for static and feedback: triangles[c·LOD_MAX_LEVELS + l], lod_count[c] */
+    uint32_t *chain_triangles;
+    uint8_t *chain_lod_count;
+    void *scratch;
+};
+
+/* What selection did in one frame, for its CSV row. */
+struct rpl_select_record {
+    double budget_ms, optimizer_budget_ms; /* the frame's budget; what the optimizer was given */
+    double predicted_ms;                   /* c0 + Σ predicted object costs of what is drawn */
+    double benefit, lp_bound;              /* Σ benefit of the choice; the LP upper bound (fs, mb) */
+    uint32_t iterations, dropped, lod_changes;
+    uint64_t acuity_evaluations;           /* objects whose H(v,E) was computed */
+    int truncated, over_budget;
+    double optimizer_us;
+};
+
+/* The machine cost profile: `path` (a JSON file written by hmdlod calibrate) or, for NULL, the
+ * built-in profile for llvmpipe; label_out says which, for the summary. */
+int rpl_cost_model_load(const char *path, struct lod_cost_model *out, char *label_out, size_t label_size,
+                        struct hl_error *err);
+
+int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct hl_error *err);
+void rpl_select_free(struct rpl_select *s);
+
+/* Chooses a level for each of the n visible objects (lod_out; LOD_DROP = not drawn) and, for mb,
+ * the group impostor instances to draw after them (extra_index/extra_level, *extra_count). eyes are
+ * the two eyes' views for projected coverage. */
+struct rpl_view_inputs {
+    const uint32_t *visible;
+    size_t count;
+    const double *eccentricity_deg, *velocity_degps, *diameter_deg;
+    const struct acu_limits *limits;
+    const struct lod_chain *chains;
+    const struct acu_eye *eyes; /* two */
+};
+void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
+                      uint8_t *lod_out, uint32_t *extra_index, uint8_t *extra_level, size_t *extra_count,
+                      struct rpl_select_record *rec);
+/* After the draw: the measured draw and frame times feed the correction and the feedback controller. */
+void rpl_select_measured(struct rpl_select *s, const struct rpl_select_record *rec, double draw_ms, double frame_ms);
+
+#endif

@@ -608,6 +608,7 @@ struct domes_frame {
     uint8_t count[1200], level[1200 * 7], ceiling[1200], previous[1200], level_out[1200];
     double px[1200], cost[1200 * 7], benefit[1200 * 7];
     uint32_t samples[1200 * 7];
+    int64_t hull_scratch[1200];
     size_t n;
 };
 
@@ -642,7 +643,7 @@ static struct lod_problem domes_problem(struct domes_frame *f, const struct scn_
     }
     lod_benefit_fill(bp, f->n, f->first, f->count, f->level, f->samples, f->px, NULL, f->ceiling, f->previous,
                      f->benefit);
-    lod_hull_reduce(f->n, f->first, f->count, f->cost, f->benefit, f->level);
+    lod_hull_reduce(f->n, f->first, f->count, f->cost, f->benefit, f->level, budget_ms, f->hull_scratch);
     return (struct lod_problem){f->n, f->visible, f->first, f->count, f->cost, f->benefit, f->level, budget_ms};
 }
 
@@ -671,15 +672,16 @@ static void test_domes_mb(void)
     for (int b = 0; b < 3; ++b) {
         for (int frame = 0; frame < 8; ++frame) {
             rpl_motion_step(&s, 0.25 * frame);
-            struct lod_problem p = domes_problem(&f, &s, eyes, &m, &bp, 0.0);
-            /* Mason & Blake's nominal cost: every visible strut at its coarsest drawn level. */
+            /* Mason & Blake's nominal cost: every visible strut at its coarsest drawn level. The
+             * problem is built without a budget cap first to find it, then with the frame's. */
+            struct lod_problem p = domes_problem(&f, &s, eyes, &m, &bp, INFINITY);
             double nominal = 0;
             for (size_t k = 0; k < f.n; ++k) {
                 const struct scn_chain *ch = &s.chains[s.chain_of_instance[f.visible[k]]];
                 const struct scn_lod *lod = &ch->lods[ch->lod_count - 1];
                 nominal += lod_cost_object_ms(&m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, f.px[k], 2.0);
             }
-            p.budget_ms = share[b] * nominal;
+            p = domes_problem(&f, &s, eyes, &m, &bp, share[b] * nominal);
             size_t extra = 0;
             struct lod_result r;
             rpl_mb_select(mb, &s, &p, &m, &bp, eyes, 0.0, f.level_out, extra_index, extra_level, &extra, &r);

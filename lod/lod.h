@@ -236,7 +236,7 @@ struct lod_tree {
     double budget_ms;            /* for Σ cost_ms over the representation tree's leaves */
 };
 
-/* Scratch bytes lod_optimize_mb needs for up to max_nodes nodes (about 90 per node). */
+/* Scratch bytes lod_optimize_mb needs for up to max_nodes nodes (about 190 per node). */
 size_t lod_mb_scratch_bytes(size_t max_nodes);
 
 /* state[n] for the cheapest representation: each root and each implicit-only group open down to the
@@ -251,7 +251,7 @@ void lod_mb_start_cheapest(const struct lod_tree *t, uint8_t *state);
  * Δbenefit/Δcost — and then decrements while over budget the terminal whose last step has the
  * lowest value (a candidate down, or closing a group whose children are all at their cheapest). The
  * highest and lowest values of each subtree are kept per node and updated post-order along the
- * changed path only; the imaginary root keeps its children in two heaps. Stops when (1) within
+ * changed path only; the imaginary root keeps its children in two tournament trees. Stops when (1) within
  * budget and nothing can rise, (2) over budget and nothing can fall — then representation-tree
  * leaves are dropped, lowest benefit per cost first (ties by node_id), over_budget set — or (3) the
  * terminal just incremented is decremented. Ties: the lower node_id rises first, the higher falls

@@ -24,17 +24,24 @@ struct mb_drop { /* a representation-tree leaf that may be dropped when even the
     uint32_t id, node;
 };
 
+struct mb_entry { /* one slot of the imaginary root's tournaments: a root's best step */
+    double value;
+    uint32_t id, term; /* the terminal's node_id and index; term NONE: no step */
+};
+
 struct mb {
     const struct lod_tree *t;
     uint8_t *state;
     double *min_cost, *min_benefit;   /* the node's cheapest representation */
+    double *max_benefit;              /* the most any representation of the node earns (the guard's pre-check) */
     double *open_cost, *open_benefit; /* Σ of its children's cheapest: the price of opening it */
     double *hi_val, *lo_val;          /* best step up / down in the node's representation subtree */
     int64_t *min_units, *open_units, *path_units; /* the same costs in integer units */
     struct mb_drop *drop;
     uint32_t *hi_term, *lo_term;      /* the terminal node with that step, NONE when there is none */
     uint32_t *nonmin;                 /* children not at their cheapest (a group closes only at 0) */
-    uint32_t *heap[2], *pos[2];       /* the imaginary root: roots by hi (max-heap) and lo (min-heap) */
+    struct mb_entry *tour[2];         /* the imaginary root: tournaments over the roots by hi and by lo */
+    uint32_t *slot, *roots;           /* a root's leaf in the tournaments; the roots in node order */
     uint32_t root_count;
     uint8_t *eff;                     /* candidates the node may take (a group's impostors after §3's check) */
     uint8_t *atmin;                   /* 1: the node is at its cheapest representation */
@@ -48,7 +55,7 @@ static size_t align8(size_t n) { return (n + 7u) & ~(size_t)7u; }
 size_t lod_mb_scratch_bytes(size_t max_nodes)
 {
     size_t n = max_nodes ? max_nodes : 1;
-    return align8(6 * n * sizeof(double)) + align8(3 * n * sizeof(int64_t)) + align8(n * sizeof(struct mb_drop)) + align8(7 * n * sizeof(uint32_t)) +
+    return align8(7 * n * sizeof(double)) + align8(4 * (n + 1) * sizeof(struct mb_entry)) + align8(3 * n * sizeof(int64_t)) + align8(n * sizeof(struct mb_drop)) + align8(5 * n * sizeof(uint32_t)) +
            align8(3 * n) + 64;
 }
 
@@ -57,8 +64,10 @@ static void mb_carve(struct mb *m, void *scratch, size_t n)
     char *p = (char *)(((uintptr_t)scratch + 7u) & ~(uintptr_t)7u);
     double *d = (double *)p;
     m->min_cost = d, m->min_benefit = d + n, m->open_cost = d + 2 * n, m->open_benefit = d + 3 * n;
-    m->hi_val = d + 4 * n, m->lo_val = d + 5 * n;
-    p += align8(6 * n * sizeof(double));
+    m->hi_val = d + 4 * n, m->lo_val = d + 5 * n, m->max_benefit = d + 6 * n;
+    p += align8(7 * n * sizeof(double));
+    m->tour[0] = (struct mb_entry *)p, m->tour[1] = (struct mb_entry *)p + 2 * (n + 1);
+    p += align8(4 * (n + 1) * sizeof(struct mb_entry));
     int64_t *w = (int64_t *)p;
     m->min_units = w, m->open_units = w + n, m->path_units = w + 2 * n;
     p += align8(3 * n * sizeof(int64_t));
@@ -66,8 +75,8 @@ static void mb_carve(struct mb *m, void *scratch, size_t n)
     p += align8(n * sizeof(struct mb_drop));
     uint32_t *u = (uint32_t *)p;
     m->hi_term = u, m->lo_term = u + n, m->nonmin = u + 2 * n;
-    m->heap[0] = u + 3 * n, m->heap[1] = u + 4 * n, m->pos[0] = u + 5 * n, m->pos[1] = u + 6 * n;
-    p += align8(7 * n * sizeof(uint32_t));
+    m->slot = u + 3 * n, m->roots = u + 4 * n;
+    p += align8(5 * n * sizeof(uint32_t));
     m->eff = (uint8_t *)p, m->atmin = (uint8_t *)p + n, m->mark = (uint8_t *)p + 2 * n;
 }
 
@@ -116,53 +125,46 @@ static inline int lo_better(const struct mb *m, double va, uint32_t ta, double v
     return va < vb || (va == vb && m->t->node_id[ta] > m->t->node_id[tb]);
 }
 
-/* ---- the imaginary root's two heaps (which = 0: by hi, max first; 1: by lo, min first) ---------- */
+/* ---- the imaginary root: two tournament trees over the roots ------------------------------------
+ * Leaves at [R, 2R), node i the better of 2i and 2i + 1, the winner at 1 (any R ≥ 1): built in R − 1
+ * comparisons of contiguous entries each frame, a root's change replayed in log R. which = 0: the
+ * highest step up (ties: lower id); 1: the lowest step down (ties: higher id). */
 
-static inline int heap_before(const struct mb *m, int which, uint32_t a, uint32_t b)
+static inline struct mb_entry root_entry(const struct mb *m, int which, uint32_t root)
 {
-    if (which == 0) {
-        if (m->hi_term[a] == NONE && m->hi_term[b] == NONE)
-            return m->t->node_id[a] < m->t->node_id[b];
-        return hi_better(m, m->hi_val[a], m->hi_term[a], m->hi_val[b], m->hi_term[b]);
-    }
-    if (m->lo_term[a] == NONE && m->lo_term[b] == NONE)
-        return m->t->node_id[a] < m->t->node_id[b];
-    return lo_better(m, m->lo_val[a], m->lo_term[a], m->lo_val[b], m->lo_term[b]);
+    uint32_t term = which == 0 ? m->hi_term[root] : m->lo_term[root];
+    if (term == NONE)
+        return (struct mb_entry){which == 0 ? -INFINITY : INFINITY, which == 0 ? UINT32_MAX : 0, NONE};
+    return (struct mb_entry){which == 0 ? m->hi_val[root] : m->lo_val[root], m->t->node_id[term], term};
 }
 
-static void heap_swap(struct mb *m, int which, uint32_t i, uint32_t j)
+static inline struct mb_entry tour_pick(int which, struct mb_entry a, struct mb_entry b)
 {
-    uint32_t *h = m->heap[which], a = h[i], b = h[j];
-    h[i] = b, h[j] = a;
-    m->pos[which][b] = i, m->pos[which][a] = j;
+    if (which == 0)
+        return a.value > b.value || (a.value == b.value && a.id < b.id) ? a : b;
+    return a.value < b.value || (a.value == b.value && a.id > b.id) ? a : b;
 }
 
-static void heap_sift_down(struct mb *m, int which, uint32_t i)
+static void tour_build(struct mb *m, int which, const uint32_t *roots)
 {
-    uint32_t *h = m->heap[which];
-    for (;;) {
-        uint32_t l = 2 * i + 1, r = l + 1, best = i;
-        if (l < m->root_count && heap_before(m, which, h[l], h[best]))
-            best = l;
-        if (r < m->root_count && heap_before(m, which, h[r], h[best]))
-            best = r;
-        if (best == i)
-            return;
-        heap_swap(m, which, i, best);
-        i = best;
-    }
+    struct mb_entry *e = m->tour[which];
+    uint32_t r = m->root_count;
+    for (uint32_t k = 0; k < r; ++k)
+        e[r + k] = root_entry(m, which, roots[k]);
+    for (uint32_t i = r; i-- > 1;)
+        e[i] = tour_pick(which, e[2 * i], e[2 * i + 1]);
 }
 
-/* A root's values changed: up or down to its place. O(log roots). */
-static void heap_fix(struct mb *m, int which, uint32_t root)
+static void tour_update(struct mb *m, int which, uint32_t root)
 {
-    uint32_t i = m->pos[which][root], *h = m->heap[which];
-    while (i > 0 && heap_before(m, which, h[i], h[(i - 1) / 2])) {
-        heap_swap(m, which, i, (i - 1) / 2);
-        i = (i - 1) / 2;
-    }
-    heap_sift_down(m, which, i);
+    struct mb_entry *e = m->tour[which];
+    uint32_t i = m->root_count + m->slot[root];
+    e[i] = root_entry(m, which, root);
+    for (i >>= 1; i >= 1; i >>= 1)
+        e[i] = tour_pick(which, e[2 * i], e[2 * i + 1]);
 }
+
+static inline uint32_t tour_winner(const struct mb *m, int which) { return m->tour[which][1].term; }
 
 /* ---- per-node values ----------------------------------------------------------------------------- */
 
@@ -211,8 +213,8 @@ static void path_update(struct mb *m, uint32_t n)
         node_update(m, x);
         uint32_t p = m->t->parent[x];
         if (p == LOD_MB_ROOT) {
-            heap_fix(m, 0, x);
-            heap_fix(m, 1, x);
+            tour_update(m, 0, x);
+            tour_update(m, 1, x);
             return;
         }
         if (m->atmin[x] != was_min)
@@ -312,15 +314,18 @@ static void mb_prepare(struct mb *m)
             m->min_cost[n] = e ? cand_cost(t, n, 0) : 0.0;
             m->min_units[n] = e ? cand_units(t, n, 0) : 0;
             m->open_units[n] = 0;
+            m->max_benefit[n] = e ? cand_benefit(t, n, e - 1) : 0.0;
             m->min_benefit[n] = e ? cand_benefit(t, n, 0) : 0.0;
             m->open_cost[n] = m->open_benefit[n] = 0.0;
             continue;
         }
-        double oc = 0.0, ob = 0.0;
+        double oc = 0.0, ob = 0.0, mb = 0.0;
         int64_t ou = 0;
         const uint32_t *ch = t->child + t->first_child[n];
-        for (uint32_t k = 0; k < t->child_count[n]; ++k)
+        for (uint32_t k = 0; k < t->child_count[n]; ++k) {
             oc += m->min_cost[ch[k]], ob += m->min_benefit[ch[k]], ou += m->min_units[ch[k]];
+            mb += m->max_benefit[ch[k]];
+        }
         while (e > 0 && !(cand_units(t, n, e - 1) < ou && cand_benefit(t, n, e - 1) < ob))
             --e;
         while (e >= 2 && step_up_value(t, n, e - 2) <
@@ -330,6 +335,7 @@ static void mb_prepare(struct mb *m)
         m->open_cost[n] = oc, m->open_benefit[n] = ob;
         m->min_cost[n] = e ? cand_cost(t, n, 0) : oc;
         m->open_units[n] = ou;
+        m->max_benefit[n] = e && cand_benefit(t, n, e - 1) > mb ? cand_benefit(t, n, e - 1) : mb;
         m->min_units[n] = e ? cand_units(t, n, 0) : ou;
         m->min_benefit[n] = e ? cand_benefit(t, n, 0) : ob;
     }
@@ -421,7 +427,19 @@ static uint32_t mb_drop_over_budget(struct mb *m)
 static int mb_single_item(struct mb *m)
 {
     const struct lod_tree *t = m->t;
-    double base_b = 0.0, *path_b = m->lo_val;
+    /* Pre-check, O(roots): a single item lies under one root, so it earns at most that root's best
+     * over its cheapest; when even the largest such rise cannot beat the answer, nothing can. */
+    double base_b = 0.0, max_gain = 0.0;
+    for (size_t i = 0; i < t->node_count; ++i)
+        if (t->parent[i] == LOD_MB_ROOT) {
+            base_b += m->min_benefit[i];
+            double gain = m->max_benefit[i] - m->min_benefit[i];
+            max_gain = gain > max_gain ? gain : max_gain;
+        }
+    if (!(base_b + max_gain > m->benefit - 1e-9 * fabs(m->benefit)))
+        return 0;
+    base_b = 0.0;
+    double *path_b = m->lo_val;
     int64_t base_u = 0, *path_u = m->path_units;
     for (size_t i = 0; i < t->node_count; ++i) {
         uint32_t n = (uint32_t)i, p = t->parent[n];
@@ -478,7 +496,7 @@ void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scrat
     mb_prepare(&m);
     mb_repair_state(&m);
 
-    /* Initialisation (§4): every value bottom-up, the roots into the imaginary root's heaps. */
+    /* Initialisation (§4): every value bottom-up, the roots into the imaginary root's tournaments. */
     size_t candidates = 0;
     for (size_t i = t->node_count; i-- > 0;) {
         uint32_t n = (uint32_t)i;
@@ -493,15 +511,14 @@ void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scrat
         if (is_choice(state[n]))
             m.units += cand_units(t, n, state[n]), m.benefit += cand_benefit(t, n, state[n]);
     }
+    uint32_t *roots = m.roots;
     for (uint32_t n = 0; n < (uint32_t)t->node_count; ++n)
         if (t->parent[n] == LOD_MB_ROOT) {
-            m.heap[0][m.root_count] = m.heap[1][m.root_count] = n;
-            m.pos[0][n] = m.pos[1][n] = m.root_count++;
+            m.slot[n] = m.root_count;
+            roots[m.root_count++] = n;
         }
-    for (uint32_t k = m.root_count / 2 + 1; k-- > 0;) { /* heapify (Floyd): O(roots) */
-        heap_sift_down(&m, 0, k);
-        heap_sift_down(&m, 1, k);
-    }
+    tour_build(&m, 0, roots);
+    tour_build(&m, 1, roots);
 
     /* Values that do not fall with detail could cycle; no honest run needs more than this. */
     const uint64_t cap = 4u * ((uint64_t)candidates + t->node_count) + 64u;
@@ -518,7 +535,7 @@ void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scrat
         }
         if (iterations >= cap)
             break;
-        uint32_t up = m.hi_term[m.heap[0][0]];
+        uint32_t up = tour_winner(&m, 0);
         if (up == NONE && m.units <= m.budget)
             break; /* rule 1 */
         if (up != NONE) {
@@ -527,7 +544,7 @@ void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scrat
         }
         int same = 0;
         while (m.units > m.budget) {
-            uint32_t down = m.lo_term[m.heap[1][0]];
+            uint32_t down = tour_winner(&m, 1);
             if (down == NONE) { /* rule 2 */
                 over = 1;
                 break;

@@ -23,7 +23,7 @@ struct tb {
 
 static struct tb T;
 static uint8_t state[MAXN], state2[MAXN];
-static unsigned char scratch_buf[MAXN * 128];
+static unsigned char scratch_buf[MAXN * 256];
 
 static uint64_t rng_state;
 static double urand(void) /* splitmix64 → [0, 1) */

@@ -66,6 +66,8 @@ size_t lod_hull_reduce(size_t object_count, const uint32_t *first, uint8_t *coun
     size_t rejected = 0;
     int64_t budget = isfinite(budget_ms) ? lod_budget_units(budget_ms) : INT64_MAX;
     int64_t base = budget == INT64_MAX ? 0 : cheapest_total(object_count, first, count, cost_ms, benefit, scratch);
+    if (base > budget)
+        budget = INT64_MAX; /* over budget: dropping objects frees room, so no candidate is hopeless */
     for (size_t i = 0; i < object_count; ++i) {
         /* A candidate that cannot fit even with every other object at its cheapest can never be
          * chosen: removing it before the hull keeps the fitting candidates it would have shadowed,

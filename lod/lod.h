@@ -136,8 +136,9 @@ void lod_benefit_fill(const struct lod_benefit_params *p, size_t object_count, c
 /* Reduces each object's candidates in place to the upper convex hull of (cost, benefit) from its
  * cheapest one, so benefit rises strictly with cost and the value Δbenefit/Δcost of each step up
  * falls (the diminishing returns the greedy, fs and mb rely on). Dropped: candidates with a
- * non-finite or negative cost or benefit (counted in the return value); with a finite budget_ms,
- * candidates that cannot fit even with every other object at its cheapest (the hull is then taken
+ * non-finite or negative cost or benefit (counted in the return value); with a finite budget_ms
+ * that the cheapest candidates fit in, candidates that cannot fit even with every other object at
+ * its cheapest (the hull is then taken
  * over those that can, so no fitting level hides under one that never fits); candidates that cost
  * at least as much as a cheaper one and earn no more (ties: the cheaper, then the coarser, stays);
  * and candidates under the hull — a level worth less per millisecond than the step past it, which

@@ -225,6 +225,7 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
         rec->over_budget = r.over_budget;
         rec->optimizer_us = r.elapsed_us;
         rec->benefit = r.benefit;
+        rec->lp_bound = lod_lp_bound(&p, NULL); /* measurement only: after the timed part */
         break;
     }
     }

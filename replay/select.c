@@ -225,7 +225,9 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
         rec->over_budget = r.over_budget;
         rec->optimizer_us = r.elapsed_us;
         rec->benefit = r.benefit;
-        rec->lp_bound = lod_lp_bound(&p, NULL); /* measurement only: after the timed part */
+        /* measurement only: after the timed part. The flat problem's bound does not bound mb's
+         * (group impostors are choices the flat problem lacks): none for mb. */
+        rec->lp_bound = s->selector == RPL_SELECT_MB ? NAN : lod_lp_bound(&p, NULL);
         break;
     }
     }

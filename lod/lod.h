@@ -254,7 +254,8 @@ void lod_mb_start_cheapest(const struct lod_tree *t, uint8_t *state);
  * highest and lowest values of each subtree are kept per node and updated post-order along the
  * changed path only; the imaginary root keeps its children in two tournament trees. Stops when (1) within
  * budget and nothing can rise, (2) over budget and nothing can fall — then representation-tree
- * leaves are dropped, lowest benefit per cost first (ties by node_id), over_budget set — or (3) the
+ * leaves are dropped, lowest benefit per cost first (ties by node_id), over_budget set, and the rest
+ * rises into what the drops freed, as in lod_optimize_greedy — or (3) the
  * terminal just incremented is decremented. Ties: the lower node_id rises first, the higher falls
  * first (the reverse of the rising order). Then the ½-optimal guard (§6): the cheapest
  * representation with the single best candidate of one of its leaves, if that earns more. Every

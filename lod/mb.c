@@ -414,6 +414,7 @@ static uint32_t mb_drop_over_budget(struct mb *m)
         m->benefit -= cand_benefit(t, n, m->state[n]);
         m->state[n] = LOD_DROPPED;
         subtree_deactivate(m, n);
+        path_update(m, n);
         ++dropped;
     }
     return dropped;
@@ -438,11 +439,16 @@ static int mb_single_item(struct mb *m)
         }
     if (!(base_b + max_gain > m->benefit - 1e-9 * fabs(m->benefit)))
         return 0;
+    /* Nodes dropped over budget stay dropped, with everything under them (mark bit 1). */
+    enum { EXCLUDED = 1, OPENED = 2 };
     base_b = 0.0;
     double *path_b = m->lo_val;
     int64_t base_u = 0, *path_u = m->path_units;
     for (size_t i = 0; i < t->node_count; ++i) {
         uint32_t n = (uint32_t)i, p = t->parent[n];
+        m->mark[n] = m->state[n] == LOD_DROPPED || (p != LOD_MB_ROOT && (m->mark[p] & EXCLUDED)) ? EXCLUDED : 0;
+        if (m->state[n] == LOD_DROPPED) /* a leaf of the cheapest tree: it leaves the base */
+            base_u -= m->min_units[n], base_b -= m->min_benefit[n];
         if (p == LOD_MB_ROOT) {
             base_u += m->min_units[n], base_b += m->min_benefit[n];
             path_u[n] = 0, path_b[n] = 0.0;
@@ -456,6 +462,8 @@ static int mb_single_item(struct mb *m)
     unsigned best_k = 0;
     for (size_t i = 0; i < t->node_count; ++i) {
         uint32_t n = (uint32_t)i;
+        if (m->mark[n] & EXCLUDED)
+            continue;
         for (unsigned k = 0; k < m->eff[n]; ++k) {
             int64_t u = base_u + path_u[n] + cand_units(t, n, k) - m->min_units[n];
             double b = base_b + path_b[n] + cand_benefit(t, n, k) - m->min_benefit[n];
@@ -463,22 +471,29 @@ static int mb_single_item(struct mb *m)
                 best_b = b, best_n = n, best_k = k;
         }
     }
-    if (base_u > m->budget || !(best_b > m->benefit))
+    /* Against the answer's exact sum, by more than rounding: a single item equal to the answer
+     * (summed in another order) is no better. */
+    double answer = 0.0;
+    for (size_t i = 0; i < t->node_count; ++i)
+        if (is_choice(m->state[i]))
+            answer += cand_benefit(t, (uint32_t)i, m->state[i]);
+    if (base_u > m->budget || !(best_b > answer + 1e-12 * fabs(answer)))
         return 0;
-    memset(m->mark, 0, t->node_count);
     if (best_n != NONE)
         for (uint32_t a = t->parent[best_n]; a != LOD_MB_ROOT; a = t->parent[a])
-            m->mark[a] = 1; /* opened */
+            m->mark[a] |= OPENED;
     for (size_t i = 0; i < t->node_count; ++i) {
         uint32_t n = (uint32_t)i, p = t->parent[n];
         if (!(p == LOD_MB_ROOT || m->state[p] == LOD_MB_OPEN))
             m->state[n] = LOD_MB_BELOW;
+        else if (m->mark[n] & EXCLUDED)
+            m->state[n] = LOD_DROPPED;
         else if (n == best_n)
             m->state[n] = (uint8_t)best_k;
         else if (is_leaf(t, n))
             m->state[n] = t->count[n] ? 0 : LOD_DROPPED;
         else
-            m->state[n] = m->eff[n] && !m->mark[n] ? 0 : LOD_MB_OPEN;
+            m->state[n] = m->eff[n] && !(m->mark[n] & OPENED) ? 0 : LOD_MB_OPEN;
     }
     return 1;
 }
@@ -524,7 +539,7 @@ void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scrat
     const uint64_t cap = 4u * ((uint64_t)candidates + t->node_count) + 64u;
     const int64_t limit_ns = time_limit_us > 0.0 ? (int64_t)(time_limit_us * 1e3) : 0;
     uint64_t iterations = 0;
-    int over = 0;
+    int over = 0, stuck = 0;
     for (;;) {
         /* Nirenstein §5.5: stop only between iterations, when the choice is within budget; the clock
          * runs from the call (set-up included), and one iteration always runs so that frames whose
@@ -546,20 +561,25 @@ void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scrat
         while (m.units > m.budget) {
             uint32_t down = tour_winner(&m, 1);
             if (down == NONE) { /* rule 2 */
-                over = 1;
+                stuck = 1;
                 break;
             }
             node_decrement(&m, down);
             ++iterations;
             same |= down == up; /* rule 3, once the choice fits again */
         }
-        if (over || same)
+        if (stuck && !over) {
+            /* Rule (2): drop what must go, then go on raising the rest into what the drops freed,
+             * as the flat greedy does (Funkhouser & Séquin's "no polygons" LOD). */
+            over = 1, stuck = 0;
+            mb_drop_over_budget(&m);
+            continue;
+        }
+        if (stuck || same)
             break;
     }
-    if (over) {
-        r->over_budget = 1;
-        mb_drop_over_budget(&m);
-    } else if (!r->truncated) {
+    r->over_budget = over;
+    if (!r->truncated) {
         r->single_item = mb_single_item(&m);
     }
 

@@ -169,11 +169,12 @@ int cmd_replay(int argc, char **argv)
 static const char demo_usage[] =
     "usage: hmdlod demo [--out DIR] [replay options]\n"
     "  Replays the built-in 8 s head-motion clip (still, looking around, a fast turn) through the\n"
-    "  built-in field scene on the built-in Vive profile, headless, twice: with every object at its\n"
-    "  finest LOD (selector none) and with Reddy's acuity model (selector reddy). Prints both\n"
-    "  summaries and their ratio; writes DIR/none and DIR/reddy (frames.csv, summary.json, stereo\n"
-    "  PNGs every 60 frames). Default DIR: hmdlod-demo. Any replay option may be added (see\n"
-    "  hmdlod replay --help); --selector is ignored.\n";
+    "  built-in field scene on the built-in Vive profile, headless, three times: every object at its\n"
+    "  finest LOD (selector none), Reddy's acuity model alone (reddy), and Funkhouser-Sequin's\n"
+    "  cost-bounded optimizer capped by Reddy's acuity (fs) holding the display's frame budget.\n"
+    "  Prints the summaries and a comparison; writes DIR/none, DIR/reddy and DIR/fs (frames.csv,\n"
+    "  summary.json, stereo PNGs every 60 frames). Default DIR: hmdlod-demo. Any replay option may\n"
+    "  be added (see hmdlod replay --help); --selector is ignored.\n";
 
 int cmd_demo(int argc, char **argv)
 {
@@ -188,23 +189,31 @@ int cmd_demo(int argc, char **argv)
     if (parse_replay_options(argc, argv, &o, demo_usage) != 0)
         return 1;
     const char *base_dir = o.out_dir;
-    const char *selectors[2] = {"none", "reddy"};
-    struct rpl_summary summaries[2];
-    char dirs[2][4096];
-    for (int k = 0; k < 2; ++k) {
+    enum { RUNS = 3 };
+    const char *selectors[RUNS] = {"none", "reddy", "fs"};
+    struct rpl_summary summaries[RUNS];
+    char dirs[RUNS][4096];
+    for (int k = 0; k < RUNS; ++k) {
         snprintf(dirs[k], sizeof dirs[k], "%s/%s", base_dir, selectors[k]);
         o.selector = selectors[k];
         o.out_dir = dirs[k];
         if (run_and_report(&o, &summaries[k]) != 0)
             return 1;
     }
-    const struct rpl_summary *none = &summaries[0], *reddy = &summaries[1];
-    printf("\nreddy against none on the same frames:\n");
-    printf("  %-30s %10.0f vs %.0f  (%.2fx fewer)\n", "triangles per eye (mean)", reddy->triangles_per_eye_mean,
-           none->triangles_per_eye_mean,
-           reddy->triangles_per_eye_mean > 0 ? none->triangles_per_eye_mean / reddy->triangles_per_eye_mean : 0.0);
-    printf("  %-30s %10.2f vs %.2f ms  (speedup %.2fx)\n", "frame time (mean)", reddy->frame_ms_mean,
-           none->frame_ms_mean, reddy->frame_ms_mean > 0 ? none->frame_ms_mean / reddy->frame_ms_mean : 0.0);
-    printf("  output: %s/none and %s/reddy (frames.csv, summary.json, frame_*.png)\n", base_dir, base_dir);
+    const struct rpl_summary *none = &summaries[0];
+    printf("\non the same frames (budget %.2f ms, cost model: %s):\n", summaries[2].budget_ms,
+           summaries[2].cost_profile);
+    printf("  %-10s %16s %14s %14s %18s\n", "selector", "triangles/eye", "vs none", "frame ms mean",
+           "within budget");
+    for (int k = 0; k < RUNS; ++k) {
+        const struct rpl_summary *s = &summaries[k];
+        printf("  %-10s %16.0f %13.2fx %14.2f %17.1f %%\n", selectors[k], s->triangles_per_eye_mean,
+               s->triangles_per_eye_mean > 0 ? none->triangles_per_eye_mean / s->triangles_per_eye_mean : 0.0,
+               s->frame_ms_mean, 100.0 * s->deadline_met_fraction);
+    }
+    printf("  fs: predicted cost within the budget on %.1f %% of frames; benefit %.4f of the LP bound\n",
+           100.0 * summaries[2].predicted_within_fraction, summaries[2].benefit_share_of_lp_mean);
+    printf("  output: %s/none, %s/reddy and %s/fs (frames.csv, summary.json, frame_*.png)\n", base_dir, base_dir,
+           base_dir);
     return 0;
 }

@@ -9,23 +9,29 @@ void lod_benefit_params_default(struct lod_benefit_params *p)
 {
     p->base_error = 0.5;
     p->exponent_m = 2.0;
-    p->hysteresis_per_level = 0.05;
+    p->hysteresis_per_level = 1.0;
 }
 
-/* §5: Accuracy = 1 − BaseError / Samples^m, Samples never more than the pixels covered. */
-static double accuracy(const struct lod_benefit_params *p, double samples, double size_px)
+/* §5: Accuracy = 1 − BaseError / Samples^m, Samples never more than the pixels covered.
+ * Hysteresis (§5, a factor that falls with the change of level) is applied to the error term, not
+ * to the whole benefit: real chains have Samples in the tens to thousands, so the accuracy of
+ * neighbouring levels differs by 10⁻⁵–10⁻³, and a multiplicative 1 − h·|ΔL| on the benefit would
+ * dwarf every detail difference and freeze the levels. Here a level |ΔL| away from last frame's
+ * counts its error (1 + h·|ΔL|) times: a change must remove more error than it costs in popping. */
+static double accuracy(const struct lod_benefit_params *p, double samples, double size_px, int levels_changed)
 {
     double s = fmax(fmin(samples, size_px), 1.0);
-    return 1.0 - p->base_error / pow(s, p->exponent_m);
+    double error = p->base_error / pow(s, p->exponent_m) * (1.0 + p->hysteresis_per_level * levels_changed);
+    return fmax(0.0, 1.0 - error);
 }
 
-static double hysteresis(const struct lod_benefit_params *p, uint8_t level, uint8_t previous)
+static int levels_changed(uint8_t level, uint8_t previous)
 {
     if (previous == LOD_UNSEEN)
-        return 1.0;
+        return 0;
     int a = level == LOD_DROP ? LOD_MAX_LEVELS : level;
     int b = previous == LOD_DROP ? LOD_MAX_LEVELS : previous;
-    return fmax(0.0, 1.0 - p->hysteresis_per_level * abs(a - b));
+    return abs(a - b);
 }
 
 void lod_benefit_fill(const struct lod_benefit_params *p, size_t object_count, const uint32_t *first,
@@ -40,15 +46,14 @@ void lod_benefit_fill(const struct lod_benefit_params *p, size_t object_count, c
         double ceiling_benefit = -1.0;
         for (uint32_t c = c0; c < c0 + count[i]; ++c)
             if (level[c] == ceiling_level[i])
-                ceiling_benefit = weight * accuracy(p, samples[c], size_px[i]) *
-                                  hysteresis(p, level[c], previous_level[i]);
+                ceiling_benefit = weight * accuracy(p, samples[c], size_px[i], levels_changed(level[c], previous_level[i]));
         for (uint32_t c = c0; c < c0 + count[i]; ++c) {
             if (level[c] == LOD_DROP) {
                 benefit[c] = 0.0;
             } else if (level[c] < ceiling_level[i] && ceiling_benefit >= 0.0) {
                 benefit[c] = ceiling_benefit; /* detail beyond the acuity limit is invisible */
             } else {
-                benefit[c] = weight * accuracy(p, samples[c], size_px[i]) * hysteresis(p, level[c], previous_level[i]);
+                benefit[c] = weight * accuracy(p, samples[c], size_px[i], levels_changed(level[c], previous_level[i]));
             }
         }
     }

@@ -115,9 +115,11 @@ struct lod_problem {
 };
 
 /* Funkhouser & Séquin §5 with Reddy's ceiling in place of Focus and Motion:
- *   benefit = size_px · importance · (1 − base_error / samples^m) · hysteresis
- * where samples = min(samples of the level, size_px) (at least 1), hysteresis =
- * max(0, 1 − hysteresis_per_level · |level − previous level|) (1 for an unseen object), and every
+ *   benefit = size_px · importance · max(0, 1 − base_error · (1 + h·|level − previous|) / samples^m)
+ * where samples = min(samples of the level, size_px) (at least 1) and h = hysteresis_per_level
+ * (|…| = 0 for an unseen object; LOD_DROP counts as level LOD_MAX_LEVELS). Hysteresis scales the
+ * error, not the benefit: accuracies of real levels differ by 10⁻⁵–10⁻³, which a factor on the
+ * whole benefit would swamp (docs/optimizer.md). Every
  * level finer than the object's ceiling level earns exactly what the ceiling level earns — detail
  * beyond what the viewer can resolve is worth nothing, so lod_hull_reduce removes it. LOD_DROP earns
  * 0. samples[c] per candidate (vertices for Gouraud, m = 2; triangles for flat, m = 1);
@@ -125,7 +127,7 @@ struct lod_problem {
 struct lod_benefit_params {
     double base_error;          /* 0.5 (Funkhouser) */
     double exponent_m;          /* 2: Gouraud shading, samples = vertices */
-    double hysteresis_per_level; /* 0.05 */
+    double hysteresis_per_level; /* 1: a level one step from last frame's counts its error twice */
 };
 void lod_benefit_params_default(struct lod_benefit_params *p);
 void lod_benefit_fill(const struct lod_benefit_params *p, size_t object_count, const uint32_t *first,

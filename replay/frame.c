@@ -128,9 +128,9 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
 
     rec->triangles_per_eye = draw.triangles_per_eye[0];
     rec->acuity_us = (double)(t1 - t0) * 1e-3;
-    rec->select_us = (double)(t2 - t1) * 1e-3;
+    rec->select_us = (double)(t2 - t1) * 1e-3 - rec->sel.lp_us;
     rec->draw_ms = (double)(t3 - t2) * 1e-6;
-    rec->frame_ms = (double)(t3 - t0) * 1e-6;
+    rec->frame_ms = (double)(t3 - t0) * 1e-6 - rec->sel.lp_us * 1e-3;
     rec->deadline_met = rec->frame_ms <= s->select.budget_ms;
     rpl_select_measured(&s->select, &rec->sel, rec->draw_ms, rec->frame_ms);
     return 0;

@@ -225,9 +225,11 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
         rec->over_budget = r.over_budget;
         rec->optimizer_us = r.elapsed_us;
         rec->benefit = r.benefit;
-        /* measurement only: after the timed part. The flat problem's bound does not bound mb's
-         * (group impostors are choices the flat problem lacks): none for mb. */
+        /* Measurement only, and not part of the frame: its time is taken out of the frame's. The
+         * flat problem's bound does not bound mb's (group impostors are choices it lacks): none. */
+        int64_t lp_start = hl_clock_now_ns();
         rec->lp_bound = s->selector == RPL_SELECT_MB ? NAN : lod_lp_bound(&p, NULL);
+        rec->lp_us = (double)(hl_clock_now_ns() - lp_start) * 1e-3;
         break;
     }
     }

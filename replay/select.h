@@ -59,6 +59,7 @@ struct rpl_select_record {
     uint64_t acuity_evaluations;           /* objects whose H(v,E) was computed */
     int truncated, over_budget;
     double optimizer_us;
+    double lp_us;                          /* the LP bound's own time, left out of the frame's */
 };
 
 /* The machine cost profile: `path` (a JSON file written by hmdlod calibrate) or, for NULL, the

@@ -93,6 +93,31 @@ else
   echo "skip: $trace is absent; the real-trace replay was not run"
 fi
 
+# Cost-bounded selectors (docs/optimizer.md): bad budget options are refused; fs and the baselines run
+# on a trace, and fs's predicted cost never exceeds the budget on any frame of the CSV.
+expect_error "replay bad --budget-ms" "budget-ms" -- "$bin" replay --selector fs --budget-ms -3 --out "$tmp/x"
+expect_error "replay bad --opt-limit-us" "opt-limit-us" -- "$bin" replay --selector fs --opt-limit-us -1 --out "$tmp/x"
+expect_error "replay bad --cost-correction" "cost-correction" -- "$bin" replay --cost-correction maybe --out "$tmp/x"
+expect_error "replay bad --static-px" "static-px" -- "$bin" replay --selector static --static-px 0 --out "$tmp/x"
+# predicted_ms ≤ budget on every row: the column is found by its header name.
+predicted_within() { # CSV BUDGET_MS
+  awk -F, -v b="$2" 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "predicted_ms") c = i; next }
+                     { n++; if ($c > b + 1e-9) bad++ } END { exit !(c > 0 && n > 0 && bad == 0) }' "$1"
+}
+for sel in static feedback fs; do
+  expect_ok "replay $sel" "frames within the budget" -- "$bin" replay --scene field --objects 300 --selector $sel \
+    --frames 120 --render-scale 0.25 --out "$tmp/sel-$sel"
+done
+predicted_within "$tmp/sel-fs/frames.csv" 11.1112 || fail "fs: a frame's predicted cost exceeds the 11.1 ms budget"
+for limit in 200 5; do
+  expect_ok "replay fs --opt-limit-us $limit" "frames within the budget" -- "$bin" replay --scene field --objects 300 \
+    --selector fs --opt-limit-us $limit --frames 120 --render-scale 0.25 --out "$tmp/fs-limit-$limit"
+  predicted_within "$tmp/fs-limit-$limit/frames.csv" 11.1112 || fail "fs --opt-limit-us $limit: over the budget"
+done
+expect_ok "replay fs --budget-ms 50" "budget +50\.000 ms" -- "$bin" replay --scene field --objects 300 --selector fs \
+  --budget-ms 50 --frames 60 --render-scale 0.25 --out "$tmp/fs-50"
+predicted_within "$tmp/fs-50/frames.csv" 50 || fail "fs --budget-ms 50: over the budget"
+
 # Raw recordings (record, convert, replay --raw): help, and bad input giving one message, exit 1
 # and no output. The recording → CSV → replay path itself is run by tests/test_recording.c.
 for c in record convert; do

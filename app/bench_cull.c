@@ -139,6 +139,7 @@ int bench_cull_make_grid(uint32_t n, uint64_t seed, struct scn_scene *s, struct 
         uint32_t l = node_level[head], child_side = side[l - 1];
         snprintf(g->name, sizeof g->name, "l%u_%u_%u", l, node_x[head], node_z[head]);
         g->impostor_chain = SCN_NONE;
+        g->impostor_instance = SCN_NONE;
         g->importance = 1.0;
         g->first_child = tail;
         g->first_instance = inst;

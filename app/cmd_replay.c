@@ -22,7 +22,8 @@ static const char replay_usage[] =
     "  --selector NAME    none (finest LOD), reddy (acuity-driven, default), static (finest LOD whose\n"
     "                     average triangle covers --static-px pixels), feedback (static's threshold\n"
     "                     steered by measured frame times), fs (Funkhouser-Sequin's cost-bounded\n"
-    "                     incremental optimizer, capped by Reddy's acuity: docs/optimizer.md)\n"
+    "                     incremental optimizer, capped by Reddy's acuity: docs/optimizer.md), mb\n"
+    "                     (Mason-Blake's on the scene's groups: group impostors drawn for whole groups)\n"
     "  --out DIR          output folder: frames.csv, summary.json, frame_NNNNNN.png (created)\n"
     "  --rate HZ          frame rate of the virtual clock (default: the display's refresh)\n"
     "  --frames N         frames to replay (default: the whole trace)\n"
@@ -37,10 +38,10 @@ static const char replay_usage[] =
     "  --budget-ms T      frame budget in ms (default: the display's frame period)\n"
     "  --cost-profile FILE  machine cost profile from hmdlod calibrate (default: the built-in one\n"
     "                     for llvmpipe)\n"
-    "  --opt-limit-us T   stop fs after T microseconds per frame (default 0: run to the end); the\n"
+    "  --opt-limit-us T   stop fs or mb after T microseconds per frame (default 0: run to the end); the\n"
     "                     choice is feasible after every iteration (Nirenstein et al. 5.5)\n"
     "  --static-px N      static's pixels per triangle (default 64); feedback starts from it\n"
-    "  --cost-correction on|off  scale fs's budget by the smoothed measured/predicted draw time\n"
+    "  --cost-correction on|off  scale fs's and mb's budget by the smoothed measured/predicted draw time\n"
     "                     (default on)\n"
     "  --quiet            no summary table on stdout\n";
 

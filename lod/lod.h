@@ -213,4 +213,59 @@ size_t lod_solve_exact_bytes(const struct lod_problem *p, double cost_quantum_ms
 int lod_solve_exact(const struct lod_problem *p, double cost_quantum_ms, void *work, size_t work_bytes,
                     uint8_t *choice, double *benefit_out);
 
+/* ---- hierarchy (Mason & Blake 1997) -------------------------------------------------------------
+ * A representation tree over one frame's visible part of the scene hierarchy: nodes are groups and
+ * objects (leaves), numbered parents before children (parent[n] < n, LOD_MB_ROOT for a root; several
+ * roots hang under an imaginary root). A node's candidates are laid out as in lod_problem (cheapest
+ * first, hull-reduced per node): a group's are its impostors (count 0: none), a leaf's its levels
+ * (maybe LOD_DROP first). A node is explicit (one of its candidates) or, if it has children,
+ * implicit (represented by them). Opening a group costs its children's cheapest choices; an impostor
+ * candidate that does not cost less and earn less than that (§3's requirement), or that lies under the
+ * hull through it, is ignored for the frame; a group left with none behaves as one without impostor. */
+enum { LOD_MB_ROOT = UINT32_MAX };
+enum { LOD_MB_BELOW = 252, /* state: not in the representation tree (an ancestor is explicit or dropped) */
+       LOD_MB_OPEN = 253 }; /* state: implicit, represented by its children */
+struct lod_tree {
+    size_t node_count;
+    const uint32_t *node_id;     /* stable id per node: every tie is broken by it, never by memory order */
+    const uint32_t *parent;      /* parent[n] < n, or LOD_MB_ROOT */
+    const uint32_t *first_child; /* node n's children are child[first_child[n] … + child_count[n] − 1] */
+    const uint32_t *child_count; /* 0: a leaf */
+    const uint32_t *child;
+    const uint32_t *first;       /* candidates, as in lod_problem */
+    const uint8_t *count;        /* leaf: ≥ 1 (0: no valid candidate, always LOD_DROPPED); group: 0 = no impostor */
+    const double *cost_ms;       /* per candidate, finite, ≥ 0 */
+    const double *benefit;       /* per candidate, finite, ≥ 0 */
+    double budget_ms;            /* for Σ cost_ms over the representation tree's leaves */
+};
+
+/* Scratch bytes lod_optimize_mb needs for up to max_nodes nodes (about 190 per node). */
+size_t lod_mb_scratch_bytes(size_t max_nodes);
+
+/* state[n] for the cheapest representation: each root and each implicit-only group open down to the
+ * first node with a candidate, which takes its candidate 0; everything under it LOD_MB_BELOW. O(n). */
+void lod_mb_start_cheapest(const struct lod_tree *t, uint8_t *state);
+
+/* Mason & Blake §4, time-limited as Nirenstein et al. §5.5. state[n] in/out: a candidate index
+ * (explicit), LOD_MB_OPEN, LOD_MB_BELOW or LOD_DROPPED. On input last frame's solution (anything
+ * inconsistent is repaired: a node the tree needs but state does not give gets its cheapest
+ * choice); on output the frame's choice. Each iteration increments the root — the terminal whose
+ * next step (a leaf's next candidate or a group's opening into its children) has the highest value
+ * Δbenefit/Δcost — and then decrements while over budget the terminal whose last step has the
+ * lowest value (a candidate down, or closing a group whose children are all at their cheapest). The
+ * highest and lowest values of each subtree are kept per node and updated post-order along the
+ * changed path only; the imaginary root keeps its children in two tournament trees. Stops when (1) within
+ * budget and nothing can rise, (2) over budget and nothing can fall — then representation-tree
+ * leaves are dropped, lowest benefit per cost first (ties by node_id), over_budget set, and the rest
+ * rises into what the drops freed, as in lod_optimize_greedy — or (3) the
+ * terminal just incremented is decremented. Ties: the lower node_id rises first, the higher falls
+ * first (the reverse of the rising order). Then the ½-optimal guard (§6): the cheapest
+ * representation with the single best candidate of one of its leaves, if that earns more. Every
+ * iteration ends complete and, unless over budget, within budget, so time_limit_us (0 = none),
+ * counted from the call, may stop it after any iteration but the first (truncated; the guard is
+ * then skipped). With no groups it equals
+ * lod_optimize_greedy. O(n) set-up, O(depth · fan-out + log roots) per iteration; no allocation. */
+void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scratch, uint8_t *state,
+                     struct lod_result *r);
+
 #endif

@@ -277,7 +277,7 @@ static int rnd_check_draw(const struct rnd_renderer *r, const struct scn_scene *
         scene->vertex_count != r->scene_vertices || scene->index_count != r->scene_indices)
         return -1;
     for (size_t k = 0; k < count; ++k) {
-        if (index[k] >= scene->instance_count)
+        if (index[k] >= scene->instance_count + scene->impostor_instance_count) /* objects, then impostors */
             return -1;
         uint32_t c = scene->instances[index[k]].chain;
         if (c >= scene->chain_count || (lod[k] != 255 && lod[k] >= scene->chains[c].lod_count))

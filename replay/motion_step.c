@@ -82,6 +82,21 @@ const double *rpl_motion_step(struct scn_scene *s, double t_s)
         return NULL;
     for (uint32_t g = 0; g < s->group_count; ++g)
         group_frame(s, g, t_s);
+    /* Group impostors ride their group's frame: modelled about its rest centre with world axes
+     * (scene/impostor.h), so the frame's centre and rotation are the instance's pose. */
+    for (uint32_t g = 0; g < s->group_count; ++g) {
+        uint32_t k = s->groups[g].impostor_instance;
+        if (k == SCN_NONE)
+            continue;
+        const struct scn_group_frame *f = &set->group_frame[g];
+        struct scn_instance *in = &s->instances[k];
+        in->position_m[0] = f->center_m.x, in->position_m[1] = f->center_m.y, in->position_m[2] = f->center_m.z;
+        in->rotation = f->rotation;
+        const double *o = s->chains[in->chain].bound_center_m;
+        hl_vec3d c = hl_v3_add(f->center_m, mat_mul(f->m, hl_v3_scale(hl_v3(o[0], o[1], o[2]), in->scale)));
+        double *cm = s->center_m + 3 * (size_t)k;
+        cm[0] = c.x, cm[1] = c.y, cm[2] = c.z;
+    }
     for (uint32_t i = 0; i < s->instance_count; ++i) {
         struct scn_instance *in = &s->instances[i];
         const struct scn_motion *own = &set->instance_motion[i];

@@ -8,8 +8,9 @@
 
 #include "render/render.h"
 #include "replay/select.h"
+#include "replay/select_mb.h"
 
-static const char *const selector_names[] = {"none", "reddy", "static", "feedback", "fs"};
+static const char *const selector_names[] = {"none", "reddy", "static", "feedback", "fs", "mb"};
 
 int rpl_selector_parse(const char *name, enum rpl_selector *out, struct hl_error *err)
 {
@@ -18,7 +19,7 @@ int rpl_selector_parse(const char *name, enum rpl_selector *out, struct hl_error
             *out = (enum rpl_selector)k;
             return 0;
         }
-    return hl_fail(err, "--selector: unknown selector '%s' (known: none, reddy, static, feedback, fs)",
+    return hl_fail(err, "--selector: unknown selector '%s' (known: none, reddy, static, feedback, fs, mb)",
                    name ? name : "");
 }
 
@@ -70,6 +71,8 @@ int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct 
         for (int l = 0; l < s->chain_lod_count[c]; ++l)
             s->chain_triangles[c * LOD_MAX_LEVELS + l] = ch->lods[l].triangle_count;
     }
+    if (s->selector == RPL_SELECT_MB && rpl_mb_create(scene, n, &s->mb, err) != 0)
+        return -1;
     lod_benefit_params_default(&s->benefit);
     lod_cost_correction_init(&s->correction, 0.1);
     lod_feedback_init(&s->feedback, s->static_px > 0.0 ? s->static_px : 64.0);
@@ -93,6 +96,8 @@ void rpl_select_free(struct rpl_select *s)
     free(s->chain_triangles);
     free(s->chain_lod_count);
     free(s->scratch);
+    rpl_mb_destroy(s->mb);
+    s->mb = NULL;
 }
 
 /* One object at one level, both eyes: the cost profile's units (lod.h). */
@@ -179,7 +184,7 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
     rec->budget_ms = s->budget_ms;
     rec->lp_bound = NAN;
     acu_compute_pixels(in->eyes, 2, scene->center_m, scene->radius_m, in->visible, in->count, s->pixels_px);
-    int needs_ceiling = s->selector == RPL_SELECT_REDDY || s->selector == RPL_SELECT_FS;
+    int needs_ceiling = s->selector == RPL_SELECT_REDDY || s->selector == RPL_SELECT_FS || s->selector == RPL_SELECT_MB;
     if (needs_ceiling) {
         struct lod_select_stats stats = {0};
         lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
@@ -201,7 +206,8 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
                           s->pixels_px, lod_out);
         break;
     }
-    case RPL_SELECT_FS: {
+    case RPL_SELECT_FS:
+    case RPL_SELECT_MB: {
         /* What the optimizer may spend: the budget less the frame's own CPU work (smoothed), scaled
          * by the measured/predicted ratio when correcting, less the per-frame constant c0. */
         double budget = s->budget_ms - s->overhead_ms;
@@ -211,18 +217,24 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
         rec->optimizer_budget_ms = budget;
         struct lod_problem p = build_problem(s, scene, in, budget);
         struct lod_result r;
-        lod_choice_start(&p, s->previous_level, s->choice);
-        lod_optimize_fs(&p, s->opt_limit_us, s->scratch, s->choice, &r);
-        lod_level_of_choice(&p, s->choice, lod_out);
+        if (s->selector == RPL_SELECT_MB) { /* Mason & Blake on the visible part of the hierarchy */
+            rpl_mb_select(s->mb, scene, &p, &s->cost, &s->benefit, in->eyes, s->opt_limit_us, lod_out, extra_index,
+                          extra_level, extra_count, &r);
+        } else {
+            lod_choice_start(&p, s->previous_level, s->choice);
+            lod_optimize_fs(&p, s->opt_limit_us, s->scratch, s->choice, &r);
+            lod_level_of_choice(&p, s->choice, lod_out);
+        }
         rec->iterations = r.iterations;
         rec->dropped = r.dropped;
         rec->truncated = r.truncated;
         rec->over_budget = r.over_budget;
         rec->optimizer_us = r.elapsed_us;
         rec->benefit = r.benefit;
-        /* Measurement only, and not part of the frame: its time is taken out of the frame's. */
+        /* Measurement only, and not part of the frame: its time is taken out of the frame's. The
+         * flat problem's bound does not bound mb's (group impostors are choices it lacks): none. */
         int64_t lp_start = hl_clock_now_ns();
-        rec->lp_bound = lod_lp_bound(&p, NULL);
+        rec->lp_bound = s->selector == RPL_SELECT_MB ? NAN : lod_lp_bound(&p, NULL);
         rec->lp_us = (double)(hl_clock_now_ns() - lp_start) * 1e-3;
         break;
     }

@@ -13,6 +13,7 @@ enum rpl_selector {
     RPL_SELECT_STATIC,
     RPL_SELECT_FEEDBACK,
     RPL_SELECT_FS,
+    RPL_SELECT_MB,
 };
 /* "none" … "fs" → the enum; −1 with the known names in err for anything else. */
 int rpl_selector_parse(const char *name, enum rpl_selector *out, struct hl_error *err);
@@ -46,6 +47,7 @@ struct rpl_select {
     uint32_t *chain_triangles;
     uint8_t *chain_lod_count;
     void *scratch;
+    struct rpl_mb *mb; /* the mb selector's tree and last solution (replay/select_mb.h); NULL otherwise */
 };
 
 /* What selection did in one frame, for its CSV row. */

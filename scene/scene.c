@@ -134,6 +134,58 @@ int scn_scene_add_chain(struct scn_scene *s, const char *name, struct scn_mesh *
     return 0;
 }
 
+/* The first instance anywhere below group g (depth first), SCN_NONE if none: its colour dresses the
+ * group's impostor. */
+static uint32_t scn_group_first_instance(const struct scn_scene *s, uint32_t g)
+{
+    const struct scn_group *gr = &s->groups[g];
+    if (gr->instance_count > 0)
+        return s->group_instances[gr->first_instance];
+    for (uint32_t k = 0; k < gr->child_count; ++k) {
+        uint32_t i = scn_group_first_instance(s, s->group_children[gr->first_child + k]);
+        if (i != SCN_NONE)
+            return i;
+    }
+    return SCN_NONE;
+}
+
+int scn_scene_add_impostor_instances(struct scn_scene *s, struct hl_error *err)
+{
+    uint32_t n = s->instance_count, extra = 0;
+    for (uint32_t g = 0; g < s->group_count; ++g)
+        extra += s->groups[g].impostor_chain != SCN_NONE;
+    if (extra == 0) {
+        for (uint32_t g = 0; g < s->group_count; ++g)
+            s->groups[g].impostor_instance = SCN_NONE;
+        return 0;
+    }
+    size_t total = (size_t)n + extra;
+    if (scn_scene_reserve((void **)&s->instances, total, sizeof *s->instances) ||
+        scn_scene_reserve((void **)&s->center_m, 3 * total, sizeof *s->center_m) ||
+        scn_scene_reserve((void **)&s->radius_m, total, sizeof *s->radius_m) ||
+        scn_scene_reserve((void **)&s->chain_of_instance, total, sizeof *s->chain_of_instance) ||
+        (s->importance && scn_scene_reserve((void **)&s->importance, total, sizeof *s->importance)))
+        return hl_fail(err, "scene %s: out of memory for %u group impostors", s->name, extra);
+    uint32_t k = n;
+    for (uint32_t g = 0; g < s->group_count; ++g) {
+        struct scn_group *gr = &s->groups[g];
+        gr->impostor_instance = SCN_NONE;
+        if (gr->impostor_chain == SCN_NONE)
+            continue;
+        static const float grey[3] = {0.7f, 0.7f, 0.7f};
+        uint32_t first = scn_group_first_instance(s, g);
+        /* The impostor is modelled in the group's frame (scene/impostor.h): origin at the group's
+         * centre, world axes, scale 1. */
+        scn_scene_set_instance(s, k, gr->impostor_chain, hl_v3(gr->center_m[0], gr->center_m[1], gr->center_m[2]),
+                               hl_q_identity(), 1.0, first != SCN_NONE ? s->instances[first].color : grey);
+        if (s->importance)
+            s->importance[k] = gr->importance;
+        gr->impostor_instance = k++;
+    }
+    s->impostor_instance_count = extra;
+    return 0;
+}
+
 int scn_scene_alloc_instances(struct scn_scene *s, uint32_t n, struct hl_error *err)
 {
     s->instances = calloc(n ? n : 1, sizeof *s->instances);

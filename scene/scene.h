@@ -48,6 +48,7 @@ struct scn_group {
     uint32_t first_child, child_count;        /* child groups: group_children[first_child …] */
     uint32_t first_instance, instance_count;  /* own instances: group_instances[first_instance …] */
     uint32_t impostor_chain;                  /* SCN_NONE, or the chain drawn for the whole group */
+    uint32_t impostor_instance;               /* SCN_NONE, or the instance that draws it (see below) */
     double importance;                        /* Funkhouser's Importance, default 1 */
     double center_m[3], radius_m;             /* world bounding sphere of everything below */
 };
@@ -61,8 +62,15 @@ struct scn_scene {
     uint32_t index_count;
     struct scn_chain *chains;
     uint32_t chain_count;
+    /* instances[0 … instance_count − 1] are the scene's objects. The group impostors' instances
+     * follow them, instances[instance_count … + impostor_instance_count − 1] (and the per-instance
+     * arrays center_m, radius_m, chain_of_instance, importance have room for them): each sits at its
+     * group's frame (origin at the group's rest centre, moved with the group by rpl_motion_step), is
+     * drawn only when an optimizer chooses the impostor, and is no scene object — culling, acuity,
+     * summaries and every loop up to instance_count never see it. */
     struct scn_instance *instances;
     uint32_t instance_count;
+    uint32_t impostor_instance_count;
     double *center_m; /* world bounding-sphere centres, 3 per instance (structure of arrays for acuity) */
     double *radius_m; /* world bounding-sphere radii, 1 per instance */
     uint32_t *chain_of_instance;
@@ -77,6 +85,12 @@ struct scn_scene_params {
     int object_count; /* field: 1…100000, 0 = default 100 (auditorium ignores it) */
     uint64_t seed;    /* placement seed (default 1) */
 };
+
+/* Appends one drawable instance per group with an impostor chain after the objects (see struct
+ * scn_scene) and sets every group's impostor_instance (SCN_NONE without impostor). Call once the
+ * groups' rest centres are final; the instance's colour is that of the first instance below the
+ * group. Builders call it; 0 or −1 (out of memory). */
+int scn_scene_add_impostor_instances(struct scn_scene *s, struct hl_error *err);
 
 /* Built-in scenes: "field" (Reddy §5: N copies of one object with 4 LODs of about 3928/834/254/76
  * triangles, randomly placed around the viewer) and "auditorium" (Funkhouser §7: rows of chairs

@@ -81,7 +81,7 @@ static int aud_build_groups(struct scn_scene *s, uint32_t nsurf, struct hl_error
     s->group_count = ng;
     for (uint32_t g = 0; g < ng; ++g)
         s->groups[g] = (struct scn_group){.parent = g < 2 ? SCN_NONE : g < first_half ? 0 : 2 + (g - first_half) / 2,
-                                          .impostor_chain = SCN_NONE, .importance = 1.0};
+                                          .impostor_chain = SCN_NONE, .impostor_instance = SCN_NONE, .importance = 1.0};
     snprintf(s->groups[0].name, SCN_NAME_MAX, "seating");
     s->groups[0].first_child = 0;
     s->groups[0].child_count = AUD_ROWS;

@@ -190,6 +190,7 @@ int scn_scene_build_domes(const struct scn_scene_params *p, struct scn_scene *s,
         gr->first_child = 0, gr->child_count = 0;
         gr->first_instance = (uint32_t)d * struts, gr->instance_count = struts;
         gr->impostor_chain = s->chain_count - 1;
+        gr->impostor_instance = SCN_NONE; /* scn_scene_add_impostor_instances, below */
         gr->importance = 1.0;
         gr->center_m[0] = c.x, gr->center_m[1] = c.y, gr->center_m[2] = c.z;
         double group_r = 0;
@@ -205,6 +206,9 @@ int scn_scene_build_domes(const struct scn_scene_params *p, struct scn_scene *s,
         }
         gr->radius_m = group_r;
     }
+
+    if (scn_scene_add_impostor_instances(s, err) != 0)
+        return -1;
 
     /* Motion (set after the rest poses are final): each dome spins about a near-vertical axis
      * through its centre and swings along the line of sight. */

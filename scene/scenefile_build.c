@@ -175,6 +175,8 @@ static int sf_order_groups(const struct sf_file *f, struct scn_scene *s, const u
     }
     scn_scene_group_bounds(s);
     rc = scn_scene_check_groups(s, err);
+    if (rc == 0) /* after the bounds: the impostor sits at its group's centre */
+        rc = scn_scene_add_impostor_instances(s, err);
     if (rc == 0 && f->motion_count > 0) {
         if (scn_scene_motion_create(s, err) != 0)
             rc = -1;

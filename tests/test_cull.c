@@ -58,6 +58,7 @@ static void random_scene(struct scn_scene *s, uint32_t ng, uint32_t ni)
     for (uint32_t g = 0; g < ng; ++g) {
         s->groups[g].parent = parent[g];
         s->groups[g].impostor_chain = SCN_NONE;
+        s->groups[g].impostor_instance = SCN_NONE;
         s->groups[g].importance = 1.0;
         s->groups[g].first_child = k;
         for (uint32_t c = g + 1; c < ng; ++c)

@@ -5,9 +5,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "lod/lod.h"
 #include "replay/replay.h"
+#include "replay/select_mb.h"
 #include "scene/scene.h"
 #include "test_util.h"
+
+enum { DOMES_TEST_MAX_GROUPS = 16 };
 
 static hl_vec3d center_of(const struct scn_scene *s, uint32_t i)
 {
@@ -318,10 +322,10 @@ static void test_motion_nested(void)
     s.group_instances = calloc(2, sizeof(uint32_t));
     s.group_children = calloc(1, sizeof(uint32_t));
     s.groups[0] = (struct scn_group){.name = "root", .parent = SCN_NONE, .first_child = 0, .child_count = 1,
-                                     .first_instance = 0, .instance_count = 1, .impostor_chain = SCN_NONE,
+                                     .first_instance = 0, .instance_count = 1, .impostor_chain = SCN_NONE, .impostor_instance = SCN_NONE,
                                      .importance = 1, .center_m = {11, 0, 0}, .radius_m = 1.1};
     s.groups[1] = (struct scn_group){.name = "child", .parent = 0, .first_instance = 1, .instance_count = 1,
-                                     .impostor_chain = SCN_NONE, .importance = 1, .center_m = {12, 0, 0},
+                                     .impostor_chain = SCN_NONE, .impostor_instance = SCN_NONE, .importance = 1, .center_m = {12, 0, 0},
                                      .radius_m = 0.1};
     s.group_children[0] = 1;
     s.group_instances[0] = 0, s.group_instances[1] = 1;
@@ -541,6 +545,189 @@ static void test_impostor(enum scn_simplifier simplifier)
     scn_scene_free(&s);
 }
 
+/* Each dome's impostor is a drawable instance after the struts: at the dome's frame, moved with it,
+ * and never a scene object (culling and per-object loops stop at instance_count). */
+static void test_domes_impostor_instances(void)
+{
+    struct scn_scene s;
+    struct hl_error err = {{0}};
+    struct scn_scene_params p = {.object_count = 3, .seed = 5};
+    CHECK(scn_scene_build("domes", &p, &s, &err) == 0);
+    CHECK(s.instance_count == 360 && s.impostor_instance_count == 3);
+    hl_vec3d offset0[3];
+    for (uint32_t g = 0; g < s.group_count; ++g) {
+        const struct scn_group *gr = &s.groups[g];
+        uint32_t k = gr->impostor_instance;
+        CHECK(k == s.instance_count + g);
+        if (k != s.instance_count + g)
+            continue;
+        CHECK(s.instances[k].chain == gr->impostor_chain && s.chain_of_instance[k] == gr->impostor_chain);
+        hl_vec3d c = hl_v3(gr->center_m[0], gr->center_m[1], gr->center_m[2]);
+        CHECK(hl_v3_length(hl_v3_sub(center_of(&s, k), c)) < 1e-12);
+        CHECK_NEAR(s.radius_m[k], s.chains[gr->impostor_chain].bound_radius_m, 1e-12);
+        uint32_t strut = s.group_instances[gr->first_instance];
+        offset0[g] = hl_v3_sub(center_of(&s, strut), center_of(&s, k));
+    }
+    /* No planes: everything visible, and only the 360 struts are listed. */
+    struct scn_culler culler;
+    CHECK(scn_culler_init(&culler, &s, &err) == 0);
+    uint32_t visible[400];
+    uint32_t n = scn_cull(&s, NULL, 0, &culler, visible, NULL);
+    CHECK(n == s.instance_count);
+    for (uint32_t j = 0; j < n; ++j)
+        CHECK(visible[j] < s.instance_count);
+    CHECK(scn_cull_flat(&s, NULL, 0, visible, NULL) == s.instance_count);
+    scn_culler_free(&culler);
+    /* After 4.2 s of spin and swing: at the moved centre, turned by the group's rotation, so a strut
+     * keeps its place in the impostor's frame. */
+    rpl_motion_step(&s, 4.2);
+    for (uint32_t g = 0; g < s.group_count; ++g) {
+        const struct scn_group *gr = &s.groups[g];
+        uint32_t k = gr->impostor_instance;
+        if (k == SCN_NONE)
+            continue;
+        const struct scn_instance *in = &s.instances[k];
+        hl_vec3d pos = hl_v3(in->position_m[0], in->position_m[1], in->position_m[2]);
+        CHECK(hl_v3_length(hl_v3_sub(pos, hl_v3(gr->center_m[0], gr->center_m[1], gr->center_m[2]))) < 1e-12);
+        CHECK(hl_v3_length(hl_v3_sub(pos, hl_v3(s.motion->rest_group_center_m[3 * g],
+                                                 s.motion->rest_group_center_m[3 * g + 1],
+                                                 s.motion->rest_group_center_m[3 * g + 2]))) > 1e-3);
+        double turned = 2.0 * acos(fmin(1.0, fabs(in->rotation.w)));
+        CHECK(turned > 1e-3);
+        uint32_t strut = s.group_instances[gr->first_instance];
+        hl_vec3d moved = hl_v3_sub(center_of(&s, strut), center_of(&s, k));
+        hl_vec3d expect = hl_q_rotate(in->rotation, offset0[g]);
+        CHECK(hl_v3_length(hl_v3_sub(moved, expect)) < 1e-9);
+    }
+    scn_scene_free(&s);
+}
+
+/* ---- the mb selector on the domes (Mason & Blake §8) -------------------------------------------- */
+struct domes_frame {
+    uint32_t visible[1200], first[1200];
+    uint8_t count[1200], level[1200 * 7], ceiling[1200], previous[1200], level_out[1200];
+    double px[1200], cost[1200 * 7], benefit[1200 * 7];
+    uint32_t samples[1200 * 7];
+    int64_t hull_scratch[1200];
+    size_t n;
+};
+
+/* The flat problem as replay builds it: per visible strut the null impostor, then its six levels
+ * coarsest first, priced by the cost model and valued by Funkhouser's benefit, hull-reduced. */
+static struct lod_problem domes_problem(struct domes_frame *f, const struct scn_scene *s, const struct acu_eye eyes[2],
+                                        const struct lod_cost_model *m, const struct lod_benefit_params *bp,
+                                        double budget_ms)
+{
+    uint32_t all[1200];
+    double px_all[1200];
+    for (uint32_t i = 0; i < s->instance_count; ++i)
+        all[i] = i;
+    acu_compute_pixels(eyes, 2, s->center_m, s->radius_m, all, s->instance_count, px_all);
+    f->n = 0;
+    uint32_t c = 0;
+    for (uint32_t i = 0; i < s->instance_count; ++i) {
+        if (!(px_all[i] > 0))
+            continue; /* outside both eyes: culled */
+        size_t k = f->n++;
+        const struct scn_chain *ch = &s->chains[s->chain_of_instance[i]];
+        f->visible[k] = i, f->px[k] = px_all[i], f->first[k] = c;
+        f->level[c] = LOD_DROP, f->cost[c] = 0, f->samples[c++] = 0;
+        for (int l = ch->lod_count - 1; l >= 0; --l, ++c) {
+            const struct scn_lod *lod = &ch->lods[l];
+            f->level[c] = (uint8_t)l;
+            f->cost[c] = lod_cost_object_ms(m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, f->px[k], 2.0);
+            f->samples[c] = lod->vertex_count;
+        }
+        f->count[k] = (uint8_t)(c - f->first[k]);
+        f->ceiling[k] = 0, f->previous[k] = LOD_UNSEEN;
+    }
+    lod_benefit_fill(bp, f->n, f->first, f->count, f->level, f->samples, f->px, NULL, f->ceiling, f->previous,
+                     f->benefit);
+    lod_hull_reduce(f->n, f->first, f->count, f->cost, f->benefit, f->level, budget_ms, f->hull_scratch);
+    return (struct lod_problem){f->n, f->visible, f->first, f->count, f->cost, f->benefit, f->level, budget_ms};
+}
+
+static void test_domes_mb(void)
+{
+    struct scn_scene s;
+    struct hl_error err = {{0}};
+    struct scn_scene_params sp = {0};
+    CHECK(scn_scene_build("domes", &sp, &s, &err) == 0);
+    const struct lod_cost_model m = {LOD_COST_ADDITIVE, 2.0, 9e-5, 0.0, 2.5e-6, 0.01};
+    struct lod_benefit_params bp;
+    lod_benefit_params_default(&bp);
+    struct acu_eye eyes[2];
+    for (int e = 0; e < 2; ++e)
+        eyes[e] = (struct acu_eye){hl_v3(e ? 0.032 : -0.032, 0, 0), hl_q_identity(), 1.2, 1.2, 1.0, 1.0, 1080, 1200};
+    static struct domes_frame f;
+    struct rpl_mb *mb = NULL;
+    CHECK(rpl_mb_create(&s, s.instance_count, &mb, &err) == 0);
+    if (!mb) {
+        scn_scene_free(&s);
+        return;
+    }
+    uint32_t extra_index[DOMES_TEST_MAX_GROUPS];
+    uint8_t extra_level[DOMES_TEST_MAX_GROUPS];
+    const double share[] = {0.5, 1.0, 2.0};
+    for (int b = 0; b < 3; ++b) {
+        for (int frame = 0; frame < 8; ++frame) {
+            rpl_motion_step(&s, 0.25 * frame);
+            /* Mason & Blake's nominal cost: every visible strut at its coarsest drawn level. The
+             * problem is built without a budget cap first to find it, then with the frame's. */
+            struct lod_problem p = domes_problem(&f, &s, eyes, &m, &bp, INFINITY);
+            double nominal = 0;
+            for (size_t k = 0; k < f.n; ++k) {
+                const struct scn_chain *ch = &s.chains[s.chain_of_instance[f.visible[k]]];
+                const struct scn_lod *lod = &ch->lods[ch->lod_count - 1];
+                nominal += lod_cost_object_ms(&m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, f.px[k], 2.0);
+            }
+            p = domes_problem(&f, &s, eyes, &m, &bp, share[b] * nominal);
+            size_t extra = 0;
+            struct lod_result r;
+            rpl_mb_select(mb, &s, &p, &m, &bp, eyes, 0.0, f.level_out, extra_index, extra_level, &extra, &r);
+            /* The drawn set's own cost: objects at their levels plus the impostors. */
+            double cost = 0;
+            int holes = 0;
+            for (size_t k = 0; k < f.n; ++k) {
+                uint32_t i = f.visible[k];
+                uint32_t g = 0;
+                while (g < s.group_count && !(i >= s.groups[g].first_instance &&
+                                              i < s.groups[g].first_instance + s.groups[g].instance_count))
+                    ++g;
+                int imp_drawn = 0;
+                for (size_t e = 0; e < extra; ++e)
+                    imp_drawn |= extra_index[e] == s.groups[g].impostor_instance;
+                if (f.level_out[k] != LOD_DROP) {
+                    const struct scn_lod *lod = &s.chains[s.chain_of_instance[i]].lods[f.level_out[k]];
+                    cost += lod_cost_object_ms(&m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, f.px[k], 2.0);
+                    CHECK(!imp_drawn); /* never both */
+                } else {
+                    holes += !imp_drawn;
+                }
+            }
+            for (size_t e = 0; e < extra; ++e) {
+                uint32_t k = extra_index[e];
+                CHECK(k >= s.instance_count && k < s.instance_count + s.impostor_instance_count && extra_level[e] == 0);
+                double px = 0;
+                acu_compute_pixels(eyes, 2, s.center_m, s.radius_m, &k, 1, &px);
+                const struct scn_lod *lod = &s.chains[s.instances[k].chain].lods[0];
+                cost += lod_cost_object_ms(&m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, px, 2.0);
+            }
+            CHECK(!r.over_budget && r.cost_ms <= p.budget_ms);
+            CHECK_NEAR(cost, r.cost_ms, 1e-9 * (1 + cost));
+            CHECK(holes == 0); /* an opened dome shows all its visible struts */
+            if (b == 0)
+                CHECK(extra > 0); /* below the nominal cost the impostors carry the scene */
+            if (frame == 7)
+                printf("mb on domes at %.1fx nominal (%.2f ms): %zu of %u domes as impostors, cost %.3f ms, "
+                       "benefit %.0f, %u iterations\n",
+                       share[b], nominal, extra, s.group_count, r.cost_ms, r.benefit, r.iterations);
+        }
+    }
+    rpl_mb_destroy(mb);
+    scn_scene_free(&s);
+}
+
 int main(void)
 {
     test_motion_eval();
@@ -549,6 +736,8 @@ int main(void)
     test_static_scene();
     test_domes_counts();
     test_domes_determinism();
+    test_domes_impostor_instances();
+    test_domes_mb();
     test_impostor(SCN_SIMPLIFIER_OPENMESH);
     test_impostor(SCN_SIMPLIFIER_MESHOPT);
     return tu_finish("domes");

@@ -108,7 +108,17 @@ static void test_nested_groups(void)
           s.group_instances[s.groups[east].first_instance + 1] == 2);
     CHECK(s.groups[back].instance_count == 2 && s.group_instances[s.groups[back].first_instance] == 4);
     CHECK(s.groups[west].impostor_chain == 2); /* "crate", the third mesh */
-    CHECK(s.groups[0].impostor_chain == SCN_NONE);
+    CHECK(s.groups[0].impostor_chain == SCN_NONE && s.groups[0].impostor_instance == SCN_NONE);
+    /* west's impostor is drawable: one instance after the objects, at west's centre */
+    CHECK(s.impostor_instance_count == 1 && s.groups[west].impostor_instance == s.instance_count);
+    if (s.groups[west].impostor_instance == s.instance_count) {
+        uint32_t k = s.instance_count;
+        CHECK(s.instances[k].chain == 2);
+        for (int a = 0; a < 3; ++a)
+            CHECK_NEAR(s.instances[k].position_m[a], s.groups[west].center_m[a], 1e-12);
+        if (s.importance)
+            CHECK_NEAR(s.importance[k], s.groups[west].importance, 0);
+    }
     CHECK_NEAR(s.groups[east].importance, 0.5, 0);
     CHECK(s.importance != NULL);
     if (s.importance)

@@ -1,0 +1,34 @@
+/* Internal to replay/: the `mb` selector's glue (Mason & Blake 1997) — the frame's representation
+ * tree built from the visible objects and their ancestor groups, each visible group's impostor priced
+ * and valued, lod_optimize_mb run from last frame's solution, and its answer turned into levels for
+ * the visible objects and impostor instances to draw. Sized once per scene; a frame allocates nothing. */
+#ifndef HMDLOD_REPLAY_SELECT_MB_H
+#define HMDLOD_REPLAY_SELECT_MB_H
+
+#include "acuity/acuity.h"
+#include "lod/lod.h"
+#include "scene/scene.h"
+
+struct rpl_mb;
+
+/* For scene (its instances, groups and impostor instances must not change afterwards) and up to
+ * max_visible visible objects a frame. 0, or −1 with err on out of memory. */
+int rpl_mb_create(const struct scn_scene *scene, size_t max_visible, struct rpl_mb **out, struct hl_error *err);
+void rpl_mb_destroy(struct rpl_mb *mb); /* NULL is fine */
+
+/* One frame. p is the flat problem over the visible objects (p->object_id[i] = scene instance,
+ * candidates hull-reduced, cost without c0, budget_ms the optimizer's budget); cost and bp price and
+ * value the impostors the same way (both eyes' triangles and vertices, 2 draws, the impostor
+ * instance's projected pixels in eyes[0..1]; Funkhouser's benefit at the group's importance). An
+ * object below a group with an impostor loses its null impostor (LOD_DROP): the group's impostor is
+ * its coarse representation, and a hole in an opened group is what §8's assessors judged worst.
+ * Writes level_out[i] per visible object (LOD_DROP where an impostor above it is drawn instead or it
+ * was dropped), the impostor instances to draw in extra_index/extra_level (room for group_count;
+ * *extra_count of them) and the optimizer's result in *r (cost_ms and benefit include the impostors).
+ * time_limit_us: Nirenstein's limit, 0 = none. O(visible + their ancestor groups). */
+void rpl_mb_select(struct rpl_mb *mb, const struct scn_scene *scene, const struct lod_problem *p,
+                   const struct lod_cost_model *cost, const struct lod_benefit_params *bp,
+                   const struct acu_eye eyes[2], double time_limit_us, uint8_t *level_out, uint32_t *extra_index,
+                   uint8_t *extra_level, size_t *extra_count, struct lod_result *r);
+
+#endif

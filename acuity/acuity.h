@@ -64,9 +64,11 @@ void acu_compute_geometry(const struct acu_viewer *viewer, const double *center_
                           double *angular_diameter_deg);
 
 /* Projected coverage, for cost (pixels filled) and benefit (Funkhouser's Size): each bounding sphere
- * projected into each eye as the disc of its tangent cone, its bounding square clipped to the eye's
- * image and weighted π/4 (the disc's share of the square), summed over the eyes. A sphere behind
- * an eye or outside its image covers 0 there; one that holds the eye covers the whole image. An eye
+ * projected into each eye, the exact bounding box of its silhouette clipped to the eye's image and
+ * weighted π/4 (an aligned ellipse's share of its box; an off-axis one fills less, so coverage is
+ * never under-counted), summed over the eyes. A sphere behind an eye or outside its image covers 0
+ * there, also one beside the eye reaching behind its plane; one that holds the eye covers the whole
+ * image. An eye
  * is its world position, eye-to-world orientation, the tangents of its four half-angles (> 0) and
  * its image size. Writes pixels_px[k] for the objects listed in index. O(count · eyes). */
 struct acu_eye {
@@ -75,7 +77,7 @@ struct acu_eye {
     double tan_left, tan_right, tan_up, tan_down;
     double width_px, height_px;
 };
-void acu_compute_pixels(const struct acu_eye *eyes, int eye_count, const double *center_m,
+void acu_compute_pixels(const struct acu_eye *eyes, int eye_count /* ≤ 4 */, const double *center_m,
                         const double *radius_m, const uint32_t *index, size_t count, double *pixels_px);
 
 #endif

@@ -95,6 +95,7 @@ struct size_row {
     double iter_med, iter_p99, lp_med, lp_min, equal_share;
     long over_budget, drop_frames, frames;
     double p999; /* of the timed frames' fs µs */
+    double mb_med, mb_p99, mb_lp_min; /* Mason & Blake on the same frames, the objects as a flat tree */
 };
 struct turn_row {
     double fs_med, fs_p99, fs_max, gr_med, iter_med, iter_p99, lp_min, visible_changed;

@@ -127,6 +127,57 @@ void bopt_free_case(struct opt_case *c)
 }
 
 /* Runs `frames` frames from a cold start with budget_ms; fills the row. */
+/* The frame's objects as a Mason–Blake tree of leaves under the imaginary root, and mb's per-object
+ * state carried between frames by object id (the visible set changes from frame to frame). */
+struct flat_tree {
+    uint32_t *parent, *zero; /* every node a root; no children */
+    uint8_t *state, *state_of_id;
+    void *scratch;
+};
+
+static int flat_tree_alloc(struct flat_tree *t, uint32_t max_objects)
+{
+    size_t n = max_objects ? max_objects : 1;
+    t->parent = malloc(n * sizeof(uint32_t));
+    t->zero = calloc(n, sizeof(uint32_t));
+    t->state = malloc(n);
+    t->state_of_id = malloc(n);
+    t->scratch = malloc(lod_mb_scratch_bytes(n));
+    if (!t->parent || !t->zero || !t->state || !t->state_of_id || !t->scratch)
+        return -1;
+    for (size_t i = 0; i < n; ++i)
+        t->parent[i] = LOD_MB_ROOT;
+    memset(t->state_of_id, LOD_UNSEEN, n);
+    return 0;
+}
+
+static void flat_tree_free(struct flat_tree *t)
+{
+    free(t->parent), free(t->zero), free(t->state), free(t->state_of_id), free(t->scratch);
+}
+
+static struct lod_tree flat_tree_of(const struct flat_tree *t, const struct lod_problem *p)
+{
+    return (struct lod_tree){p->object_count, p->object_id, t->parent, t->zero, t->zero, t->zero,
+                             p->first, p->count, p->cost_ms, p->benefit, p->budget_ms};
+}
+
+/* Last frame's candidate per object (as a level), mapped to this frame's candidates as fs's start. */
+static void flat_tree_start(struct flat_tree *t, const struct lod_problem *p)
+{
+    for (size_t i = 0; i < p->object_count; ++i)
+        t->state[i] = t->state_of_id[p->object_id[i]];
+    lod_choice_start(p, t->state, t->state);
+}
+
+static void flat_tree_remember(struct flat_tree *t, const struct lod_problem *p)
+{
+    for (size_t i = 0; i < p->object_count; ++i) {
+        uint8_t s = t->state[i];
+        t->state_of_id[p->object_id[i]] = s < p->count[i] ? p->level[p->first[i] + s] : LOD_DROP;
+    }
+}
+
 int bopt_run_trace(struct opt_case *c, const struct bopt_view *v, const struct opt_trace *tr, long frames,
                      double budget_ms, double limit_us, struct size_row *row, double *fs_us_out)
 {
@@ -134,8 +185,11 @@ int bopt_run_trace(struct opt_case *c, const struct bopt_view *v, const struct o
     double *fs_us = malloc((size_t)frames * sizeof(double)), *gr_us = malloc((size_t)frames * sizeof(double));
     double *ratio = malloc((size_t)frames * sizeof(double)), *build_us = malloc((size_t)frames * sizeof(double));
     double *iter = malloc((size_t)frames * sizeof(double)), *lp = malloc((size_t)frames * sizeof(double));
-    if (!fs_us || !gr_us || !ratio || !build_us || !iter || !lp) {
-        free(fs_us), free(gr_us), free(ratio), free(build_us), free(iter), free(lp);
+    double *mb_us = malloc((size_t)frames * sizeof(double)), *mb_lp = malloc((size_t)frames * sizeof(double));
+    struct flat_tree ft;
+    if (!fs_us || !gr_us || !ratio || !build_us || !iter || !lp || !mb_us || !mb_lp ||
+        flat_tree_alloc(&ft, c->scene.instance_count) != 0) {
+        free(fs_us), free(gr_us), free(ratio), free(build_us), free(iter), free(lp), free(mb_us), free(mb_lp);
         return -1;
     }
     memset(row, 0, sizeof *row);
@@ -155,6 +209,14 @@ int bopt_run_trace(struct opt_case *c, const struct bopt_view *v, const struct o
         t0 = hl_clock_now_ns();
         lod_optimize_greedy(&w->p, w->scratch, w->choice_ref, &rg);
         double g_us = us_since(t0);
+        /* mb on the same problem as a tree of leaves (no groups): its own state from last frame. */
+        struct lod_tree tree = flat_tree_of(&ft, &w->p);
+        struct lod_result rm;
+        flat_tree_start(&ft, &w->p);
+        t0 = hl_clock_now_ns();
+        lod_optimize_mb(&tree, limit_us, ft.scratch, ft.state, &rm);
+        double m_us = us_since(t0);
+        flat_tree_remember(&ft, &w->p);
         double bound = lod_lp_bound(&w->p, w->scratch);
         if (rf.cost_ms > budget_ms * (1 + 1e-12) + 1e-12)
             row->over_budget++; /* the guarantee broken: must stay 0 */
@@ -166,6 +228,8 @@ int bopt_run_trace(struct opt_case *c, const struct bopt_view *v, const struct o
             fs_us[timed] = f_us, gr_us[timed] = g_us, ratio[timed] = g_us / fmax(f_us, 1e-3);
             build_us[timed] = b_us, iter[timed] = rf.iterations;
             lp[timed] = bound > 0 ? rf.benefit / bound : 1.0;
+            mb_us[timed] = m_us;
+            mb_lp[timed] = bound > 0 ? rm.benefit / bound : 1.0;
             if (fabs(rf.benefit - rg.benefit) <= 1e-9 * fmax(1.0, fabs(rg.benefit)))
                 ++equal;
             if (fs_us_out)
@@ -183,7 +247,10 @@ int bopt_run_trace(struct opt_case *c, const struct bopt_view *v, const struct o
     row->iter_med = bopt_percentile(iter, timed, 0.5), row->iter_p99 = bopt_percentile(iter, timed, 0.99);
     row->lp_min = minimum(lp, timed), row->lp_med = bopt_percentile(lp, timed, 0.5);
     row->equal_share = timed ? (double)equal / (double)timed : 1.0;
-    free(fs_us), free(gr_us), free(ratio), free(build_us), free(iter), free(lp);
+    row->mb_med = bopt_percentile(mb_us, timed, 0.5), row->mb_p99 = bopt_percentile(mb_us, timed, 0.99);
+    row->mb_lp_min = minimum(mb_lp, timed);
+    flat_tree_free(&ft);
+    free(fs_us), free(gr_us), free(ratio), free(build_us), free(iter), free(lp), free(mb_us), free(mb_lp);
     return 0;
 }
 

@@ -21,7 +21,8 @@ void lod_benefit_params_default(struct lod_benefit_params *p)
 static double accuracy(const struct lod_benefit_params *p, double samples, double size_px, int levels_changed)
 {
     double s = fmax(fmin(samples, size_px), 1.0);
-    double error = p->base_error / pow(s, p->exponent_m) * (1.0 + p->hysteresis_per_level * levels_changed);
+    double power = p->exponent_m == 2.0 ? s * s : p->exponent_m == 1.0 ? s : pow(s, p->exponent_m); /* pow is slow */
+    double error = p->base_error / power * (1.0 + p->hysteresis_per_level * levels_changed);
     return fmax(0.0, 1.0 - error);
 }
 

@@ -109,6 +109,8 @@ static void heap_set(struct heap *h, uint32_t obj, uint32_t id, double key)
  * current step (tau_next), the current-step heap those worth at most the highest next step
  * (tau_cur). An excluded entry can only matter once the heap's top crosses its filter; then both
  * heaps are rebuilt over every object (rebuild_full), which restores exactness. */
+enum { FS_FILTER_MARGIN = 4 }; /* measured with bench optimizer: 1× rebuilt 3× as often as 4× */
+
 struct fs {
     const struct lod_problem *p;
     uint8_t *choice;
@@ -227,8 +229,12 @@ static void setup_filtered(struct fs *s, uint32_t *dropped)
     s->base_benefit = base;
     s->max_gain = gain;
     *dropped = none;
-    s->tau_next = nc ? lowest_cur : -INFINITY;
-    s->tau_cur = nn ? highest_next : INFINITY;
+    /* With a margin: the margin between taken and untaken steps moves during the frame (values
+     * change with the view, steps taken lower the marginal value), and every time it leaves the
+     * filtered range the heaps must be rebuilt over all objects. Step values span decades, so a
+     * factor of FS_FILTER_MARGIN each way keeps the heaps small and the rebuilds rare. */
+    s->tau_next = nc ? lowest_cur / FS_FILTER_MARGIN : -INFINITY;
+    s->tau_cur = nn ? highest_next * FS_FILTER_MARGIN : INFINITY;
     memset(s->next.pos, 0xff, n * sizeof *s->next.pos);
     memset(s->cur.pos, 0xff, n * sizeof *s->cur.pos);
     s->next.size = s->cur.size = 0;
@@ -324,5 +330,6 @@ void lod_optimize_fs(const struct lod_problem *p, double time_limit_us, void *sc
     if (converged && lod_guard_may_switch(s.base_benefit, s.max_gain, r->benefit))
         r->single_item = lod_guard_single_item(p, budget, choice, &r->benefit, &s.total);
     r->cost_ms = (double)s.total / LOD_UNITS_PER_MS;
+    r->heap_rebuilds = s.rebuilds;
     r->elapsed_us = (double)(hl_clock_now_ns() - t0) * 1e-3;
 }

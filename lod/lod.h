@@ -162,6 +162,7 @@ struct lod_result {
     int over_budget;          /* 1: the cheapest candidates alone exceeded the budget */
     int truncated;            /* 1: stopped at the time limit (the choice is still feasible) */
     int single_item;          /* 1: the best single upgrade beat the greedy (the ½-optimal guard) */
+    uint32_t heap_rebuilds;   /* fs: times its filtered heaps had to be rebuilt over every object */
     double elapsed_us;
 };
 /* Scratch bytes the optimizers need for up to max_objects objects and max_candidates candidates. */

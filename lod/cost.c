@@ -20,7 +20,9 @@ double lod_cost_object_ms(const struct lod_cost_model *m, double triangles, doub
 void lod_cost_correction_init(struct lod_cost_correction *c, double alpha)
 {
     c->ratio = 1.0;
+    c->variance = 0.0;
     c->alpha = (alpha > 0.0 && alpha <= 1.0) ? alpha : 0.1;
+    c->spread = 2.0;
 }
 
 void lod_cost_correction_update(struct lod_cost_correction *c, double measured_ms, double predicted_ms)
@@ -28,14 +30,19 @@ void lod_cost_correction_update(struct lod_cost_correction *c, double measured_m
     if (!isfinite(measured_ms) || !isfinite(predicted_ms) || measured_ms <= 0.0 || predicted_ms <= 0.0)
         return;
     double r = measured_ms / predicted_ms;
-    c->ratio += c->alpha * (r - c->ratio);
+    double delta = r - c->ratio;
+    c->ratio += c->alpha * delta;
+    c->variance = (1.0 - c->alpha) * (c->variance + c->alpha * delta * delta); /* exponentially weighted */
+    c->variance = fmin(c->variance, 16.0);
     /* A single pathological frame (a page fault, a preempted thread) must not starve the budget. */
     c->ratio = fmin(fmax(c->ratio, 0.25), 4.0);
 }
 
 /* Only ever tightens: a model that over-predicts keeps its own (safe) prediction as the bound, so
- * the predicted cost of a frame never exceeds the budget either. */
+ * the predicted cost of a frame never exceeds the budget either. The margin of `spread` standard
+ * deviations aims at a share of frames within the budget, not at the mean frame. */
 double lod_cost_correction_budget_ms(const struct lod_cost_correction *c, double budget_ms)
 {
-    return c->ratio > 1.0 ? budget_ms / c->ratio : budget_ms;
+    double divisor = c->ratio + c->spread * sqrt(c->variance);
+    return divisor > 1.0 ? budget_ms / divisor : budget_ms;
 }

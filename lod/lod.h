@@ -81,12 +81,16 @@ double lod_cost_object_ms(const struct lod_cost_model *m, double triangles, doub
                           double draws);
 
 /* Online correction from measured frame times: a smoothed ratio measured / predicted (exponential,
- * weight `alpha` per frame, clamped to [0.25, 4]) that divides the budget handed to the optimizer
- * when it is above 1, so a model that under-predicts on this machine stops breaking the budget
- * after a few frames. It never loosens the budget: predicted cost stays within it. */
+ * weight `alpha` per frame, clamped to [0.25, 4]) and its smoothed variance. The budget handed to the
+ * optimizer is divided by ratio + spread·σ when that is above 1, so a model that under-predicts on
+ * this machine stops breaking the budget after a few frames, and a frame-to-frame jitter of σ is
+ * covered with spread standard deviations to spare (2: about 98 % of frames for normal jitter). It
+ * never loosens the budget: predicted cost stays within it. */
 struct lod_cost_correction {
-    double ratio; /* start at 1 */
-    double alpha; /* (0, 1]; 0.1 by default */
+    double ratio;    /* start at 1 */
+    double variance; /* of the ratio, smoothed like it */
+    double alpha;    /* (0, 1]; 0.1 by default */
+    double spread;   /* standard deviations of margin; 2 by default */
 };
 void lod_cost_correction_init(struct lod_cost_correction *c, double alpha);
 /* Ignores non-finite or non-positive inputs (a frame with nothing predicted says nothing). */

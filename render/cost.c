@@ -55,10 +55,10 @@ static int cmp_double(const void *pa, const void *pb)
 
 /* Places k instances (0 … k−1) of the scene's one chain on a grid at cost_distance_m straight ahead,
  * each with the tangent-plane radius that makes k discs cover `coverage` of one eye's image, and
- * records each object's both-eye counts at `level`; pixels from acu_compute_pixels, the estimate the
- * replay predicts with (pixels_px: k doubles of scratch). */
-static void place_objects(struct scn_scene *s, const struct acu_eye eyes[2], uint32_t k, double coverage, int level,
-                          const uint32_t *index, double *pixels_px, struct rnd_cost_object *objects)
+ * records each object's both-eye counts at `level` and its bounding sphere (replay estimates its
+ * pixels from it, as it does in a frame). */
+static void place_objects(struct scn_scene *s, const struct rnd_cost_eye eyes[2], uint32_t k, double coverage,
+                          int level, struct rnd_cost_object *objects)
 {
     const struct scn_chain *chain = &s->chains[0];
     double wt = eyes[0].tan_left + eyes[0].tan_right, ht = eyes[0].tan_up + eyes[0].tan_down;
@@ -88,10 +88,11 @@ static void place_objects(struct scn_scene *s, const struct acu_eye eyes[2], uin
         objects[i].triangles = 2.0 * L->triangle_count;
         objects[i].vertices = 2.0 * L->vertex_count;
         objects[i].draws = 2.0;
+        objects[i].pixels_px = 0.0;
+        for (int a = 0; a < 3; ++a)
+            objects[i].center_m[a] = s->center_m[3 * i + a];
+        objects[i].radius_m = radius_m;
     }
-    acu_compute_pixels(eyes, 2, s->center_m, s->radius_m, index, k, pixels_px);
-    for (uint32_t i = 0; i < k; ++i)
-        objects[i].pixels_px = pixels_px[i];
 }
 
 /* The families: a built-in scene whose chain 0 is the object and whose first instances are its
@@ -153,12 +154,11 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
     size_t points = (size_t)grid->families * (size_t)grid->levels * (size_t)grid->coverages * (size_t)grid->counts;
     uint32_t *index = malloc(max_objects * sizeof *index);
     uint8_t *lod = malloc(max_objects);
-    double *pixels = malloc(max_objects * sizeof *pixels);
     struct rnd_cost_object *scratch = malloc(max_objects * sizeof *scratch); /* the warm-up's counts */
     uint32_t *order = malloc(points * sizeof *order);
     double *times = malloc(points * (size_t)grid->repeats * sizeof *times);
     int rc = -1;
-    if (!index || !lod || !pixels || !scratch || !order || !times) {
+    if (!index || !lod || !scratch || !order || !times) {
         hl_fail(err, "calibrate: out of memory (%zu grid points)", points);
         goto done;
     }
@@ -201,14 +201,14 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
     snprintf(out->renderer, sizeof out->renderer, "%s", rnd_renderer_name(r));
 
     struct rnd_eye_view views[2];
-    struct acu_eye eyes[2];
+    struct rnd_cost_eye *eyes = out->eyes;
     for (int e = 0; e < 2; ++e) {
         struct hmd_eye he = hmd_eye_frustum(display, e == 0 ? HMD_EYE_LEFT : HMD_EYE_RIGHT);
         views[e].position_m[0] = he.offset_x_m, views[e].position_m[1] = 0, views[e].position_m[2] = 0;
         views[e].orientation = hl_q_identity();
         hmd_eye_projection(&he, cost_near_m, cost_far_m, views[e].projection);
-        eyes[e] = (struct acu_eye){hl_v3(he.offset_x_m, 0, 0), hl_q_identity(), he.tan_left, he.tan_right,
-                                   he.tan_up, he.tan_down, grid->eye_width_px, grid->eye_height_px};
+        eyes[e] = (struct rnd_cost_eye){he.offset_x_m, he.tan_left, he.tan_right, he.tan_up, he.tan_down,
+                                        grid->eye_width_px, grid->eye_height_px};
     }
     for (uint32_t i = 0; i < max_objects; ++i)
         index[i] = i;
@@ -230,7 +230,7 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
                 goto done;
             uint32_t heavy = max_objects < copies[fam] ? max_objects : copies[fam];
             double ms;
-            place_objects(scene, eyes, heavy, grid->coverage[grid->coverages - 1], 0, index, pixels, scratch);
+            place_objects(scene, eyes, heavy, grid->coverage[grid->coverages - 1], 0, scratch);
             for (int w = 0; w < (pass == 0 ? 3 : 1); ++w)
                 if (draw_point(r, scene, views, index, lod, heavy, 0, &ms) != 0) {
                     hl_fail(err, "calibrate: drawing the warm-up frame failed");
@@ -244,8 +244,7 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
                     continue;
                 struct rnd_cost_frame *fr = &out->frames[p];
                 int level = (int)grid->level[l];
-                place_objects(scene, eyes, fr->object_count, grid->coverage[c], level, index, pixels,
-                              out->objects + fr->first_object);
+                place_objects(scene, eyes, fr->object_count, grid->coverage[c], level, out->objects + fr->first_object);
                 /* One timed frame: the previous one ended with glFinish, so nothing carries over,
                  * and the median over passes discards the odd slow one. */
                 if (draw_point(r, scene, views, index, lod, fr->object_count, level,
@@ -272,11 +271,33 @@ done:
         scn_scene_free(&scenes[f]);
     free(index);
     free(lod);
-    free(pixels);
     free(scratch);
     free(order);
     free(times);
     if (rc != 0)
         rnd_calibration_free(out);
     return rc;
+}
+
+void rnd_cost_split(size_t count, uint64_t seed, uint32_t *order, size_t *train_count)
+{
+    for (size_t i = 0; i < count; ++i)
+        order[i] = (uint32_t)i;
+    uint64_t state = seed;
+    for (size_t i = count; i > 1; --i) { /* splitmix64 (as scene/'s generator) driving Fisher–Yates */
+        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        z ^= z >> 31;
+        size_t j = (size_t)(z % i);
+        uint32_t t = order[i - 1];
+        order[i - 1] = order[j];
+        order[j] = t;
+    }
+    size_t train = (size_t)llround(0.75 * (double)count);
+    if (count >= 2 && train >= count)
+        train = count - 1;
+    if (count >= 2 && train < 1)
+        train = 1;
+    *train_count = train;
 }

@@ -9,6 +9,7 @@
 #include "base/base.h"
 #include "tracking/tracking.h"
 #include "replay/assets.h"
+#include "replay/cost.h"
 
 /* ---- traces --------------------------------------------------------------------------------- */
 enum rpl_trace_format { RPL_TRACE_HMDLOD_CSV = 0, RPL_TRACE_CORBILLON = 1, RPL_TRACE_NASRABADI = 2 };

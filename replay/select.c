@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/render.h"
+#include "replay/cost.h"
 #include "replay/select.h"
 #include "replay/select_mb.h"
 
@@ -26,14 +26,14 @@ int rpl_selector_parse(const char *name, enum rpl_selector *out, struct hl_error
 int rpl_cost_model_load(const char *path, struct lod_cost_model *out, char *label_out, size_t label_size,
                         struct hl_error *err)
 {
-    struct rnd_cost_profile profile;
+    struct rpl_cost_profile profile;
     if (path) {
-        if (rnd_cost_profile_read(path, &profile, err) != 0)
+        if (rpl_cost_profile_read(path, &profile, err) != 0)
             return -1;
-        snprintf(label_out, label_size, "%s (%s form, %s)", path, rnd_cost_form_name(profile.model.form),
+        snprintf(label_out, label_size, "%s (%s form, %s)", path, rpl_cost_form_name(profile.model.form),
                  profile.renderer);
     } else {
-        rnd_cost_profile_builtin_llvmpipe(&profile);
+        rpl_cost_profile_builtin_llvmpipe(&profile);
         snprintf(label_out, label_size, "%s", profile.label);
     }
     *out = profile.model;

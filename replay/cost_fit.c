@@ -1,15 +1,37 @@
 /* Fitting the cost model: Lawson–Hanson NNLS, the additive and max forms (PAPERS.md §2: Funkhouser
  * & Séquin fit C1…C3 from timed renders; §5: published models reach ≈ 10 % error), held-out
- * accuracy and the seeded train/held-out split. Pure arithmetic: no GL, no files. */
+ * accuracy (the seeded train/held-out split is render's, rnd_cost_split). Pure arithmetic: no GL,
+ * no files. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/render.h"
+#include "replay/cost.h"
 
 enum { NNLS_MAX_COLS = 16, COST_COLS = 5, MAX_ROUNDS = 50 };
 
-double rnd_cost_predict_frame_ms(const struct lod_cost_model *m, const struct rnd_cost_frame *frame,
+/* The coverage is acuity's estimate from each object's sphere, for the eyes render measured with:
+ * the very numbers a replay frame prices its candidates with (replay/select.c). */
+int rpl_cost_calibrate(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
+                       struct rnd_calibration *out, struct hl_error *err)
+{
+    if (rnd_cost_measure(display, grid, seed, out, err) != 0)
+        return -1;
+    struct acu_eye eyes[2];
+    for (int e = 0; e < 2; ++e) {
+        const struct rnd_cost_eye *m = &out->eyes[e];
+        eyes[e] = (struct acu_eye){hl_v3(m->offset_x_m, 0, 0), hl_q_identity(), m->tan_left, m->tan_right,
+                                   m->tan_up, m->tan_down, m->width_px, m->height_px};
+    }
+    const uint32_t first = 0;
+    for (size_t k = 0; k < out->object_count; ++k) {
+        struct rnd_cost_object *o = &out->objects[k];
+        acu_compute_pixels(eyes, 2, o->center_m, &o->radius_m, &first, 1, &o->pixels_px);
+    }
+    return 0;
+}
+
+double rpl_cost_predict_frame_ms(const struct lod_cost_model *m, const struct rnd_cost_frame *frame,
                                  const struct rnd_cost_object *objects)
 {
     double sum = m->c0_ms;
@@ -72,7 +94,7 @@ static void nnls_subset_ls(const double *a, size_t m, const size_t *set, size_t 
     }
 }
 
-int rnd_cost_nnls(const double *a_rows, size_t rows, size_t cols, const double *b, double *x, double *residual_norm,
+int rpl_cost_nnls(const double *a_rows, size_t rows, size_t cols, const double *b, double *x, double *residual_norm,
                   struct hl_error *err)
 {
     if (!a_rows || !b || !x || rows < 1 || cols < 1 || cols > NNLS_MAX_COLS)
@@ -208,7 +230,7 @@ static double fit_objective(const struct lod_cost_model *m, const struct rnd_cos
     double sum = 0.0;
     for (size_t r = 0; r < row_count; ++r) {
         const struct rnd_cost_frame *f = &frames[rows[r]];
-        double e = (rnd_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
+        double e = (rpl_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
         sum += e * e;
     }
     return sum;
@@ -239,7 +261,7 @@ static int fit_linear(const struct rnd_cost_frame *frames, const uint32_t *rows,
         memcpy(a + r * COST_COLS, row, sizeof row);
         b[r] = 1.0;
     }
-    return rnd_cost_nnls(a, row_count, COST_COLS, b, c, NULL, err);
+    return rpl_cost_nnls(a, row_count, COST_COLS, b, c, NULL, err);
 }
 
 /* Resolves each object's max under model m: 1 = geometry dominates. Returns how many changed. */
@@ -261,9 +283,9 @@ static size_t assign_stages(const struct lod_cost_model *m, const struct rnd_cos
     return changed;
 }
 
-int rnd_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, const uint32_t *rows,
+int rpl_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, const uint32_t *rows,
                  size_t row_count, const struct rnd_cost_object *objects, struct lod_cost_model *out,
-                 struct rnd_cost_fit_report *report, struct hl_error *err)
+                 struct rpl_cost_fit_report *report, struct hl_error *err)
 {
     if (!frames || !rows || !objects || !out || row_count == 0)
         return hl_fail(err, "cost fit: no frames to fit");
@@ -350,18 +372,18 @@ static double quantile_sorted(const double *v, size_t n, double q)
     return v[lo] + (pos - (double)lo) * (v[hi] - v[lo]);
 }
 
-struct rnd_cost_accuracy rnd_cost_evaluate(const struct lod_cost_model *m, const struct rnd_cost_frame *frames,
+struct rpl_cost_accuracy rpl_cost_evaluate(const struct lod_cost_model *m, const struct rnd_cost_frame *frames,
                                            const uint32_t *rows, size_t row_count,
                                            const struct rnd_cost_object *objects)
 {
-    struct rnd_cost_accuracy acc = {0, 0, 0, 0};
+    struct rpl_cost_accuracy acc = {0, 0, 0, 0};
     double *e = row_count ? malloc(row_count * sizeof *e) : NULL;
     if (!e)
         return acc;
     size_t under = 0;
     for (size_t r = 0; r < row_count; ++r) {
         const struct rnd_cost_frame *f = &frames[rows[r]];
-        double rel = (rnd_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
+        double rel = (rpl_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
         under += rel < -0.05;
         e[r] = fabs(rel);
     }
@@ -372,27 +394,4 @@ struct rnd_cost_accuracy rnd_cost_evaluate(const struct lod_cost_model *m, const
     acc.frames = (uint32_t)row_count;
     free(e);
     return acc;
-}
-
-void rnd_cost_split(size_t count, uint64_t seed, uint32_t *order, size_t *train_count)
-{
-    for (size_t i = 0; i < count; ++i)
-        order[i] = (uint32_t)i;
-    uint64_t state = seed;
-    for (size_t i = count; i > 1; --i) { /* splitmix64 (as scene/'s generator) driving Fisher–Yates */
-        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        z ^= z >> 31;
-        size_t j = (size_t)(z % i);
-        uint32_t t = order[i - 1];
-        order[i - 1] = order[j];
-        order[j] = t;
-    }
-    size_t train = (size_t)llround(0.75 * (double)count);
-    if (count >= 2 && train >= count)
-        train = count - 1;
-    if (count >= 2 && train < 1)
-        train = 1;
-    *train_count = train;
 }

@@ -4,7 +4,6 @@
  * rises (diminishing returns). The hull makes them fall; what it removes the greedy would skip. */
 #include "lod/lod_internal.h"
 
-
 struct cand {
     double cost, benefit;
     uint8_t level;
@@ -20,16 +19,20 @@ static int cand_before(const struct cand *a, const struct cand *b)
     return a->level > b->level;
 }
 
+static int valid(double cost, double benefit)
+{
+    return isfinite(cost) && isfinite(benefit) && cost >= 0.0 && benefit >= 0.0;
+}
+
 /* The common case costs one pass: candidates already cheapest first, finite, rising in cost and
  * benefit, with falling step values — nothing to remove. */
 static int already_hull(uint32_t base, uint8_t n, const double *cost, const double *benefit)
 {
-    if (n == 0 || n > LOD_MAX_LEVELS + 1 || !(cost[base] >= 0.0) || !(benefit[base] >= 0.0) ||
-        !isfinite(cost[base]) || !isfinite(benefit[base]))
+    if (n == 0 || n > LOD_MAX_LEVELS + 1 || !valid(cost[base], benefit[base]))
         return 0;
     double last_value = INFINITY;
     for (uint32_t k = base + 1; k < base + n; ++k) {
-        if (!(cost[k] > cost[k - 1]) || !(benefit[k] > benefit[k - 1]) || !isfinite(cost[k]) || !isfinite(benefit[k]))
+        if (!valid(cost[k], benefit[k]) || !(cost[k] > cost[k - 1]) || !(benefit[k] > benefit[k - 1]))
             return 0;
         double v = lod_step_value(cost[k - 1], benefit[k - 1], cost[k], benefit[k]);
         if (!(v < last_value))
@@ -39,11 +42,6 @@ static int already_hull(uint32_t base, uint8_t n, const double *cost, const doub
     return 1;
 }
 
-static int valid(double cost, double benefit)
-{
-    return isfinite(cost) && isfinite(benefit) && cost >= 0.0 && benefit >= 0.0;
-}
-
 /* Σ over the objects of their cheapest valid candidate, in the optimizers' exact units. */
 static int64_t cheapest_total(size_t object_count, const uint32_t *first, const uint8_t *count,
                               const double *cost_ms, const double *benefit, int64_t *cheapest)
@@ -51,9 +49,10 @@ static int64_t cheapest_total(size_t object_count, const uint32_t *first, const 
     int64_t total = 0;
     for (size_t i = 0; i < object_count; ++i) {
         int64_t best = INT64_MAX;
-        for (uint32_t k = first[i]; k < first[i] + count[i]; ++k)
-            if (valid(cost_ms[k], benefit[k]) && lod_cost_units(cost_ms[k]) < best)
-                best = lod_cost_units(cost_ms[k]);
+        for (uint32_t k = first[i]; k < first[i] + count[i]; ++k) {
+            int64_t units = valid(cost_ms[k], benefit[k]) ? lod_cost_units(cost_ms[k]) : INT64_MAX;
+            best = units < best ? units : best;
+        }
         cheapest[i] = best;
         total += best == INT64_MAX ? 0 : best;
     }

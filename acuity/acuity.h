@@ -6,6 +6,8 @@
 #define HMDLOD_ACUITY_H
 
 #include "base/base.h"
+#include "acuity/gaze.h"    /* gaze models: head-locked, VOR, tracked */
+#include "acuity/saccade.h" /* saccades and their suppression window */
 
 /* ---- Reddy's model --------------------------------------------------------------------------
  * Preconditions for the three below: inputs are not NaN (check at the boundary with
@@ -46,7 +48,8 @@ double acu_limit_cpd(const struct acu_limits *lim, double velocity_degps, double
 struct acu_viewer {
     hl_vec3d eye_position_m;
     hl_vec3d gaze_dir;               /* unit, world */
-    hl_vec3d angular_velocity_radps; /* head, world frame */
+    hl_vec3d angular_velocity_radps; /* the EYE's, world frame (the head's for a head-locked eye;
+                                      * acu_gaze_viewer fills it for each gaze model) */
     hl_vec3d linear_velocity_mps;    /* head, world frame */
 };
 

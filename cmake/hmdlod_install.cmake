@@ -12,7 +12,7 @@ set_target_properties(acuity PROPERTIES OUTPUT_NAME hmdlod_acuity)
 set_target_properties(lod PROPERTIES OUTPUT_NAME hmdlod_lod)
 
 install(TARGETS lod acuity hl_base ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-foreach(header IN ITEMS base/base.h acuity/acuity.h lod/lod.h)
+foreach(header IN ITEMS base/base.h acuity/acuity.h acuity/gaze.h acuity/saccade.h lod/lod.h)
   get_filename_component(dir ${header} DIRECTORY)
   install(FILES ${CMAKE_SOURCE_DIR}/${header} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/hmdlod/${dir})
 endforeach()

@@ -95,6 +95,13 @@ struct rpl_options {
     double opt_limit_us;     /* fs/mb time limit per frame (Nirenstein §5.5); 0 = none */
     double static_px_per_triangle; /* static: the average triangle covers at least this (default 64) */
     int cost_correction;     /* 1 (default): budget scaled by the smoothed measured/predicted ratio */
+    /* Gaze models (acuity/gaze.h; docs/gaze.md) */
+    const char *gaze;        /* NULL/"auto" (default): tracked when the trace has gaze, else vor;
+                              * or "head" | "vor" | "tracked" */
+    double vor_gain;         /* ≤ 0 → acu_vor_params_default's */
+    double vor_latency_ms;   /* < 0 → default */
+    double fixation_m;       /* ≤ 0 → the scene's default fixation distance */
+    double saccade_onset_degps; /* ≤ 0 → acu_saccade_params_default's */
 };
 void rpl_options_defaults(struct rpl_options *o);
 /* 1 when a --scene value names a scene file (docs/scene-format.md): it ends in .json or is an

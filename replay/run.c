@@ -21,6 +21,8 @@ void rpl_options_defaults(struct rpl_options *o)
     o->render_scale = 1.0;
     o->static_px_per_triangle = 64.0;
     o->cost_correction = 1;
+    o->gaze = "auto";
+    o->vor_latency_ms = -1.0;
 }
 
 static int make_dirs(const char *dir, struct hl_error *err)

@@ -1,0 +1,57 @@
+/* acuity/gaze.h: where the eye looks and how it turns — the gaze models of DESIGN.md step 4.
+ * Part of the acuity/acuity.h umbrella. A gaze model turns the head's state (and a measured gaze
+ * when there is one) into the viewer that acu_compute_geometry takes: the cyclopean eye's position
+ * and linear velocity, the gaze direction, and the EYE's angular velocity in the world, so that the
+ * retinal velocity |u⊥/r − ω_eye × d| is the image's speed on the retina under that model.
+ *   head     Reddy's desktop assumption: the eye is fixed in the head (ω_eye = ω_head).
+ *   vor      the vestibulo-ocular reflex holds a world point fixation_m ahead of the head on the
+ *            fovea, with a gain and a latency (PAPERS.md "The eye in a headset").
+ *   tracked  a measured gaze: eccentricity from it, ω_eye from its own angular velocity (smooth
+ *            pursuit of a followed object cancels that object's motion).
+ * Per frame the model is one small computation; the per-object work stays in acu_compute_geometry.
+ * Allocates nothing. */
+#ifndef HMDLOD_ACUITY_GAZE_H
+#define HMDLOD_ACUITY_GAZE_H
+
+#include "base/base.h"
+
+enum acu_gaze_model { ACU_GAZE_HEAD = 0, ACU_GAZE_VOR = 1, ACU_GAZE_TRACKED = 2 };
+
+/* "head", "vor", "tracked"; acu_gaze_model_parse returns 0, or −1 for any other name. */
+const char *acu_gaze_model_name(enum acu_gaze_model model);
+int acu_gaze_model_parse(const char *name, enum acu_gaze_model *out);
+
+/* The VOR's parameters. gain: eye-in-head velocity over the velocity that would hold the
+ * fixation exactly (1 = perfect); latency_s: how long the eye lags the head; fixation_m: distance
+ * of the fixated world point along the gaze (> 0; +∞ allowed: rotation only, no parallax). */
+struct acu_vor_params {
+    double gain;
+    double latency_s;
+    double fixation_m;
+};
+/* Literature defaults (cited in gaze.c) with the given fixation distance. */
+void acu_vor_params_default(struct acu_vor_params *p, double fixation_m);
+
+/* The head as a gaze model needs it, world frame. The eye position already includes the eyes'
+ * offset from the neck's rotation centre (so a pure head rotation translates the eyes). The
+ * delayed fields are the same quantities latency_s earlier (equal to the current ones when the
+ * caller has no history). */
+struct acu_head_state {
+    hl_vec3d eye_position_m;                 /* cyclopean eye */
+    hl_vec3d eye_velocity_mps;               /* its linear velocity: head translation + ω × offset */
+    hl_vec3d forward_dir;                    /* head forward, unit */
+    hl_vec3d angular_velocity_radps;         /* head, now */
+    hl_vec3d delayed_angular_velocity_radps; /* head, latency_s ago */
+    hl_vec3d delayed_eye_velocity_mps;       /* eye, latency_s ago */
+    hl_vec3d gaze_dir;                       /* measured gaze, unit (tracked only) */
+    hl_vec3d gaze_angular_velocity_radps;    /* measured gaze's angular velocity (tracked only) */
+    int has_gaze;
+};
+
+struct acu_viewer;
+/* Fills *viewer for the model. tracked without a measured gaze (has_gaze 0) → −1 and *viewer is
+ * filled as vor would; 0 otherwise. vor may be NULL for head and tracked. */
+int acu_gaze_viewer(enum acu_gaze_model model, const struct acu_vor_params *vor,
+                    const struct acu_head_state *head, struct acu_viewer *viewer);
+
+#endif

@@ -42,6 +42,7 @@ struct bopt_work {
     int64_t *hull_scratch; /* cap entries, for lod_hull_reduce */
     void *scratch;
     struct lod_problem p;
+    double margin_value; /* fs's last lod_result.margin_value: the next frame's value_hint (0 = cold) */
 };
 int bopt_work_alloc(struct bopt_work *w, size_t cap, size_t scene_count);
 void bopt_work_free(struct bopt_work *w);

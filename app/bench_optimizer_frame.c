@@ -88,7 +88,11 @@ void bopt_work_free(struct bopt_work *w)
     memset(w, 0, sizeof *w);
 }
 
-void bopt_work_forget(struct bopt_work *w) { memset(w->last_level, LOD_UNSEEN, w->scene_count); }
+void bopt_work_forget(struct bopt_work *w)
+{
+    memset(w->last_level, LOD_UNSEEN, w->scene_count);
+    w->margin_value = 0.0; /* a cold start has no margin to centre fs's filters on */
+}
 
 size_t bopt_cull(const struct bopt_view *v, const struct scn_scene *s, struct scn_culler *c,
                  const struct trk_pose *pose, struct bopt_work *w)
@@ -151,7 +155,8 @@ void bopt_build(const struct bopt_view *v, const struct scn_scene *s, const stru
                      w->previous, w->benefit);
     lod_hull_reduce(n, w->first, w->count, w->cost_ms, w->benefit, w->level, budget_ms, w->hull_scratch);
     w->p = (struct lod_problem){.object_count = n, .object_id = w->object_id, .first = w->first, .count = w->count,
-                                .cost_ms = w->cost_ms, .benefit = w->benefit, .level = w->level, .budget_ms = budget_ms};
+                                .cost_ms = w->cost_ms, .benefit = w->benefit, .level = w->level, .budget_ms = budget_ms,
+                                .value_hint = w->margin_value};
     lod_choice_start(&w->p, w->previous, w->choice);
 }
 
@@ -172,7 +177,7 @@ void bopt_remember(struct bopt_work *w, const uint8_t *choice)
     lod_level_of_choice(&w->p, choice, w->level_out);
     /* Objects that left the view become unseen. The whole scene array is cleared (a memset of
      * scene_count bytes), which is outside every timed section. */
-    bopt_work_forget(w);
+    memset(w->last_level, LOD_UNSEEN, w->scene_count); /* not bopt_work_forget: fs's margin stays */
     for (size_t k = 0; k < w->n; ++k)
         w->last_level[w->visible[k]] = w->level_out[k] == LOD_DROP ? LOD_UNSEEN : w->level_out[k];
 }

@@ -206,6 +206,7 @@ int bopt_run_trace(struct opt_case *c, const struct bopt_view *v, const struct o
         t0 = hl_clock_now_ns();
         lod_optimize_fs(&w->p, limit_us, w->scratch, w->choice, &rf);
         double f_us = us_since(t0);
+        w->margin_value = rf.margin_value;
         t0 = hl_clock_now_ns();
         lod_optimize_greedy(&w->p, w->scratch, w->choice_ref, &rg);
         double g_us = us_since(t0);
@@ -286,6 +287,7 @@ int bopt_run_turns(struct opt_case *c, const struct bopt_view *v, const struct o
                 bopt_build(v, &c->scene, &pg, budget_ms, w);
                 struct lod_result rr;
                 lod_optimize_fs(&w->p, 0.0, w->scratch, w->choice, &rr);
+                w->margin_value = rr.margin_value;
                 bopt_remember(w, w->choice);
             }
             memcpy(was, w->last_level, w->scene_count);
@@ -300,6 +302,7 @@ int bopt_run_turns(struct opt_case *c, const struct bopt_view *v, const struct o
             int64_t t0 = hl_clock_now_ns();
             lod_optimize_fs(&w->p, limit_us, w->scratch, w->choice, &rf);
             fs_us[k] = us_since(t0);
+            w->margin_value = rf.margin_value;
             t0 = hl_clock_now_ns();
             lod_optimize_greedy(&w->p, w->scratch, w->choice_ref, &rg);
             gr_us[k] = us_since(t0);
@@ -360,6 +363,7 @@ int bopt_run_scale(uint32_t objects, const struct bopt_view *v, const struct opt
         struct lod_result r;
         lod_optimize_fs(&w.p, 0.0, w.scratch, w.choice, &r);
         int64_t t3 = hl_clock_now_ns();
+        w.margin_value = r.margin_value;
         cull[f] = (double)(t1 - t0) * 1e-3, build[f] = (double)(t2 - t1) * 1e-3, fs[f] = (double)(t3 - t2) * 1e-3;
         total[f] = (double)(t3 - t0) * 1e-3;
         row->visible_mean += (double)w.n;

@@ -189,75 +189,140 @@ static uint32_t top_cur(struct fs *s)
     return s->cur.size ? s->cur.e[0].obj : UINT32_MAX;
 }
 
-/* Two passes over the objects. The first makes the choice valid and sums its cost and benefit and
- * finds the filters; it only reads. The second writes the entries past the filters — few in a
- * coherent frame — so the per-frame memory traffic is the inputs, not the heaps. */
-static void setup_filtered(struct fs *s, uint32_t *dropped)
+/* The filters are tested without dividing: v = Δb/Δc ≥ τ ⇔ Δb ≥ τ·Δc for Δc > 0. The slack makes
+ * the test keep every step whose rounded value reaches τ (it may keep a few more, never fewer),
+ * so an excluded step's key is below τ_next (above τ_cur) exactly as the heaps' checks assume.
+ * A step that does not cost more (Δc ≤ 0, only in problems not hull-reduced) is always kept. */
+#define FS_FILTER_SLACK 1e-12
+static inline int reaches(double db, double dc, double tau)
+{
+    double t = tau * dc;
+    return !(dc > 0.0) || db >= t - fabs(t) * FS_FILTER_SLACK;
+}
+static inline int stays_under(double db, double dc, double tau)
+{
+    double t = tau * dc;
+    return !(dc > 0.0) || db <= t + fabs(t) * FS_FILTER_SLACK;
+}
+
+/* The extreme step values of the start, compared by cross-multiplication (Δc > 0), one division
+ * at the end. A step with Δc ≤ 0 is worth DBL_MAX (lod_step_value). */
+struct ratio {
+    double db, dc;
+    int any;
+};
+static inline void ratio_lower(struct ratio *r, double db, double dc)
+{
+    if (dc > 0.0 && (!r->any || db * r->dc < r->db * dc))
+        *r = (struct ratio){db, dc, 1};
+}
+static inline void ratio_higher(struct ratio *r, double db, double dc)
+{
+    if (!(dc > 0.0))
+        *r = (struct ratio){DBL_MAX, 1.0, 1};
+    else if (!r->any || db * r->dc > r->db * dc)
+        *r = (struct ratio){db, dc, 1};
+}
+
+/* One pass over the objects: makes the choice valid, sums its cost and benefit, finds the extreme
+ * step values and, when `write`, stores the entries past the filters tau_next / tau_cur — few in a
+ * coherent frame, so the per-frame memory traffic is the inputs, not the heaps. */
+struct scan {
+    struct ratio lowest_cur, highest_next;
+    uint32_t nn, nc; /* objects with a next step, with a current step */
+};
+static void scan_objects(struct fs *s, int write, uint32_t *dropped, struct scan *out)
 {
     const struct lod_problem *p = s->p;
-    uint32_t n = (uint32_t)p->object_count, nn = 0, nc = 0, none = 0;
-    double lowest_cur = INFINITY, highest_next = -INFINITY, benefit = 0.0, base = 0.0, gain = 0.0;
+    const double *restrict cost = p->cost_ms, *restrict ben = p->benefit;
+    const uint32_t *restrict first = p->first, *restrict id = p->object_id;
+    const uint8_t *restrict count = p->count;
+    uint8_t *restrict choice = s->choice;
+    struct entry *restrict en = s->next.e, *restrict ec = s->cur.e;
+    const double tau_next = s->tau_next, tau_cur = s->tau_cur;
+    uint32_t n = (uint32_t)p->object_count, nn = 0, nc = 0, none = 0, size_next = 0, size_cur = 0;
+    struct ratio lowest_cur = {0, 0, 0}, highest_next = {0, 0, 0};
+    double benefit = 0.0, base = 0.0, gain = 0.0;
     int64_t total = 0;
     for (uint32_t i = 0; i < n; ++i) {
-        uint8_t k = s->choice[i], m = p->count[i];
+        uint8_t k = choice[i], m = count[i];
         if (m == 0) {
-            s->choice[i] = LOD_DROPPED;
+            choice[i] = LOD_DROPPED;
             ++none;
             continue;
         }
         if (k >= m)
-            s->choice[i] = k = 0;
-        uint32_t c0 = p->first[i], c = c0 + k;
-        total += lod_cost_units(p->cost_ms[c]);
-        benefit += p->benefit[c];
-        base += p->benefit[c0];
-        double rise = p->benefit[c0 + m - 1] - p->benefit[c0];
+            choice[i] = k = 0;
+        uint32_t c0 = first[i], c = c0 + k;
+        total += lod_cost_units(cost[c]);
+        benefit += ben[c];
+        base += ben[c0];
+        double rise = ben[c0 + m - 1] - ben[c0];
         gain = rise > gain ? rise : gain;
         if (k + 1 < m) {
-            double v = lod_value_of(p, c + 1);
-            highest_next = v > highest_next ? v : highest_next;
+            double db = ben[c + 1] - ben[c], dc = cost[c + 1] - cost[c];
+            ratio_higher(&highest_next, db, dc);
             ++nn;
+            if (write && reaches(db, dc, tau_next))
+                en[size_next++] = (struct entry){lod_value_of(p, c + 1), id[i], i};
         }
         if (k > 0) {
-            double v = lod_value_of(p, c);
-            lowest_cur = v < lowest_cur ? v : lowest_cur;
+            double db = ben[c] - ben[c - 1], dc = cost[c] - cost[c - 1];
+            ratio_lower(&lowest_cur, db, dc);
             ++nc;
+            if (write && stays_under(db, dc, tau_cur))
+                ec[size_cur++] = (struct entry){lod_value_of(p, c), id[i], i};
         }
     }
     s->total = total;
     s->benefit = benefit;
     s->base_benefit = base;
     s->max_gain = gain;
+    s->next.size = size_next, s->cur.size = size_cur;
     *dropped = none;
-    /* With a margin: the margin between taken and untaken steps moves during the frame (values
-     * change with the view, steps taken lower the marginal value), and every time it leaves the
-     * filtered range the heaps must be rebuilt over all objects. Step values span decades, so a
-     * factor of FS_FILTER_MARGIN each way keeps the heaps small and the rebuilds rare. */
-    s->tau_next = nc ? lowest_cur / FS_FILTER_MARGIN : -INFINITY;
-    s->tau_cur = nn ? highest_next * FS_FILTER_MARGIN : INFINITY;
+    *out = (struct scan){lowest_cur, highest_next, nn, nc};
+}
+
+/* The filters with a margin: the margin between taken and untaken steps moves during the frame
+ * (values change with the view, steps taken lower the marginal value), and every time it leaves
+ * the filtered range the heaps must be rebuilt over all objects. Step values span decades, so a
+ * factor of FS_FILTER_MARGIN each way keeps the heaps small and the rebuilds rare. Centred on last
+ * frame's margin when the caller passes it (one pass), else on this frame's extreme steps, found
+ * by a first pass that only reads (objects whose steps cost nothing more leave them unset: then
+ * nothing is filtered out). */
+static void setup_filtered(struct fs *s, uint32_t *dropped)
+{
+    const struct lod_problem *p = s->p;
+    uint32_t n = (uint32_t)p->object_count;
+    struct scan sc;
+    double hint = p->value_hint;
+    if (hint > 0.0 && hint < DBL_MAX) {
+        s->tau_next = hint / FS_FILTER_MARGIN;
+        s->tau_cur = hint * FS_FILTER_MARGIN;
+    } else {
+        scan_objects(s, 0, dropped, &sc);
+        s->tau_next = sc.lowest_cur.any ? sc.lowest_cur.db / sc.lowest_cur.dc / FS_FILTER_MARGIN : -INFINITY;
+        s->tau_cur = sc.highest_next.any ? sc.highest_next.db / sc.highest_next.dc * FS_FILTER_MARGIN : INFINITY;
+    }
+    scan_objects(s, 1, dropped, &sc);
+    s->excluded_next = sc.nn - s->next.size;
+    s->excluded_cur = sc.nc - s->cur.size;
     memset(s->next.pos, 0xff, n * sizeof *s->next.pos);
     memset(s->cur.pos, 0xff, n * sizeof *s->cur.pos);
-    s->next.size = s->cur.size = 0;
-    for (uint32_t i = 0; i < n; ++i) {
-        uint8_t k = s->choice[i];
-        if (k == LOD_DROPPED)
-            continue;
-        uint32_t c = p->first[i] + k;
-        if (k + 1 < p->count[i]) {
-            double v = lod_value_of(p, c + 1);
-            if (v >= s->tau_next)
-                s->next.e[s->next.size++] = (struct entry){v, p->object_id[i], i};
-        }
-        if (k > 0) {
-            double v = lod_value_of(p, c);
-            if (v <= s->tau_cur)
-                s->cur.e[s->cur.size++] = (struct entry){v, p->object_id[i], i};
-        }
-    }
-    s->excluded_next = nn - s->next.size;
-    s->excluded_cur = nc - s->cur.size;
     heap_build(&s->next);
     heap_build(&s->cur);
+}
+
+/* Where taken and untaken steps meet after the run: between the best step not taken and the worst
+ * one taken (their geometric mean when both are positive) — the centre of next frame's filters. */
+static double margin_value(const struct fs *s)
+{
+    double vn = s->next.size ? s->next.e[0].key : 0.0, vc = s->cur.size ? s->cur.e[0].key : 0.0;
+    if (vn > 0.0 && vc > 0.0 && vn < DBL_MAX && vc < DBL_MAX)
+        return sqrt(vn * vc);
+    if (vc > 0.0 && vc < DBL_MAX)
+        return vc;
+    return vn > 0.0 && vn < DBL_MAX ? vn : 0.0;
 }
 
 static void *carve(char **at, size_t bytes)
@@ -331,5 +396,6 @@ void lod_optimize_fs(const struct lod_problem *p, double time_limit_us, void *sc
         r->single_item = lod_guard_single_item(p, budget, choice, &r->benefit, &s.total);
     r->cost_ms = (double)s.total / LOD_UNITS_PER_MS;
     r->heap_rebuilds = s.rebuilds;
+    r->margin_value = margin_value(&s);
     r->elapsed_us = (double)(hl_clock_now_ns() - t0) * 1e-3;
 }

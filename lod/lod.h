@@ -116,6 +116,8 @@ struct lod_problem {
     const double *benefit;    /* per candidate, finite, ≥ 0 */
     const uint8_t *level;     /* per candidate */
     double budget_ms;         /* for Σ cost_ms of the chosen candidates */
+    double value_hint;        /* optional, fs only: last frame's lod_result.margin_value, which lets
+                               * fs set up in one pass over the objects instead of two; 0 = none */
 };
 
 /* Funkhouser & Séquin §5 with Reddy's ceiling in place of Focus and Motion:
@@ -167,6 +169,8 @@ struct lod_result {
     int truncated;            /* 1: stopped at the time limit (the choice is still feasible) */
     int single_item;          /* 1: the best single upgrade beat the greedy (the ½-optimal guard) */
     uint32_t heap_rebuilds;   /* fs: times its filtered heaps had to be rebuilt over every object */
+    double margin_value;      /* fs: the value Δbenefit/Δcost where taken and untaken steps meet
+                               * (> 0, or 0 when unknown): next frame's lod_problem.value_hint */
     double elapsed_us;
 };
 /* Scratch bytes the optimizers need for up to max_objects objects and max_candidates candidates. */
@@ -184,7 +188,9 @@ void lod_optimize_greedy(const struct lod_problem *p, void *scratch, uint8_t *ch
  * highest value of its next step, lowers those with the lowest value of their current step until it
  * fits, and stops when one object goes up and down in the same iteration or nothing can rise. Every
  * iteration ends feasible, so time_limit_us (0 = none) may stop it anywhere. Equals
- * lod_optimize_greedy when it runs to the end. O(n) to set up plus O(log n) per iteration. */
+ * lod_optimize_greedy when it runs to the end, whatever p->value_hint says (the hint only centres
+ * its heaps' filters: with last frame's r->margin_value set-up is one pass over the objects, without
+ * it two). O(n) to set up plus O(log n) per iteration. */
 void lod_optimize_fs(const struct lod_problem *p, double time_limit_us, void *scratch, uint8_t *choice,
                      struct lod_result *r);
 

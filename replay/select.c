@@ -140,7 +140,7 @@ static struct lod_problem build_problem(struct rpl_select *s, const struct scn_s
     lod_hull_reduce(in->count, s->first, s->count, s->cand_cost_ms, s->cand_benefit, s->cand_level, budget_ms,
                     (int64_t *)s->scratch); /* before the optimizer: the scratch is free */
     return (struct lod_problem){in->count, in->visible, s->first, s->count, s->cand_cost_ms, s->cand_benefit,
-                                s->cand_level, budget_ms};
+                                s->cand_level, budget_ms, s->fs_margin_value};
 }
 
 /* c0 + Σ predicted cost of what is drawn, for any selector. */
@@ -223,6 +223,7 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
         } else {
             lod_choice_start(&p, s->previous_level, s->choice);
             lod_optimize_fs(&p, s->opt_limit_us, s->scratch, s->choice, &r);
+            s->fs_margin_value = r.margin_value; /* centres next frame's filters: one pass (lod.h) */
             lod_level_of_choice(&p, s->choice, lod_out);
         }
         rec->iterations = r.iterations;

@@ -47,6 +47,7 @@ struct rpl_select {
     uint32_t *chain_triangles;
     uint8_t *chain_lod_count;
     void *scratch;
+    double fs_margin_value;    /* last frame's lod_result.margin_value (fs), 0 before the first */
     struct rpl_mb *mb; /* the mb selector's tree and last solution (replay/select_mb.h); NULL otherwise */
 };
 

@@ -5,6 +5,7 @@
  * plain greedy), identical output for identical input whatever the memory order, the incremental
  * optimizer equal to the from-scratch greedy, a time limit that leaves a feasible complete choice,
  * and the hull reduction they all rely on. Instances come from a seeded generator. */
+#include <float.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -559,11 +560,15 @@ static int test_against_glpsol(void)
 
 /* ---- the optimizers' guarantees (lod_hull_reduce, lod_optimize_greedy, lod_optimize_fs) -------- */
 
+/* fs's value_hint for the next optimize() (lod.h: any value must give the same result). */
+static double fs_value_hint;
+
 /* The greedy (time_limit_us < 0) or fs from `start` (NULL: all candidate 0). */
 static void optimize(const struct inst *in, int use_fs, double time_limit_us, const uint8_t *start,
                      uint8_t *choice, struct lod_result *r)
 {
     struct lod_problem p = problem(in);
+    p.value_hint = fs_value_hint;
     void *scratch = malloc(lod_scratch_bytes(in->n, in->cap + 1));
     if (use_fs) {
         for (size_t i = 0; i < in->n; ++i)
@@ -660,18 +665,29 @@ static void test_greedy_and_fs_random(void)
         }
         guarded += r.single_item;
         over += r.over_budget;
-        /* fs run to the end from all-coarsest, all-finest and random starts equals the greedy. */
+        /* fs run to the end from all-coarsest, all-finest and random starts equals the greedy —
+         * also with every kind of value hint: none, its own margin from a first run (the coherent
+         * case), far too low, far too high, and values that must be ignored. */
+        double margin = 0.0;
         for (int s = 0; s < 4; ++s) {
             for (size_t i = 0; i < in.n; ++i) {
                 int top = in.count[i] ? in.count[i] - 1 : 0;
                 start[i] = (uint8_t)(s == 0 ? 0 : s == 1 ? top : rng_int(0, top));
             }
-            optimize(&in, 1, 0.0, start, fs_choice, &rf);
-            check_outcome(&in, fs_choice, &rf);
-            CHECK(memcmp(fs_choice, choice, in.n) == 0);
-            CHECK_NEAR(rf.benefit, r.benefit, rel_tol(r.benefit));
-            CHECK(rf.truncated == 0);
-            ++fs_starts;
+            const double hints[] = {0.0, margin, margin * 1e-6, margin * 1e6 + 1.0, 1e-300, 1e300, NAN, -1.0, DBL_MAX};
+            for (size_t h = 0; h < sizeof hints / sizeof hints[0]; ++h) {
+                fs_value_hint = hints[h];
+                optimize(&in, 1, 0.0, start, fs_choice, &rf);
+                check_outcome(&in, fs_choice, &rf);
+                CHECK(memcmp(fs_choice, choice, in.n) == 0);
+                CHECK_NEAR(rf.benefit, r.benefit, rel_tol(r.benefit));
+                CHECK(rf.truncated == 0);
+                CHECK(rf.margin_value >= 0.0 && rf.margin_value < DBL_MAX);
+                if (h == 0)
+                    margin = rf.margin_value;
+                ++fs_starts;
+            }
+            fs_value_hint = 0.0;
         }
         inst_free(&in);
         inst_free(&raw);

@@ -96,6 +96,7 @@ struct size_row {
     double iter_med, iter_p99, lp_med, lp_min, equal_share;
     long over_budget, drop_frames, frames;
     double p999; /* of the timed frames' fs µs */
+    double setup_med, setup_p999, after_p999; /* fs's O(n) set-up; the rest of the call (the iterations) */
     double mb_med, mb_p99, mb_lp_min; /* Mason & Blake on the same frames, the objects as a flat tree */
 };
 struct turn_row {

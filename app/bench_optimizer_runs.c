@@ -186,10 +186,12 @@ int bopt_run_trace(struct opt_case *c, const struct bopt_view *v, const struct o
     double *ratio = malloc((size_t)frames * sizeof(double)), *build_us = malloc((size_t)frames * sizeof(double));
     double *iter = malloc((size_t)frames * sizeof(double)), *lp = malloc((size_t)frames * sizeof(double));
     double *mb_us = malloc((size_t)frames * sizeof(double)), *mb_lp = malloc((size_t)frames * sizeof(double));
+    double *setup = malloc((size_t)frames * sizeof(double)), *after = malloc((size_t)frames * sizeof(double));
     struct flat_tree ft;
-    if (!fs_us || !gr_us || !ratio || !build_us || !iter || !lp || !mb_us || !mb_lp ||
+    if (!fs_us || !gr_us || !ratio || !build_us || !iter || !lp || !mb_us || !mb_lp || !setup || !after ||
         flat_tree_alloc(&ft, c->scene.instance_count) != 0) {
         free(fs_us), free(gr_us), free(ratio), free(build_us), free(iter), free(lp), free(mb_us), free(mb_lp);
+        free(setup), free(after);
         return -1;
     }
     memset(row, 0, sizeof *row);
@@ -227,6 +229,7 @@ int bopt_run_trace(struct opt_case *c, const struct bopt_view *v, const struct o
             row->cold_fs_us = f_us, row->cold_gr_us = g_us;
         } else {
             fs_us[timed] = f_us, gr_us[timed] = g_us, ratio[timed] = g_us / fmax(f_us, 1e-3);
+            setup[timed] = rf.setup_us, after[timed] = f_us - rf.setup_us;
             build_us[timed] = b_us, iter[timed] = rf.iterations;
             lp[timed] = bound > 0 ? rf.benefit / bound : 1.0;
             mb_us[timed] = m_us;
@@ -250,8 +253,11 @@ int bopt_run_trace(struct opt_case *c, const struct bopt_view *v, const struct o
     row->equal_share = timed ? (double)equal / (double)timed : 1.0;
     row->mb_med = bopt_percentile(mb_us, timed, 0.5), row->mb_p99 = bopt_percentile(mb_us, timed, 0.99);
     row->mb_lp_min = minimum(mb_lp, timed);
+    row->setup_med = bopt_percentile(setup, timed, 0.5), row->setup_p999 = bopt_percentile(setup, timed, 0.999);
+    row->after_p999 = bopt_percentile(after, timed, 0.999);
     flat_tree_free(&ft);
     free(fs_us), free(gr_us), free(ratio), free(build_us), free(iter), free(lp), free(mb_us), free(mb_lp);
+    free(setup), free(after);
     return 0;
 }
 

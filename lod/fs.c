@@ -121,6 +121,8 @@ struct fs {
     double tau_next, tau_cur;
     uint32_t excluded_next, excluded_cur;
     uint32_t rebuilds;
+    int64_t deadline_ns, rebuild_ns; /* the time limit; what a rebuild is expected to take (the set-up's) */
+    int stopped;                     /* a rebuild was due but would not end before the deadline */
 };
 
 /* Brings both heaps in line with object i's choice. */
@@ -173,18 +175,37 @@ static void rebuild_full(struct fs *s)
     ++s->rebuilds;
 }
 
-/* The object with the highest next step, or UINT32_MAX when none can rise. */
+/* Whether the current-step heap's top may no longer be the lowest: then only an O(n) rebuild says. */
+static int cur_needs_rebuild(const struct fs *s)
+{
+    return s->excluded_cur > 0 && (s->cur.size == 0 || s->cur.e[0].key > s->tau_cur);
+}
+
+/* Under a time limit an O(n) rebuild is started only when it should end before the deadline
+ * (Nirenstein §5.5: stop with what is feasible rather than overrun). */
+static int rebuild_fits(const struct fs *s)
+{
+    return s->deadline_ns == INT64_MAX || hl_clock_now_ns() + s->rebuild_ns < s->deadline_ns;
+}
+
+/* The object with the highest next step, or UINT32_MAX when none can rise (or, under a time
+ * limit, when finding it needs a rebuild that would overrun: then s->stopped). */
 static uint32_t top_next(struct fs *s)
 {
-    if (s->excluded_next > 0 && (s->next.size == 0 || s->next.e[0].key < s->tau_next))
+    if (s->excluded_next > 0 && (s->next.size == 0 || s->next.e[0].key < s->tau_next)) {
+        if (!rebuild_fits(s)) {
+            s->stopped = 1;
+            return UINT32_MAX;
+        }
         rebuild_full(s);
+    }
     return s->next.size ? s->next.e[0].obj : UINT32_MAX;
 }
 
 /* The object with the lowest current step, or UINT32_MAX when every object is at candidate 0. */
 static uint32_t top_cur(struct fs *s)
 {
-    if (s->excluded_cur > 0 && (s->cur.size == 0 || s->cur.e[0].key > s->tau_cur))
+    if (cur_needs_rebuild(s))
         rebuild_full(s);
     return s->cur.size ? s->cur.e[0].obj : UINT32_MAX;
 }
@@ -365,26 +386,40 @@ void lod_optimize_fs(const struct lod_problem *p, double time_limit_us, void *sc
      * raised object is the one lowered. Each pass ends feasible. The iteration cap is a safety net
      * against a problem that was not hull-reduced. */
     uint64_t cap = 4ull * (uint64_t)n * (LOD_MAX_LEVELS + 1) + 16;
-    int converged = 0;
+    int converged = 0, limited = deadline != INT64_MAX;
+    int64_t t_setup = hl_clock_now_ns();
+    r->setup_us = (double)(t_setup - t0) * 1e-3;
+    s.deadline_ns = deadline, s.rebuild_ns = t_setup - t0;
     while (r->iterations < cap) {
-        if ((r->iterations & 3u) == 0 && hl_clock_now_ns() >= deadline) {
+        if (limited && hl_clock_now_ns() >= deadline) {
             r->truncated = 1;
             break;
         }
         uint32_t raised = top_next(&s);
         if (raised == UINT32_MAX) {
-            converged = 1;
+            converged = !s.stopped;
+            r->truncated = s.stopped;
             break;
         }
         step(&s, raised, 1);
         ++r->iterations;
         int undone = 0;
         while (s.total > budget) {
+            /* A rebuild that would overrun is not started: taking back the raise is feasible at once
+             * (the state before it fitted, and every lowering since only saved cost). */
+            if (limited && cur_needs_rebuild(&s) && !rebuild_fits(&s)) {
+                step(&s, raised, 0);
+                ++r->iterations;
+                r->truncated = 1;
+                break;
+            }
             uint32_t lowered = top_cur(&s);
             step(&s, lowered, 0);
             ++r->iterations;
             undone |= lowered == raised;
         }
+        if (r->truncated)
+            break;
         if (undone) {
             converged = 1;
             break;

@@ -169,6 +169,8 @@ struct lod_result {
     int truncated;            /* 1: stopped at the time limit (the choice is still feasible) */
     int single_item;          /* 1: the best single upgrade beat the greedy (the ½-optimal guard) */
     uint32_t heap_rebuilds;   /* fs: times its filtered heaps had to be rebuilt over every object */
+    double setup_us;          /* fs: its O(n) set-up before the first iteration, which a time limit
+                              * cannot cut short (Nirenstein's limit bounds the iterations) */
     double margin_value;      /* fs: the value Δbenefit/Δcost where taken and untaken steps meet
                                * (> 0, or 0 when unknown): next frame's lod_problem.value_hint */
     double elapsed_us;

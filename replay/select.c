@@ -183,7 +183,7 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
     *extra_count = 0;
     rec->budget_ms = s->budget_ms;
     rec->lp_bound = NAN;
-    acu_compute_pixels(in->eyes, 2, scene->center_m, scene->radius_m, in->visible, in->count, s->pixels_px);
+    rpl_coverage_compute(scene, in->eyes, 2, in->visible, in->count, s->pixels_px);
     int needs_ceiling = s->selector == RPL_SELECT_REDDY || s->selector == RPL_SELECT_FS || s->selector == RPL_SELECT_MB;
     if (needs_ceiling) {
         struct lod_select_stats stats = {0};

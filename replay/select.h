@@ -88,4 +88,11 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
 /* After the draw: the measured draw and frame times feed the correction and the feedback controller. */
 void rpl_select_measured(struct rpl_select *s, const struct rpl_select_record *rec, double draw_ms, double frame_ms);
 
+/* Projected pixels of the visible objects, summed over the eyes (replay/coverage.c): bounding
+ * spheres (acu_compute_pixels), and for objects that claim over 2 % of the image also their
+ * oriented model box (acu_compute_pixels_box), keeping the smaller. pixels_px[k] per visible[k]. */
+struct acu_eye;
+void rpl_coverage_compute(const struct scn_scene *scene, const struct acu_eye *eyes, int eye_count,
+                          const uint32_t *visible, size_t count, double *pixels_px);
+
 #endif

@@ -65,6 +65,25 @@ static int scn_scene_reserve(void **p, size_t count, size_t elem)
     return 0;
 }
 
+/* The model-space box around every level's vertices (any level may be drawn; a simplifier may move
+ * a vertex outward). An empty chain gets an empty box at the origin. */
+static void chain_box(struct scn_chain *c, const struct scn_mesh *meshes, int count)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int l = 0; l < count; ++l)
+        for (uint32_t i = 0; i < meshes[l].vertex_count; ++i)
+            for (int k = 0; k < 3; ++k) {
+                double x = meshes[l].positions[3 * (size_t)i + k];
+                lo[k] = x < lo[k] ? x : lo[k];
+                hi[k] = x > hi[k] ? x : hi[k];
+            }
+    for (int k = 0; k < 3; ++k) {
+        int empty = !(lo[k] <= hi[k]);
+        c->box_min_m[k] = empty ? 0.0 : lo[k];
+        c->box_max_m[k] = empty ? 0.0 : hi[k];
+    }
+}
+
 int scn_scene_pack_chain(struct scn_scene *s, const char *name, const struct scn_mesh *meshes, int count,
                          struct hl_error *err)
 {
@@ -103,6 +122,7 @@ int scn_scene_pack_chain(struct scn_scene *s, const char *name, const struct scn
         s->vertex_count += m->vertex_count;
         s->index_count += m->index_count;
     }
+    chain_box(c, meshes, count);
     s->chain_count++;
     return 0;
 }

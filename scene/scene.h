@@ -26,6 +26,8 @@ struct scn_chain {
     struct scn_lod lods[SCN_MAX_LODS];
     double bound_center_m[3]; /* bounding-sphere centre, model space (the origin for the built-ins) */
     double bound_radius_m;    /* bounding-sphere radius about bound_center_m, at scale 1 */
+    double box_min_m[3], box_max_m[3]; /* model-space box around every level's vertices, at scale 1
+                                        * (projected coverage of large objects, replay/select.c) */
     int null_impostor; /* 1: drawing nothing (lod 255) is a legal choice for its instances (Mason & Blake §8) */
     int analysis_views, analysis_size_px; /* of the image-based tables its asset (.lod) came with; 0: none */
 };

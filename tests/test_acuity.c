@@ -230,6 +230,112 @@ static void test_pixels(void)
     CHECK_NEAR(px, count_pixels(&two[1], left, r), 0.03 * count_pixels(&two[1], left, r));
 }
 
+static double rand01(uint64_t *state) /* xorshift64*: reproducible test poses */
+{
+    *state ^= *state >> 12, *state ^= *state << 25, *state ^= *state >> 27;
+    return (double)((*state * 2685821657736338717ull) >> 11) * 0x1.0p-53;
+}
+
+/* An independent count for boxes: every pixel centre's ray tested against the box by slabs along
+ * its three (orthogonal) axes, in front of the eye only. */
+static double count_box_pixels(const struct acu_eye *e, const double *c, const double *axes)
+{
+    double covered = 0.0;
+    hl_vec3d o = hl_v3_sub(e->position_m, hl_v3(c[0], c[1], c[2])), u[3];
+    double half[3];
+    for (int k = 0; k < 3; ++k) {
+        hl_vec3d a = hl_v3(axes[3 * k], axes[3 * k + 1], axes[3 * k + 2]);
+        half[k] = hl_v3_length(a);
+        u[k] = hl_v3_scale(a, 1.0 / half[k]);
+    }
+    for (int py = 0; py < (int)e->height_px; ++py)
+        for (int px = 0; px < (int)e->width_px; ++px) {
+            double tx = -e->tan_left + (px + 0.5) / e->width_px * (e->tan_left + e->tan_right);
+            double ty = e->tan_up - (py + 0.5) / e->height_px * (e->tan_up + e->tan_down);
+            hl_vec3d ray = hl_q_rotate(e->orientation, hl_v3(tx, ty, -1.0));
+            double t0 = 0.0, t1 = INFINITY;
+            for (int k = 0; k < 3 && t0 <= t1; ++k) {
+                double oo = hl_v3_dot(o, u[k]), dd = hl_v3_dot(ray, u[k]);
+                if (fabs(dd) < 1e-300) {
+                    if (fabs(oo) > half[k])
+                        t1 = -1.0;
+                    continue;
+                }
+                double a = (-half[k] - oo) / dd, b = (half[k] - oo) / dd;
+                t0 = fmax(t0, fmin(a, b)), t1 = fmin(t1, fmax(a, b));
+            }
+            covered += t0 <= t1;
+        }
+    return covered;
+}
+
+/* Boxes: exact against the count (within the pixel grid's edge error) in front, partly outside the
+ * image, straddling the eye's plane (a floor under and behind the viewer), around the eye, behind
+ * it; and on random boxes in random poses. Also a room's surfaces: each one's sphere holds the eye,
+ * so spheres claim the image six times over, boxes about once. */
+static void test_pixels_box(void)
+{
+    struct acu_eye eye = {hl_v3(0, 0, 0), hl_q_identity(), 1.2, 1.0, 0.9, 1.1, 240, 200};
+    struct {
+        double c[3], axes[9];
+        const char *what;
+    } cases[] = {
+        {{0, 0, -8}, {1, 0, 0, 0, 0.5, 0, 0, 0, 0.3}, "ahead"},
+        {{7, 1, -8}, {1, 0, 0, 0, 0.5, 0, 0, 0, 0.3}, "across the right edge"},
+        {{0, -1.2, 0}, {5, 0, 0, 0, 0.05, 0, 0, 0, 8}, "a floor under and behind the eye"},
+        {{0, 0, 0.5}, {1, 0, 0, 0, 1, 0, 0, 0, 1}, "around the eye"},
+        {{0, 0, 5}, {1, 0, 0, 0, 1, 0, 0, 0, 1}, "behind"},
+        {{-3, 0, 0}, {0.2, 0, 0, 0, 0.2, 0, 0, 0, 3}, "a wall beside the eye reaching ahead"},
+    };
+    double worst = 0.0;
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        double px, counted = count_box_pixels(&eye, cases[k].c, cases[k].axes);
+        acu_compute_pixels_box(&eye, 1, cases[k].c, cases[k].axes, 1, &px);
+        printf("box pixels: %s %.0f computed, %.0f counted\n", cases[k].what, px, counted);
+        CHECK(fabs(px - counted) <= 0.02 * counted + 300.0); /* edge pixels: ~ perimeter */
+        worst = fmax(worst, fabs(px - counted) / fmax(counted, 1.0));
+    }
+    uint64_t rng = 99;
+    worst = 0.0;
+    for (int t = 0; t < 60; ++t) {
+        double c[3], axes[9], r[4];
+        for (int k = 0; k < 3; ++k)
+            c[k] = (rand01(&rng) - 0.5) * 12.0;
+        for (int k = 0; k < 4; ++k)
+            r[k] = rand01(&rng) - 0.5;
+        hl_quatd q = hl_q_normalize(hl_q(r[0], r[1], r[2], r[3]));
+        for (int k = 0; k < 3; ++k) {
+            hl_vec3d a = hl_q_rotate(q, hl_v3(k == 0, k == 1, k == 2));
+            double h = 0.05 + 2.0 * rand01(&rng);
+            axes[3 * k] = a.x * h, axes[3 * k + 1] = a.y * h, axes[3 * k + 2] = a.z * h;
+        }
+        double px, counted = count_box_pixels(&eye, c, axes);
+        acu_compute_pixels_box(&eye, 1, c, axes, 1, &px);
+        CHECK(fabs(px - counted) <= 0.02 * counted + 300.0);
+        if (counted > 2000.0)
+            worst = fmax(worst, fabs(px - counted) / counted);
+    }
+    printf("box pixels: worst relative difference to the count %.4f (random boxes over 2000 px)\n", worst);
+
+    /* A 14 × 6 × 20 m room of six thin slabs around the eye: spheres claim 6 images, boxes ~1. */
+    const double room[6][6] = {{0, -1.3, -4, 7, 0.1, 10}, {0, 4.9, -4, 7, 0.1, 10}, {-7.1, 1.8, -4, 0.1, 3, 10},
+                               {7.1, 1.8, -4, 0.1, 3, 10}, {0, 1.8, -14.1, 7, 3, 0.1}, {0, 1.8, 6.1, 7, 3, 0.1}};
+    double sphere_sum = 0.0, box_sum = 0.0;
+    for (int k = 0; k < 6; ++k) {
+        double axes[9] = {room[k][3], 0, 0, 0, room[k][4], 0, 0, 0, room[k][5]}, px, radius;
+        radius = sqrt(room[k][3] * room[k][3] + room[k][4] * room[k][4] + room[k][5] * room[k][5]);
+        uint32_t index[1] = {0};
+        acu_compute_pixels(&eye, 1, room[k], &radius, index, 1, &px);
+        sphere_sum += px;
+        acu_compute_pixels_box(&eye, 1, room[k], axes, 1, &px);
+        box_sum += px;
+    }
+    double image = eye.width_px * eye.height_px;
+    printf("box pixels: a room's six surfaces: spheres %.2f images, boxes %.2f\n", sphere_sum / image, box_sum / image);
+    CHECK(sphere_sum >= 4.0 * image);
+    CHECK(box_sum >= 0.99 * image && box_sum <= 1.3 * image);
+}
+
 int main(void)
 {
     test_paper_figures();
@@ -238,5 +344,6 @@ int main(void)
     test_skip_region();
     test_geometry();
     test_pixels();
+    test_pixels_box();
     return tu_finish("test_acuity");
 }

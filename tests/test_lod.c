@@ -39,8 +39,82 @@ static void test_select_reddy(void)
     CHECK(finest[0] == 0 && finest[4] == 0);
 }
 
+/* The online cost correction (lod.h): a model that under-predicts by 30 % tightens the budget to
+ * about budget / 1.3 within a few dozen frames; jitter adds its margin; over-prediction never
+ * loosens it; non-finite or non-positive frames are ignored; one wild frame is clamped. */
+static void test_cost_correction(void)
+{
+    struct lod_cost_correction c;
+    lod_cost_correction_init(&c, 0.1);
+    CHECK(lod_cost_correction_budget_ms(&c, 11.0) == 11.0);
+    for (int f = 0; f < 300; ++f) /* the start's transient decays as 0.9 per frame */
+        lod_cost_correction_update(&c, 1.3 * 8.0, 8.0);
+    CHECK_NEAR(c.ratio, 1.3, 1e-3);
+    CHECK(c.variance < 1e-6);
+    CHECK_NEAR(lod_cost_correction_budget_ms(&c, 11.0), 11.0 / 1.3, 0.01);
+    /* Jitter ±10 % around 1.3: the budget leaves room for about two standard deviations. */
+    for (int f = 0; f < 400; ++f)
+        lod_cost_correction_update(&c, (1.3 + (f % 2 ? 0.1 : -0.1)) * 8.0, 8.0);
+    double sigma = sqrt(c.variance);
+    CHECK(sigma > 0.05 && sigma < 0.15);
+    CHECK_NEAR(lod_cost_correction_budget_ms(&c, 11.0), 11.0 / (c.ratio + 2.0 * sigma), 1e-12);
+    CHECK(lod_cost_correction_budget_ms(&c, 11.0) < 11.0 / 1.35);
+    /* Over-prediction: the ratio falls below 1, the budget stays the budget. */
+    struct lod_cost_correction over;
+    lod_cost_correction_init(&over, 0.1);
+    for (int f = 0; f < 100; ++f)
+        lod_cost_correction_update(&over, 0.5 * 8.0, 8.0);
+    CHECK(over.ratio < 0.6);
+    CHECK(lod_cost_correction_budget_ms(&over, 11.0) == 11.0);
+    /* Ignored inputs leave it as it was; a 100× frame moves it by at most the clamp. */
+    struct lod_cost_correction before = c;
+    lod_cost_correction_update(&c, NAN, 8.0);
+    lod_cost_correction_update(&c, 8.0, 0.0);
+    lod_cost_correction_update(&c, -1.0, 8.0);
+    lod_cost_correction_update(&c, INFINITY, 8.0);
+    CHECK(c.ratio == before.ratio && c.variance == before.variance);
+    lod_cost_correction_update(&c, 800.0, 8.0);
+    CHECK(c.ratio <= 4.0 && c.variance <= 16.0);
+    CHECK(isfinite(lod_cost_correction_budget_ms(&c, 11.0)) && lod_cost_correction_budget_ms(&c, 11.0) > 0.0);
+}
+
+/* The feedback controller (lod.h): over 0.9 of the budget it drops two steps at once, over 0.85 for
+ * three frames one step, under 0.7 it climbs one step after 6 frames and two after 12. */
+static void test_feedback(void)
+{
+    struct lod_feedback f;
+    lod_feedback_init(&f, 64.0);
+    lod_feedback_update(&f, 10.5, 11.0); /* 0.95: two steps coarser at once */
+    CHECK_NEAR(f.min_px_per_triangle, 64.0 * 1.15 * 1.15, 1e-9);
+    lod_feedback_init(&f, 64.0);
+    for (int k = 0; k < 3; ++k)
+        lod_feedback_update(&f, 9.6, 11.0); /* 0.87, flat trend */
+    CHECK_NEAR(f.min_px_per_triangle, 64.0 * 1.15, 1e-9);
+    lod_feedback_init(&f, 64.0);
+    for (int k = 0; k < 5; ++k)
+        lod_feedback_update(&f, 5.0, 11.0);
+    CHECK(f.min_px_per_triangle == 64.0); /* climbs slowly: nothing before the sixth cheap frame */
+    lod_feedback_update(&f, 5.0, 11.0);
+    CHECK_NEAR(f.min_px_per_triangle, 64.0 / 1.15, 1e-9);
+    for (int k = 0; k < 6; ++k)
+        lod_feedback_update(&f, 5.0, 11.0);
+    CHECK_NEAR(f.min_px_per_triangle, 64.0 / 1.15 / 1.15 / 1.15, 1e-9);
+    /* A rising trend that will cross the budget next frame acts now. */
+    lod_feedback_init(&f, 64.0);
+    lod_feedback_update(&f, 6.0, 11.0);
+    lod_feedback_update(&f, 8.8, 11.0); /* 0.8 now, 11.6 predicted */
+    CHECK_NEAR(f.min_px_per_triangle, 64.0 * 1.15 * 1.15, 1e-9);
+    /* Bad measurements are ignored. */
+    double was = f.min_px_per_triangle;
+    lod_feedback_update(&f, NAN, 11.0);
+    lod_feedback_update(&f, 5.0, 0.0);
+    CHECK(f.min_px_per_triangle == was);
+}
+
 int main(void)
 {
     test_select_reddy();
+    test_cost_correction();
+    test_feedback();
     return tu_finish("test_lod");
 }

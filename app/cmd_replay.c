@@ -10,7 +10,7 @@ static const char replay_usage[] =
     "                     [--rate HZ] [--frames N] [--capture EVERY] [--objects N] [--seed S]\n"
     "                     [--acuity-scale S] [--render-scale F] [--frequency-reading R] [--quiet]\n"
     "                     [--budget-ms T] [--cost-profile FILE] [--opt-limit-us T] [--static-px N]\n"
-    "                     [--cost-correction on|off]\n"
+    "                     [--cost-correction on|ratio|affine|off]\n"
     "  Replays a head-motion trace on a virtual clock through a scene, rendering both eyes headless.\n"
     "  --trace FILE       hmdlod CSV (t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]), a Corbillon MMSys'18\n"
     "                     quaternion file or a Nasrabadi MMSys'19 CSV; omitted: the built-in 8 s clip\n"
@@ -41,8 +41,9 @@ static const char replay_usage[] =
     "  --opt-limit-us T   stop fs or mb after T microseconds per frame (default 0: run to the end); the\n"
     "                     choice is feasible after every iteration (Nirenstein et al. 5.5)\n"
     "  --static-px N      static's pixels per triangle (default 64); feedback starts from it\n"
-    "  --cost-correction on|off  scale fs's and mb's budget by the smoothed measured/predicted draw time\n"
-    "                     (default on)\n"
+    "  --cost-correction on|ratio|affine|off  correct fs's and mb's budget from measured draw times: the\n"
+    "                     smoothed measured/predicted ratio (on = ratio, the default), or an affine fit\n"
+    "                     measured = a + b x by recursive least squares (x: the objects' predicted cost)\n"
     "  --quiet            no summary table on stdout\n";
 
 /* Parses the options replay and demo share; returns 0, or 1 after printing the message. */
@@ -114,11 +115,16 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
             if (app_parse_double(opt, val, &o->static_px_per_triangle))
                 return 1;
         } else if (!strcmp(opt, "--cost-correction")) {
-            if (strcmp(val, "on") && strcmp(val, "off")) {
-                fprintf(stderr, "hmdlod: --cost-correction: '%s' is neither on nor off\n", val);
+            if (!strcmp(val, "on") || !strcmp(val, "ratio"))
+                o->cost_correction = RPL_CORRECTION_RATIO;
+            else if (!strcmp(val, "affine"))
+                o->cost_correction = RPL_CORRECTION_AFFINE;
+            else if (!strcmp(val, "off"))
+                o->cost_correction = RPL_CORRECTION_OFF;
+            else {
+                fprintf(stderr, "hmdlod: --cost-correction: '%s' is not on, ratio, affine or off\n", val);
                 return 1;
             }
-            o->cost_correction = !strcmp(val, "on");
         } else if (!strcmp(opt, "--render-scale")) {
             if (app_parse_double(opt, val, &d))
                 return 1;

@@ -46,3 +46,52 @@ double lod_cost_correction_budget_ms(const struct lod_cost_correction *c, double
     double divisor = c->ratio + c->spread * sqrt(c->variance);
     return divisor > 1.0 ? budget_ms / divisor : budget_ms;
 }
+
+/* ---- affine correction (recursive least squares with forgetting) --------------------------------- */
+#define RLS_P_A 4.0    /* start: a within ±2 ms of c0 (what the frame costs besides its objects
+                        * varies most between machines and loads) …  */
+#define RLS_P_B 0.0625 /* … b within ±0.25 of 1 (calibrate fits the per-object terms to ~13 %) */
+
+void lod_cost_rls_init(struct lod_cost_rls *c, double c0_ms, double lambda)
+{
+    c->c0_ms = isfinite(c0_ms) && c0_ms >= 0.0 ? c0_ms : 0.0;
+    c->a_ms = c->c0_ms, c->b = 1.0;
+    c->p00 = RLS_P_A, c->p01 = 0.0, c->p11 = RLS_P_B;
+    c->residual_var = 0.0;
+    c->lambda = lambda > 0.5 && lambda <= 1.0 ? lambda : 0.98;
+    c->spread = 2.0;
+}
+
+void lod_cost_rls_update(struct lod_cost_rls *c, double measured_ms, double x_ms)
+{
+    if (!isfinite(measured_ms) || !isfinite(x_ms) || measured_ms <= 0.0 || x_ms < 0.0)
+        return;
+    double e = measured_ms - (c->a_ms + c->b * x_ms); /* a-priori error */
+    /* The residual's spread, smoothed over about 1 / (1 − λ) frames, before the update: the margin
+     * must cover how wrong the prediction was, not how well the fit explains that frame after. */
+    double w = 1.0 - c->lambda;
+    c->residual_var = (1.0 - w) * (c->residual_var + w * e * e);
+    double g0 = c->p00 + c->p01 * x_ms, g1 = c->p01 + c->p11 * x_ms; /* P·φ, φ = (1, x) */
+    double denom = c->lambda + g0 + g1 * x_ms;
+    double k0 = g0 / denom, k1 = g1 / denom;
+    c->a_ms += k0 * e;
+    c->b += k1 * e;
+    c->p00 = (c->p00 - k0 * g0) / c->lambda;
+    c->p01 = (c->p01 - k0 * g1) / c->lambda;
+    c->p11 = (c->p11 - k1 * g1) / c->lambda;
+    /* No wind-up: a direction no frame excites would grow as λ^−n; cap the covariance at its start. */
+    double scale = fmax(c->p00 / RLS_P_A, c->p11 / RLS_P_B);
+    if (scale > 1.0)
+        c->p00 /= scale, c->p01 /= scale, c->p11 /= scale;
+    /* One wild frame (a page fault, a preempted thread) must not make the model absurd. */
+    c->b = fmin(fmax(c->b, 0.25), 4.0);
+    c->a_ms = fmin(fmax(c->a_ms, 0.0), 4.0 * c->c0_ms + 10.0);
+}
+
+double lod_cost_rls_objects_budget_ms(const struct lod_cost_rls *c, double budget_ms)
+{
+    double model = budget_ms - c->c0_ms;
+    double fitted = (budget_ms - c->a_ms - c->spread * sqrt(c->residual_var)) / c->b;
+    double x = fitted < model ? fitted : model; /* only ever tightens */
+    return x > 0.0 ? x : 0.0;
+}

@@ -97,6 +97,26 @@ void lod_cost_correction_init(struct lod_cost_correction *c, double alpha);
 void lod_cost_correction_update(struct lod_cost_correction *c, double measured_ms, double predicted_ms);
 double lod_cost_correction_budget_ms(const struct lod_cost_correction *c, double budget_ms);
 
+/* Affine online correction, by recursive least squares: measured ≈ a + b·x with x the objects' part
+ * of the prediction (predicted − c0), fitted with forgetting factor `lambda` per frame, starting
+ * from the model (a = c0, b = 1). Where the ratio above scales the whole budget — so a per-frame
+ * cost the model under-counts (clear, flush, read-back) shrinks it even when little is drawn, the
+ * less drawn the more, until nearly nothing is — this corrects the fixed part and the per-object
+ * part separately. The optimizer's budget for the objects is (budget − a − spread·σ) / b, σ the
+ * smoothed residual; never more than the model's own budget − c0. The covariance is capped at its
+ * start (frames that all draw the same say nothing new about b: no wind-up). */
+struct lod_cost_rls {
+    double a_ms, b;          /* measured ≈ a_ms + b · x */
+    double p00, p01, p11;    /* covariance of (a, b) */
+    double residual_var;     /* smoothed squared a-priori error, ms² */
+    double c0_ms, lambda, spread;
+};
+void lod_cost_rls_init(struct lod_cost_rls *c, double c0_ms, double lambda);
+/* x_ms = predicted − c0 of the drawn frame. Ignores non-finite or negative inputs. */
+void lod_cost_rls_update(struct lod_cost_rls *c, double measured_ms, double x_ms);
+/* What the objects may cost (excluding c0), ≥ 0. */
+double lod_cost_rls_objects_budget_ms(const struct lod_cost_rls *c, double budget_ms);
+
 /* ---- one frame's candidates ---------------------------------------------------------------------
  * Object i (0 … object_count−1) owns candidates first[i] … first[i]+count[i]−1 of the candidate
  * arrays, cheapest first: candidate 0 is its coarsest representation (or the null one, LOD_DROP,

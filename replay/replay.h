@@ -73,6 +73,9 @@ int rpl_trace_source_create(struct rpl_trace *trace, struct trk_pose_source **ou
 
 /* ---- the frame loop ------------------------------------------------------------------------- */
 struct scn_asset_resolver;
+/* How fs and mb correct their budget from measured draw times (lod.h): not at all, by the smoothed
+ * measured/predicted ratio (the default), or by the affine fit measured = a + b·x. */
+enum rpl_correction { RPL_CORRECTION_OFF = 0, RPL_CORRECTION_RATIO = 1, RPL_CORRECTION_AFFINE = 2 };
 struct rpl_options {
     const char *trace_path;  /* NULL → built-in clip */
     const char *raw_path;    /* raw tracker recording fused into the trace (excludes trace_path) */
@@ -94,7 +97,7 @@ struct rpl_options {
     const char *cost_profile; /* JSON from hmdlod calibrate; NULL → the built-in llvmpipe profile */
     double opt_limit_us;     /* fs/mb time limit per frame (Nirenstein §5.5); 0 = none */
     double static_px_per_triangle; /* static: the average triangle covers at least this (default 64) */
-    int cost_correction;     /* 1 (default): budget scaled by the smoothed measured/predicted ratio */
+    int cost_correction;     /* enum rpl_correction; RPL_CORRECTION_RATIO by default */
     /* Gaze models (acuity/gaze.h; docs/gaze.md) */
     const char *gaze;        /* NULL/"auto" (default): tracked when the trace has gaze, else vor;
                               * or "head" | "vor" | "tracked" */

@@ -20,7 +20,7 @@ void rpl_options_defaults(struct rpl_options *o)
     o->acuity_scale = 1.0;
     o->render_scale = 1.0;
     o->static_px_per_triangle = 64.0;
-    o->cost_correction = 1;
+    o->cost_correction = RPL_CORRECTION_RATIO;
     o->gaze = "auto";
     o->vor_latency_ms = -1.0;
 }

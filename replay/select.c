@@ -8,6 +8,7 @@
 
 #include "replay/cost.h"
 #include "replay/select.h"
+#include "replay/replay.h" /* enum rpl_correction */
 #include "replay/select_mb.h"
 
 static const char *const selector_names[] = {"none", "reddy", "static", "feedback", "fs", "mb"};
@@ -75,6 +76,7 @@ int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct 
         return -1;
     lod_benefit_params_default(&s->benefit);
     lod_cost_correction_init(&s->correction, 0.1);
+    lod_cost_rls_init(&s->rls, s->cost.c0_ms, 0.98);
     lod_feedback_init(&s->feedback, s->static_px > 0.0 ? s->static_px : 64.0);
     return 0;
 }
@@ -209,11 +211,16 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
     case RPL_SELECT_FS:
     case RPL_SELECT_MB: {
         /* What the optimizer may spend: the budget less the frame's own CPU work (smoothed), scaled
-         * by the measured/predicted ratio when correcting, less the per-frame constant c0. */
+         * by the measured/predicted ratio when correcting, less the per-frame constant c0 — or, with
+         * the affine correction, what the fitted a + b·x leaves for the objects. */
         double budget = s->budget_ms - s->overhead_ms;
-        if (s->correct)
-            budget = lod_cost_correction_budget_ms(&s->correction, budget);
-        budget = fmax(0.0, budget - s->cost.c0_ms);
+        if (s->correct == RPL_CORRECTION_AFFINE) {
+            budget = lod_cost_rls_objects_budget_ms(&s->rls, budget);
+        } else {
+            if (s->correct == RPL_CORRECTION_RATIO)
+                budget = lod_cost_correction_budget_ms(&s->correction, budget);
+            budget = fmax(0.0, budget - s->cost.c0_ms);
+        }
         rec->optimizer_budget_ms = budget;
         struct lod_problem p = build_problem(s, scene, in, budget);
         struct lod_result r;
@@ -255,6 +262,7 @@ void rpl_select_measured(struct rpl_select *s, const struct rpl_select_record *r
     double overhead = fmax(0.0, frame_ms - draw_ms);
     s->overhead_ms = s->overhead_ms > 0.0 ? s->overhead_ms + 0.1 * (overhead - s->overhead_ms) : overhead;
     lod_cost_correction_update(&s->correction, draw_ms, rec->predicted_ms);
+    lod_cost_rls_update(&s->rls, draw_ms, rec->predicted_ms - s->cost.c0_ms);
     if (s->selector == RPL_SELECT_FEEDBACK)
         lod_feedback_update(&s->feedback, frame_ms, s->budget_ms);
 }

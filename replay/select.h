@@ -25,8 +25,9 @@ struct rpl_select {
     double budget_ms;          /* the frame's whole budget (display period unless --budget-ms) */
     double opt_limit_us;       /* Nirenstein's time limit for fs and mb; 0 = none */
     double static_px;          /* static: pixels per triangle */
-    int correct;               /* 1: scale the budget by the measured/predicted ratio */
+    int correct;               /* enum rpl_correction (replay.h) */
     struct lod_cost_correction correction;
+    struct lod_cost_rls rls;   /* the affine correction, when correct is RPL_CORRECTION_AFFINE */
     double overhead_ms;        /* smoothed frame time outside the draw (pose, cull, selection) */
     struct lod_feedback feedback;
 

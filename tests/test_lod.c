@@ -111,10 +111,69 @@ static void test_feedback(void)
     CHECK(f.min_px_per_triangle == was);
 }
 
+/* The affine correction (lod.h): it recovers measured = a + b·x from varied frames; after frames
+ * that drew little it does not carry the constant's error over to the objects, as the ratio does;
+ * frames that all cost the same do not wind its covariance up. */
+static void test_cost_rls(void)
+{
+    struct lod_cost_rls c;
+    lod_cost_rls_init(&c, 2.0, 0.98);
+    for (int f = 0; f < 400; ++f) {
+        double x = 2.0 + 6.0 * (double)(f % 7) / 6.0;
+        lod_cost_rls_update(&c, 4.0 + 1.2 * x, x);
+    }
+    CHECK_NEAR(c.a_ms, 4.0, 0.01);
+    CHECK_NEAR(c.b, 1.2, 0.005);
+    CHECK_NEAR(lod_cost_rls_objects_budget_ms(&c, 11.0), (11.0 - c.a_ms - 2.0 * sqrt(c.residual_var)) / c.b, 1e-12);
+    CHECK(lod_cost_rls_objects_budget_ms(&c, 11.0) > 5.4 && lod_cost_rls_objects_budget_ms(&c, 11.0) < 5.9);
+
+    /* A sparse view, then a dense one. The model under-counts the per-frame constant (c0 2.07 ms,
+     * truly 4.4 ms); the sparse view's objects cost 0.5 ms, all of which the optimizer takes. When
+     * the view turns to a dense part, what may the objects cost? The truth: 11.1 − 4.4 = 6.7 ms.
+     * The ratio (4.9 / 2.57 = 1.9) shrinks the whole budget and leaves them 3.7 ms; the affine fit
+     * puts the error where the frames put it, on the constant. */
+    const double budget = 11.1, c0 = 2.07, truth_c0 = 4.4, sparse_x = 0.5;
+    struct lod_cost_rls affine;
+    struct lod_cost_correction ratio;
+    lod_cost_rls_init(&affine, c0, 0.98);
+    lod_cost_correction_init(&ratio, 0.1);
+    for (int f = 0; f < 300; ++f) {
+        double jitter = 0.05 * ((f * 7919) % 11 - 5) / 5.0; /* ±0.05 ms */
+        lod_cost_rls_update(&affine, truth_c0 + sparse_x + jitter, sparse_x);
+        lod_cost_correction_update(&ratio, truth_c0 + sparse_x + jitter, c0 + sparse_x);
+    }
+    double xa = lod_cost_rls_objects_budget_ms(&affine, budget);
+    double xr = fmax(0.0, lod_cost_correction_budget_ms(&ratio, budget) - c0);
+    printf("corrections after a sparse view (model c0 %.2f ms, true %.2f ms, budget %.1f ms): the objects may cost "
+           "%.2f ms (affine) against %.2f ms (ratio); the truth allows %.2f ms\n", c0, truth_c0, budget, xa, xr,
+           budget - truth_c0);
+    CHECK(xa <= budget - truth_c0);
+    CHECK(xa > budget - truth_c0 - 0.6);
+    CHECK(xr < 4.0);
+
+    /* The same x every frame: nothing new about b, and the covariance stays capped. */
+    struct lod_cost_rls flat;
+    lod_cost_rls_init(&flat, 2.0, 0.98);
+    for (int f = 0; f < 2000; ++f)
+        lod_cost_rls_update(&flat, 9.0, 5.0);
+    CHECK(flat.p00 <= 4.0 + 1e-12 && flat.p11 <= 0.0625 + 1e-12);
+    CHECK_NEAR(flat.a_ms + flat.b * 5.0, 9.0, 1e-3); /* the frames it saw, predicted right */
+    struct lod_cost_rls keep = flat;
+    lod_cost_rls_update(&flat, NAN, 5.0);
+    lod_cost_rls_update(&flat, 9.0, -1.0);
+    lod_cost_rls_update(&flat, 0.0, 5.0);
+    CHECK(flat.a_ms == keep.a_ms && flat.b == keep.b && flat.p00 == keep.p00);
+    lod_cost_rls_update(&flat, 1e6, 5.0); /* one wild frame: clamped, still a usable budget */
+    CHECK(flat.b <= 4.0 && flat.a_ms <= 4.0 * 2.0 + 10.0);
+    CHECK(lod_cost_rls_objects_budget_ms(&flat, 11.0) >= 0.0);
+    CHECK(lod_cost_rls_objects_budget_ms(&flat, 11.0) <= 11.0 - 2.0);
+}
+
 int main(void)
 {
     test_select_reddy();
     test_cost_correction();
     test_feedback();
+    test_cost_rls();
     return tu_finish("test_lod");
 }

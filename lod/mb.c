@@ -133,16 +133,21 @@ static inline int lo_better(const struct mb *m, double va, uint32_t ta, double v
 static inline struct mb_entry root_entry(const struct mb *m, int which, uint32_t root)
 {
     uint32_t term = which == 0 ? m->hi_term[root] : m->lo_term[root];
-    if (term == NONE)
-        return (struct mb_entry){which == 0 ? -INFINITY : INFINITY, which == 0 ? UINT32_MAX : 0, NONE};
-    return (struct mb_entry){which == 0 ? m->hi_val[root] : m->lo_val[root], m->t->node_id[term], term};
+    int none = term == NONE; /* selects, not branches: which roots have a step is unpredictable */
+    double value = which == 0 ? m->hi_val[root] : m->lo_val[root];
+    uint32_t id = m->t->node_id[none ? 0 : term];
+    double absent = which == 0 ? -INFINITY : INFINITY;
+    return (struct mb_entry){none ? absent : value, none ? (which == 0 ? UINT32_MAX : 0) : id, term};
 }
 
-static inline struct mb_entry tour_pick(int which, struct mb_entry a, struct mb_entry b)
+/* 1 when b beats a; written with bitwise operators and used as an index, not a branch: a
+ * tournament's comparisons of unrelated values are a coin toss for the branch predictor, and the
+ * per-frame builds were most of mb's set-up. */
+static inline unsigned tour_second_wins(int which, const struct mb_entry *a, const struct mb_entry *b)
 {
     if (which == 0)
-        return a.value > b.value || (a.value == b.value && a.id < b.id) ? a : b;
-    return a.value < b.value || (a.value == b.value && a.id > b.id) ? a : b;
+        return !((a->value > b->value) | ((a->value == b->value) & (a->id < b->id)));
+    return !((a->value < b->value) | ((a->value == b->value) & (a->id > b->id)));
 }
 
 static void tour_build(struct mb *m, int which, const uint32_t *roots)
@@ -152,7 +157,7 @@ static void tour_build(struct mb *m, int which, const uint32_t *roots)
     for (uint32_t k = 0; k < r; ++k)
         e[r + k] = root_entry(m, which, roots[k]);
     for (uint32_t i = r; i-- > 1;)
-        e[i] = tour_pick(which, e[2 * i], e[2 * i + 1]);
+        e[i] = e[2 * i + tour_second_wins(which, &e[2 * i], &e[2 * i + 1])];
 }
 
 static void tour_update(struct mb *m, int which, uint32_t root)
@@ -161,7 +166,7 @@ static void tour_update(struct mb *m, int which, uint32_t root)
     uint32_t i = m->root_count + m->slot[root];
     e[i] = root_entry(m, which, root);
     for (i >>= 1; i >= 1; i >>= 1)
-        e[i] = tour_pick(which, e[2 * i], e[2 * i + 1]);
+        e[i] = e[2 * i + tour_second_wins(which, &e[2 * i], &e[2 * i + 1])];
 }
 
 static inline uint32_t tour_winner(const struct mb *m, int which) { return m->tour[which][1].term; }

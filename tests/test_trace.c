@@ -1038,6 +1038,28 @@ static void test_edvam_fixture(void)
         rpl_trace_free(&tr);
         free(t.s);
     }
+
+    /* Byte mutations: never a crash; a failure always names a line. */
+    uint64_t rng = 0x2545f4914f6cdd1dull;
+    char *buf = malloc(size);
+    int rejected = 0, unplaced = 0;
+    for (int iter = 0; iter < 2000; ++iter) {
+        memcpy(buf, text, size);
+        for (int k = 0; k < 1 + iter % 3; ++k) {
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            buf[(size_t)(rng >> 33) % size] = (char)(rng >> 17);
+        }
+        struct hl_error e = {{0}};
+        if (parse_exact(buf, size, "m.csv", &tr, &e) != 0) {
+            ++rejected;
+            if (message_line(e.msg, "m.csv") < 1)
+                ++unplaced, fprintf(stderr, "EDVAM mutation without a line: %s\n", e.msg);
+        }
+        rpl_trace_free(&tr);
+    }
+    free(buf);
+    printf("EDVAM mutations: %d of 2000 rejected, %d without file:line\n", rejected, unplaced);
+    CHECK(unplaced == 0);
     free(text);
 }
 

@@ -1039,6 +1039,15 @@ static void test_edvam_fixture(void)
         free(t.s);
     }
 
+    /* No row with a measured gaze (all below 0.8, or L = C): the trace has no gaze at all. */
+    static const char blind[] = "index,time,L_x,L_y,L_z,C_x,C_y,C_z,F_x,F_y,F_z,confidence\r\n"
+                                "1,0.0,0,1.7,5,0,1.7,1,0,0,1,0.3\r\n2,0.033,0,1.7,1,0,1.7,1,0,0,1,0.9\r\n";
+    CHECK(parse_exact(blind, sizeof blind - 1, "blind.csv", &tr, &err) == 0);
+    CHECK(tr.count == 2 && tr.gaze_dir == NULL && tr.position_m && tr.report.low_confidence_gaze == 2);
+    rpl_trace_sample(&tr, 0.01, &p);
+    CHECK(!p.has_gaze && hl_v3_length(p.gaze_angular_velocity_radps) == 0.0);
+    rpl_trace_free(&tr);
+
     /* Byte mutations: never a crash; a failure always names a line. */
     uint64_t rng = 0x2545f4914f6cdd1dull;
     char *buf = malloc(size);

@@ -170,6 +170,14 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
                              : rpl_trace_builtin_clip(&trace, err);
     if (rc != 0)
         return -1;
+    const struct rpl_trace_report *tr = &trace.report;
+    if (o->trace_path && (tr->repeated_timestamps || tr->low_confidence_gaze || tr->placeholder_rows ||
+                          tr->held_orientations || tr->speed_outliers)) {
+        /* What loading had to do to a file is said once, not silently (docs/trace-format.md). */
+        char line[512];
+        rpl_trace_report_format(tr, line, sizeof line);
+        fprintf(stderr, "hmdlod: note: %s: %s\n", o->trace_path, line);
+    }
     s->trace_has_gaze = trace.gaze_dir != NULL;
     s->trace_has_position = trace.position_m != NULL;
     if (rpl_trace_source_create(&trace, &s->source, err) != 0 || session_gaze_model(s, o, err) != 0)

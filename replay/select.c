@@ -74,6 +74,14 @@ int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct 
     if (s->selector == RPL_SELECT_MB && rpl_mb_create(scene, n, &s->mb, err) != 0)
         return -1;
     lod_benefit_params_default(&s->benefit);
+    acu_saccade_params_default(&s->saccade.params);
+    if (!isfinite(s->saccade_onset_degps))
+        return hl_fail(err, "--saccade-onset-degps: %g is not a finite speed", s->saccade_onset_degps);
+    if (s->saccade_onset_degps > 0.0) { /* ≤ 0: the default; the offset keeps the default's ratio */
+        s->saccade.params.offset_degps *= s->saccade_onset_degps / s->saccade.params.onset_degps;
+        s->saccade.params.onset_degps = s->saccade_onset_degps;
+    }
+    acu_saccade_init(&s->saccade.state);
     lod_cost_correction_init(&s->correction, 0.1);
     lod_feedback_init(&s->feedback, s->static_px > 0.0 ? s->static_px : 64.0);
     return 0;
@@ -190,6 +198,7 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
         lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
                          in->velocity_degps, in->diameter_deg, s->ceiling_level, NULL, &stats);
         rec->acuity_evaluations = stats.model_evaluations;
+        rpl_saccade_lower_ceilings(s, scene, in); /* suppressed: nothing above the coarsest is seen */
     }
 
     switch (s->selector) {
@@ -246,6 +255,7 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
         acu_compute_pixels(in->eyes, 2, scene->center_m, scene->radius_m, &extra_index[k], 1, &px);
         rec->predicted_ms += level_cost_ms(&s->cost, &ch->lods[extra_level[k]], px);
     }
+    rpl_saccade_account(s, scene, in, lod_out, rec);
     rec->lod_changes = remember_levels(s, in, lod_out);
 }
 

@@ -21,7 +21,7 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
     for (int k = 0; k < max_lods; ++k)
         fprintf(o->csv, ",lod%d", k);
     fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
-          "over_budget,saccade_phase,refine_pending,refine_miss,acuity_us,select_us,optimizer_us,draw_ms,frame_ms,deadline_met\n", o->csv);
+          "over_budget,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,acuity_us,select_us,optimizer_us,draw_ms,frame_ms,deadline_met\n", o->csv);
     return 0;
 }
 
@@ -40,7 +40,8 @@ void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int 
     else
         fputs(",,", o->csv);
     fprintf(o->csv, ",%u,%u,%d,%d", q->lod_changes, q->iterations, q->truncated, q->over_budget);
-    fprintf(o->csv, ",%d,%u,%d", q->saccade_phase, q->refine_pending, q->refine_miss); /* saccade_step.c */
+    fprintf(o->csv, ",%.3f,%d,%u,%d", q->gaze_speed_degps, q->saccade_phase, q->refine_pending,
+            q->refine_miss); /* saccade_step.c */
     /* The timings last: everything before them is deterministic (the optimizer's budget aside, which
      * follows the measured overhead and correction). */
     fprintf(o->csv, ",%.2f,%.2f,%.2f,%.3f,%.3f,%d\n", r->acuity_us, r->select_us, q->optimizer_us, r->draw_ms,

@@ -29,11 +29,12 @@ void rpl_select_saccade(struct rpl_select *s, const struct trk_pose *pose, doubl
     q->active = pose->has_gaze;
     q->started = 0;
     q->time_s = time_s;
+    q->speed_degps = 0.0;
     if (!q->active)
         return;
     /* The gaze's speed in the world (eye + head), not in the head: under the VOR the eye turns fast in
      * the head while the gaze holds still (acuity/saccade.h). */
-    double speed_degps = hl_v3_length(pose->gaze_angular_velocity_radps) * HL_DEG_PER_RAD;
+    double speed_degps = q->speed_degps = hl_v3_length(pose->gaze_angular_velocity_radps) * HL_DEG_PER_RAD;
     long before = q->state.saccades;
     acu_saccade_update(&q->state, &q->params, time_s, speed_degps);
     q->started = q->state.saccades != before;
@@ -65,6 +66,7 @@ void rpl_saccade_account(struct rpl_select *s, const struct scn_scene *scene, co
     rec->saccade_active = q->active;
     rec->saccade_phase = q->active ? (int)q->state.phase : ACU_SACCADE_NONE;
     rec->saccade_started = q->started;
+    rec->gaze_speed_degps = q->speed_degps;
     if (!q->active || q->state.phase != ACU_SACCADE_NONE || !isfinite(q->state.refine_due_s) ||
         !uses_ceiling(s->selector))
         return;

@@ -27,6 +27,7 @@ struct rpl_saccade {
     int active;           /* this frame's pose has gaze */
     int missed;           /* the current refinement has already missed its deadline */
     int started;          /* a saccade started this frame */
+    double speed_degps;   /* this frame's gaze speed in the world (0 without gaze) */
     double time_s;        /* this frame's time */
 };
 
@@ -78,6 +79,7 @@ struct rpl_select_record {
      * objects are refined, the objects drawn coarser than their ceiling (pending) and those among them
      * whose refinement the budget's slack would have paid for; miss = such objects past the deadline */
     int saccade_active, saccade_phase, saccade_started;
+    double gaze_speed_degps;
     uint32_t refine_pending, refine_unbudgeted;
     int refine_miss, refine_missed_saccade; /* this frame missed; first missed frame of its saccade */
 };

@@ -235,5 +235,18 @@ expect_error "calibrate unknown display" "nope" -- "$bin" calibrate --quick --di
 expect_error "calibrate unknown option" "unknown option '--fast'" -- "$bin" calibrate --fast --out "$tmp/c.json"
 [ ! -e "$tmp/c.json" ] || fail "a refused calibrate left its output"
 
+# Saccades (replay/saccade_step.c): the onset flag is checked; the EDVAM log loads as it is and the
+# summary reports its saccades.
+expect_error "replay bad --saccade-onset-degps" "--saccade-onset-degps: -5 is not a speed" -- "$bin" replay \
+  --saccade-onset-degps -5 --out "$tmp/sac-bad"
+[ ! -e "$tmp/sac-bad" ] || fail "a refused replay made its output folder"
+edvam="$shared/data/traces/edvam-gaze/participant2.csv"
+if [ -f "$edvam" ]; then
+  expect_ok "replay EDVAM tracked" "saccades +[0-9]+, [0-9.]+ % of frames suppressed" -- "$bin" replay \
+    --trace "$edvam" --gaze tracked --scene auditorium --display vive --frames 120 --render-scale 0.25 --out "$tmp/g2"
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "saccade_phase") c = i; next } { n++ }
+           END { exit !(c > 0 && n == 120) }' "$tmp/g2/frames.csv" || fail "EDVAM replay: no saccade_phase column"
+fi
+
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

@@ -26,7 +26,7 @@ static int uses_ceiling(enum rpl_selector sel)
 void rpl_select_saccade(struct rpl_select *s, const struct trk_pose *pose, double time_s)
 {
     struct rpl_saccade *q = &s->saccade;
-    q->active = pose->has_gaze;
+    q->active = pose->has_gaze && !s->saccade_off;
     q->started = 0;
     q->time_s = time_s;
     q->speed_degps = 0.0;

@@ -20,7 +20,8 @@ enum rpl_selector {
 int rpl_selector_parse(const char *name, enum rpl_selector *out, struct hl_error *err);
 
 /* Saccade suppression and the 28 ms refinement rule (acuity/saccade.h; docs/gaze.md). Active only
- * when the frame's pose has a measured gaze; otherwise the phase stays NONE and nothing changes. */
+ * when the frame's pose has a measured gaze and the gaze model is tracked (head and vor stand for a
+ * headset without an eye tracker, which cannot see saccades); otherwise the phase stays NONE. */
 struct rpl_saccade {
     struct acu_saccade_params params;
     struct acu_saccade_state state;
@@ -62,6 +63,7 @@ struct rpl_select {
     void *scratch;
     struct rpl_mb *mb; /* the mb selector's tree and last solution (replay/select_mb.h); NULL otherwise */
     double saccade_onset_degps; /* set before rpl_select_init; ≤ 0 → acu_saccade_params_default's */
+    int saccade_off;            /* 1: a gaze model without an eye tracker (head, vor): no saccades known */
     struct rpl_saccade saccade;
 };
 

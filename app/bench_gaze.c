@@ -66,7 +66,7 @@ static const char gaze_usage[] =
     "  --render-scale F  per-eye resolution factor in (0, 4] (default 1; --quick 0.5)\n"
     "  --results FILE    also write the output as the section \"" GAZE_HEADING "\" of FILE\n"
     "  --quick           fewer frames and objects, half the resolution (about 2 minutes here)\n"
-    "Traces: Corbillon user1, Nasrabadi 322SAJ_9, EDVAM participant2 (the full run adds participant6).\n"
+    "Traces: Corbillon user1, Nasrabadi 322SAJ_9, EDVAM participant2.\n"
     "The shared folder: $HMDLOD_SHARED, else ../shared, else next to the executable's checkout.\n";
 
 static int parse_args(int argc, char **argv, struct gaze_bench *b)
@@ -127,8 +127,6 @@ static int choose_traces(struct gaze_bench *b)
     add_trace(b, shared, "corbillon user1", "data/traces/corbillon-mmsys18/user1_quaternion.txt", 0);
     add_trace(b, shared, "nasrabadi 322SAJ_9", "data/traces/nasrabadi-mmsys19/322SAJ_9.csv", 0);
     add_trace(b, shared, "edvam participant2", "data/traces/edvam-gaze/participant2.csv", 1);
-    if (!b->quick)
-        add_trace(b, shared, "edvam participant6", "data/traces/edvam-gaze/participant6.csv", 1);
     return 0;
 }
 

@@ -43,22 +43,25 @@ double acu_limit_cpd(const struct acu_limits *lim, double velocity_degps, double
                      uint64_t *model_evaluations);
 
 /* ---- viewing geometry, batched --------------------------------------------------------------
- * The viewer: cyclopean eye position and gaze in world space, head angular and linear velocity.
+ * The viewer: cyclopean eye position and gaze in world space, the eye's angular and linear velocity
+ * (acu_gaze_viewer fills it for a gaze model).
  * Positions are double so objects 1e6 m from the origin keep millimetres. */
 struct acu_viewer {
     hl_vec3d eye_position_m;
     hl_vec3d gaze_dir;               /* unit, world */
     hl_vec3d angular_velocity_radps; /* the EYE's, world frame (the head's for a head-locked eye;
                                       * acu_gaze_viewer fills it for each gaze model) */
-    hl_vec3d linear_velocity_mps;    /* head, world frame */
+    hl_vec3d linear_velocity_mps;    /* the EYE's, world frame: head translation + ω_head × offset
+                                      * from the neck (acu_head_state_from_neck) */
 };
 
 /* For each of the `count` objects listed in `index` (into the scene arrays center_m[3·i..],
  * radius_m[i], velocity_mps[3·i..] or NULL for static objects), writes position-ordered outputs:
  *   eccentricity_deg[k]     angle from the gaze to the NEAREST point of the bounding sphere, ≥ 0
  *                           (conservative: a big object near the gaze counts as at the gaze);
- *   retinal_velocity_degps  speed of the sphere centre's image on a head-locked eye:
- *                           |(u − (u·d)d)/r − ω × d| with d the unit direction, u the relative velocity;
+ *   retinal_velocity_degps  speed of the sphere centre's image on the retina of an eye turning at ω:
+ *                           |(u − (u·d)d)/r − ω × d| with d the unit direction, u the velocity relative
+ *                           to the eye (object − eye);
  *   angular_diameter_deg    2·asin(radius/distance), 180 when the eye is inside the sphere.
  * An eye inside the sphere gets E = 0 and v = |ω| (the object fills the view and slides with it). */
 void acu_compute_geometry(const struct acu_viewer *viewer, const double *center_m, const double *radius_m,

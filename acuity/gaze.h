@@ -48,6 +48,13 @@ struct acu_head_state {
     int has_gaze;
 };
 
+/* Fills *out's eye and head fields from a head pose pivoting about the neck: eye = neck + q·offset,
+ * eye velocity = neck velocity + ω × (q·offset) (a pure head turn translates the eyes). offset_head
+ * is the neck-to-eye vector in the head frame (+Y up, −Z forward; hmd_neck_to_eye_head); a pose that
+ * already gives the eyes' position passes a zero offset. Delayed fields = current ones; gaze unset. */
+void acu_head_state_from_neck(hl_quatd orientation, hl_vec3d neck_position_m, hl_vec3d neck_velocity_mps,
+                              hl_vec3d angular_velocity_radps, hl_vec3d offset_head_m, struct acu_head_state *out);
+
 struct acu_viewer;
 /* Fills *viewer for the model. tracked without a measured gaze (has_gaze 0) → −1 and *viewer is
  * filled as vor would; 0 otherwise. vor may be NULL for head and tracked. */

@@ -37,8 +37,8 @@ void acu_compute_geometry(const struct acu_viewer *viewer, const double *center_
         eccentricity_deg[k] = ecc_rad > 0.0 ? ecc_rad * HL_DEG_PER_RAD : 0.0;
         angular_diameter_deg[k] = 2.0 * half_angle_rad * HL_DEG_PER_RAD;
 
-        /* Image motion on a head-locked eye: the direction d turns at (u⊥)/r from relative motion,
-         * and the head frame turns at ω, so d moves in the eye at (u⊥)/r − ω × d. */
+        /* Image motion on the retina: the direction d turns at (u⊥)/r from motion relative to the
+         * eye, and the eye turns at ω (the gaze model's), so d moves on the retina at u⊥/r − ω × d. */
         hl_vec3d u = hl_v3_scale(viewer->linear_velocity_mps, -1.0);
         if (velocity_mps)
             u = hl_v3_add(u, hl_v3(velocity_mps[3 * i], velocity_mps[3 * i + 1], velocity_mps[3 * i + 2]));

@@ -69,6 +69,8 @@ static int cmd_show(const char *what)
            p.tan_up, p.tan_down);
     printf(ROW "%.4g\n", "refresh (Hz)", p.refresh_hz);
     printf(ROW "%.1f\n", "IPD (mm)", p.ipd_m * 1000.0);
+    printf(ROW "%.1f forward, %.1f up\n", "eyes from the neck pivot (mm)", p.neck_to_eye_m[0] * 1000.0,
+           p.neck_to_eye_m[1] * 1000.0);
     if (p.distortion_k[0] || p.distortion_k[1] || p.distortion_k[2] || p.distortion_k[3])
         printf(ROW "%.4g %.4g %.4g %.4g\n", "distortion k (a b c d)", p.distortion_k[0], p.distortion_k[1],
                p.distortion_k[2], p.distortion_k[3]);

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "app/commands.h"
+#include "acuity/acuity.h"
 #include "replay/replay.h"
 
 static const char replay_usage[] =
@@ -10,7 +11,8 @@ static const char replay_usage[] =
     "                     [--rate HZ] [--frames N] [--capture EVERY] [--objects N] [--seed S]\n"
     "                     [--acuity-scale S] [--render-scale F] [--frequency-reading R] [--quiet]\n"
     "                     [--budget-ms T] [--cost-profile FILE] [--opt-limit-us T] [--static-px N]\n"
-    "                     [--cost-correction on|off]\n"
+    "                     [--cost-correction on|off] [--gaze MODEL] [--vor-gain G] [--vor-latency-ms T]\n"
+    "                     [--fixation-m D]\n"
     "  Replays a head-motion trace on a virtual clock through a scene, rendering both eyes headless.\n"
     "  --trace FILE       hmdlod CSV (t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]), a Corbillon MMSys'18\n"
     "                     quaternion file or a Nasrabadi MMSys'19 CSV; omitted: the built-in 8 s clip\n"
@@ -44,6 +46,13 @@ static const char replay_usage[] =
     "  --saccade-onset-degps V  gaze speed that starts a saccade (default 100; the end is at half of it)\n"
     "  --cost-correction on|off  scale fs's and mb's budget by the smoothed measured/predicted draw time\n"
     "                     (default on)\n"
+    "  --gaze MODEL       how the eye moves (docs/gaze.md): auto (default: tracked when the trace has\n"
+    "                     gaze columns, else vor), head (eye fixed in the head, Reddy's assumption),\n"
+    "                     vor (the eye holds a world point ahead of the head), tracked (the trace's gaze)\n"
+    "  --vor-gain G       VOR gain in [0, 1.2] (default 0.95)\n"
+    "  --vor-latency-ms T VOR latency in [0, 100] ms (default 10)\n"
+    "  --fixation-m D     distance of the VOR's fixated point, > 0 m (default: the median distance\n"
+    "                     from the first eye position to the objects, clamped to [0.5, 50] m)\n"
     "  --quiet            no summary table on stdout\n";
 
 /* Parses the options replay and demo share; returns 0, or 1 after printing the message. */
@@ -127,6 +136,37 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
                 return 1;
             }
             o->cost_correction = !strcmp(val, "on");
+        } else if (!strcmp(opt, "--gaze")) {
+            enum acu_gaze_model model;
+            if (strcmp(val, "auto") && acu_gaze_model_parse(val, &model) != 0) {
+                fprintf(stderr, "hmdlod: --gaze: '%s' is not a gaze model (auto, head, vor, tracked)\n", val);
+                return 1;
+            }
+            o->gaze = val;
+        } else if (!strcmp(opt, "--vor-gain")) {
+            if (app_parse_double(opt, val, &d))
+                return 1;
+            if (!(d >= 0.0 && d <= 1.2)) {
+                fprintf(stderr, "hmdlod: --vor-gain: %s is outside [0, 1.2]\n", val);
+                return 1;
+            }
+            o->vor_gain = d;
+        } else if (!strcmp(opt, "--vor-latency-ms")) {
+            if (app_parse_double(opt, val, &d))
+                return 1;
+            if (!(d >= 0.0 && d <= 100.0)) {
+                fprintf(stderr, "hmdlod: --vor-latency-ms: %s is outside [0, 100] ms\n", val);
+                return 1;
+            }
+            o->vor_latency_ms = d;
+        } else if (!strcmp(opt, "--fixation-m")) {
+            if (app_parse_double(opt, val, &d))
+                return 1;
+            if (!(d > 0.0 && d <= 1e6)) {
+                fprintf(stderr, "hmdlod: --fixation-m: %s is not a distance in (0, 1e6] m\n", val);
+                return 1;
+            }
+            o->fixation_m = d;
         } else if (!strcmp(opt, "--render-scale")) {
             if (app_parse_double(opt, val, &d))
                 return 1;

@@ -20,7 +20,14 @@ struct hmd_profile {
     double distortion_k[4];                       /* PanoTools a, b, c, d (1,0,0,0-free: all 0 = none) */
     double aberration[3];                         /* per-channel scale r, g, b (1 = none) */
     double xi_override_cpd;                       /* > 0 replaces Reddy eq. 4's ξ; 0 = use eq. 4 */
+    /* The cyclopean eye's offset from the neck's rotation centre, head frame: metres forward and up
+     * (Oculus SDK neck model by default, HMD_NECK_TO_EYE_*). |offset| < 0.3 m; 0, 0 = eyes at the pivot. */
+    double neck_to_eye_m[2];
 };
+/* Oculus SDK OVR_CAPI_Keys.h OVR_DEFAULT_NECK_TO_EYE_HORIZONTAL / _VERTICAL (ANSUR-88 averages). */
+#define HMD_NECK_TO_EYE_FORWARD_M 0.0805
+#define HMD_NECK_TO_EYE_UP_M 0.075
+#define HMD_NECK_TO_EYE_MAX_M 0.3
 
 /* Reddy's highest displayable frequency, eq. 4: one pixel is half a cycle. */
 struct hmd_xi {
@@ -45,6 +52,9 @@ double hmd_fov_horizontal_deg(const struct hmd_profile *p); /* atan(L) + atan(R)
 double hmd_fov_vertical_deg(const struct hmd_profile *p);   /* atan(U) + atan(D) */
 struct hmd_xi hmd_compute_xi(const struct hmd_profile *p);
 
+/* The cyclopean eye's offset from the neck pivot in the head frame (+Y up, −Z forward), metres. */
+hl_vec3d hmd_neck_to_eye_head(const struct hmd_profile *p);
+
 /* One eye's frustum in the head frame (+X right, +Y up, −Z forward). Tangents are magnitudes;
  * the eye sits at (offset_x_m, 0, 0): −ipd/2 for the left eye, +ipd/2 for the right. */
 struct hmd_eye {
@@ -62,7 +72,7 @@ void hmd_eye_projection(const struct hmd_eye *eye, double near_m, double far_m, 
 enum { HMD_PROFILE_MAX_BYTES = 1 << 20 };
 
 /* Resets *p to an empty profile with the defaults a JSON file may omit: IPD 0.063 m, no distortion
- * (k all 0), no aberration (1, 1, 1), no ξ override. Name, pixels, FOV and refresh are zero. */
+ * (k all 0), no aberration (1, 1, 1), no ξ override, the default neck-to-eye offset. Name, pixels, FOV and refresh are zero. */
 void hmd_profile_defaults(struct hmd_profile *p);
 
 /* Sets a symmetric FOV of h_deg × v_deg (full angles, degrees): every tangent is tan(angle/2).

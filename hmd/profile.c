@@ -12,6 +12,13 @@ void hmd_profile_defaults(struct hmd_profile *p)
     memset(p, 0, sizeof *p);
     p->ipd_m = 0.063;
     p->aberration[0] = p->aberration[1] = p->aberration[2] = 1.0;
+    p->neck_to_eye_m[0] = HMD_NECK_TO_EYE_FORWARD_M;
+    p->neck_to_eye_m[1] = HMD_NECK_TO_EYE_UP_M;
+}
+
+hl_vec3d hmd_neck_to_eye_head(const struct hmd_profile *p)
+{
+    return hl_v3(0.0, p->neck_to_eye_m[1], -p->neck_to_eye_m[0]);
 }
 
 void hmd_set_symmetric_fov_deg(struct hmd_profile *p, double h_deg, double v_deg)
@@ -69,6 +76,10 @@ int hmd_profile_validate(const struct hmd_profile *p, const char *where, struct 
         return hl_fail(err, "%s: field 'refresh_hz': expected a finite number > 0 (got %g)", where, p->refresh_hz);
     if (!(isfinite(p->ipd_m) && p->ipd_m >= 0 && p->ipd_m < 0.1))
         return hl_fail(err, "%s: field 'ipd_m': expected metres in [0, 0.1) (got %g)", where, p->ipd_m);
+    /* hypot of two finite numbers is finite; a NaN fails the comparison. */
+    if (!(hypot(p->neck_to_eye_m[0], p->neck_to_eye_m[1]) < HMD_NECK_TO_EYE_MAX_M))
+        return hl_fail(err, "%s: field 'neck_to_eye_m': expected [forward, up] metres, finite, length below %g (got %g, %g)",
+                       where, HMD_NECK_TO_EYE_MAX_M, p->neck_to_eye_m[0], p->neck_to_eye_m[1]);
     for (int i = 0; i < 4; ++i)
         if (!isfinite(p->distortion_k[i]))
             return hl_fail(err, "%s: field 'distortion_k': coefficients must be finite", where);

@@ -14,11 +14,11 @@
 
 enum field_id {
     F_FORMAT, F_NAME, F_DESCRIPTION, F_EYE_PIXELS, F_FOV_DEG, F_FOV_TANGENTS, F_REFRESH, F_IPD,
-    F_DISTORTION, F_ABERRATION, F_XI, F_COUNT
+    F_DISTORTION, F_ABERRATION, F_XI, F_NECK, F_COUNT
 };
 static const char *const g_keys[F_COUNT] = {
     "format", "name", "description", "eye_pixels", "fov_deg", "fov_tangents", "refresh_hz", "ipd_m",
-    "distortion_k", "aberration", "xi_cpd",
+    "distortion_k", "aberration", "xi_cpd", "neck_to_eye_m",
 };
 
 /* Reads the whole file (at most HMD_PROFILE_MAX_BYTES) into a NUL-terminated buffer. */
@@ -148,7 +148,8 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
         if (k < 0)
             return hl_fail(err,
                            "%s: field '%.40s': unknown key (known: format, name, description, eye_pixels, "
-                           "fov_deg, fov_tangents, refresh_hz, ipd_m, distortion_k, aberration, xi_cpd)",
+                           "fov_deg, fov_tangents, refresh_hz, ipd_m, distortion_k, aberration, xi_cpd, "
+                           "neck_to_eye_m)",
                            path, c->string ? c->string : "");
         if (field[k])
             return hl_fail(err, "%s: field '%s': duplicate key", path, g_keys[k]);
@@ -206,6 +207,10 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
         return hl_fail(err, "%s: field 'aberration': expected three finite numbers > 0 [r, g, b]", path);
     if (field[F_XI] && (!get_finite(field[F_XI], &p->xi_override_cpd) || !(p->xi_override_cpd > 0)))
         return hl_fail(err, "%s: field 'xi_cpd': expected a finite number > 0 (cycles/degree)", path);
+    if (field[F_NECK] && (!get_number_array(field[F_NECK], 2, p->neck_to_eye_m) ||
+                          !(hypot(p->neck_to_eye_m[0], p->neck_to_eye_m[1]) < HMD_NECK_TO_EYE_MAX_M)))
+        return hl_fail(err, "%s: field 'neck_to_eye_m': expected [forward, up] metres, length below %g", path,
+                       HMD_NECK_TO_EYE_MAX_M);
 
     /* The tangent form can still reach 180° per axis (atan of huge values rounds to 90°). */
     return hmd_profile_validate(p, path, err);

@@ -53,6 +53,42 @@ static void eye_views(const struct rpl_session *s, const struct trk_pose *pose, 
     }
 }
 
+/* Orientation-only poses pivot about the neck at the origin; a pose with a position gives the eyes'
+ * position already (a headset tracks its display, which sits at the eyes): docs/gaze.md. */
+static void head_state_of(const struct rpl_session *s, const struct trk_pose *pose, struct acu_head_state *h)
+{
+    hl_vec3d offset = pose->has_position ? hl_v3(0, 0, 0) : s->neck_to_eye_head_m;
+    hl_vec3d position = pose->has_position ? pose->position_m : hl_v3(0, 0, 0);
+    hl_vec3d velocity = pose->has_position ? pose->linear_velocity_mps : hl_v3(0, 0, 0);
+    acu_head_state_from_neck(pose->orientation, position, velocity, pose->angular_velocity_radps, offset, h);
+}
+
+int rpl_frame_head_state(struct rpl_session *s, double time_s, struct trk_pose *eye_pose,
+                         struct acu_head_state *head, struct hl_error *err)
+{
+    if (trk_source_pose_at(s->source, time_s, eye_pose, err) != 0)
+        return -1;
+    head_state_of(s, eye_pose, head);
+    if (eye_pose->has_gaze) {
+        head->has_gaze = 1;
+        head->gaze_dir = hl_v3_normalize(hl_q_rotate(eye_pose->orientation, eye_pose->gaze_dir_head));
+        head->gaze_angular_velocity_radps = eye_pose->gaze_angular_velocity_radps;
+    }
+    if (s->gaze == ACU_GAZE_VOR && s->vor.latency_s > 0.0) {
+        /* The reflex acts on what the head did latency_s ago; a recorded source can be sampled at
+         * any time (clamped to its first pose at the start). */
+        struct trk_pose past;
+        struct acu_head_state was;
+        if (trk_source_pose_at(s->source, time_s - s->vor.latency_s, &past, err) != 0)
+            return -1;
+        head_state_of(s, &past, &was);
+        head->delayed_angular_velocity_radps = was.angular_velocity_radps;
+        head->delayed_eye_velocity_mps = was.eye_velocity_mps;
+    }
+    eye_pose->position_m = head->eye_position_m;
+    return 0;
+}
+
 /* The eyes as acuity/ sees them for projected coverage: the views' poses, the frusta, the image. */
 static void acuity_eyes(const struct rpl_session *s, const struct rnd_eye_view views[2], struct acu_eye eyes[2])
 {
@@ -78,11 +114,10 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
     rec->time_s = time_s;
 
     int64_t t0 = hl_clock_now_ns();
-    struct trk_pose pose;
-    if (trk_source_pose_at(s->source, time_s, &pose, err) != 0)
+    struct trk_pose pose; /* position_m: the cyclopean eye, for the cull, the geometry and the views */
+    struct acu_head_state head;
+    if (rpl_frame_head_state(s, time_s, &pose, &head, err) != 0)
         return -1;
-    if (!pose.has_position)
-        pose.position_m = hl_v3(0, 0, 0);
     rec->head_speed_degps = hl_v3_length(pose.angular_velocity_radps) * HL_DEG_PER_RAD;
     rpl_select_saccade(&s->select, &pose, time_s); /* saccade suppression (replay/saccade_step.c) */
     const double *object_velocity_mps = rpl_motion_step(&s->scene, time_s); /* NULL: static scene */
@@ -92,13 +127,11 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
     rec->visible = n;
     rec->cull_groups_tested = cull.groups_tested;
     rec->cull_instances_tested = cull.instances_tested;
-    struct acu_viewer viewer = {
-        .eye_position_m = pose.position_m,
-        .gaze_dir = hl_v3_normalize(hl_q_rotate(pose.orientation, pose.has_gaze ? pose.gaze_dir_head
-                                                                                : hl_v3(0, 0, -1))),
-        .angular_velocity_radps = pose.angular_velocity_radps,
-        .linear_velocity_mps = hl_v3(0, 0, 0),
-    };
+    struct acu_viewer viewer;
+    /* −1 only for tracked on a sample without a gaze (a trace without any is refused at start):
+     * that frame falls back to vor, as acu_gaze_viewer fills it. */
+    (void)acu_gaze_viewer(s->gaze, &s->vor, &head, &viewer);
+    rec->eye_speed_degps = hl_v3_length(viewer.angular_velocity_radps) * HL_DEG_PER_RAD;
     acu_compute_geometry(&viewer, s->scene.center_m, s->scene.radius_m, object_velocity_mps, a->visible, n,
                          a->eccentricity_deg, a->velocity_degps, a->diameter_deg);
     int64_t t1 = hl_clock_now_ns();

@@ -21,7 +21,8 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
     for (int k = 0; k < max_lods; ++k)
         fprintf(o->csv, ",lod%d", k);
     fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
-          "over_budget,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,acuity_us,select_us,optimizer_us,draw_ms,frame_ms,deadline_met\n", o->csv);
+          "over_budget,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,acuity_us,select_us,"
+          "optimizer_us,draw_ms,frame_ms,deadline_met\n", o->csv);
     return 0;
 }
 
@@ -40,6 +41,8 @@ void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int 
     else
         fputs(",,", o->csv);
     fprintf(o->csv, ",%u,%u,%d,%d", q->lod_changes, q->iterations, q->truncated, q->over_budget);
+    /* The eye's angular speed in the world under the gaze model (deterministic). */
+    fprintf(o->csv, ",%.3f", r->eye_speed_degps);
     fprintf(o->csv, ",%.3f,%d,%u,%d", q->gaze_speed_degps, q->saccade_phase, q->refine_pending,
             q->refine_miss); /* saccade_step.c */
     /* The timings last: everything before them is deterministic (the optimizer's budget aside, which
@@ -147,6 +150,7 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
     a->band_frames[band]++;
     a->band_triangles[band] += (double)r->triangles_per_eye;
     a->band_finest[band] += (double)r->triangles_finest;
+    a->eye_speed_sum += r->eye_speed_degps;
     ++a->n;
     double delta = r->frame_ms - a->frame_mean;
     a->frame_mean += delta / (double)a->n;
@@ -202,6 +206,7 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     s->select_us_mean = a->select_sum / n;
     s->acuity_evaluations_mean = a->evals_sum / n;
     s->visible_mean = a->visible_sum / n;
+    s->eye_speed_degps_mean = a->eye_speed_sum / n;
     s->cull_groups_tested_mean = a->cull_groups_sum / n;
     s->cull_instances_tested_mean = a->cull_instances_sum / n;
     s->triangles_per_eye_mean = a->triangles_sum / n;
@@ -236,6 +241,17 @@ int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddStringToObject(root, "display", s->display);
     cJSON_AddStringToObject(root, "selector", s->selector);
     cJSON_AddStringToObject(root, "renderer", s->renderer);
+    cJSON *gaze = cJSON_AddObjectToObject(root, "gaze");
+    cJSON_AddStringToObject(gaze, "model", s->gaze);
+    cJSON_AddNumberToObject(gaze, "fixation_m", s->fixation_m);
+    cJSON_AddNumberToObject(gaze, "vor_gain", s->vor_gain);
+    cJSON_AddNumberToObject(gaze, "vor_latency_ms", s->vor_latency_ms);
+    cJSON *neck = cJSON_AddArrayToObject(gaze, "neck_to_eye_m");
+    cJSON_AddItemToArray(neck, cJSON_CreateNumber(s->trace_has_position ? 0.0 : s->neck_to_eye_m[0]));
+    cJSON_AddItemToArray(neck, cJSON_CreateNumber(s->trace_has_position ? 0.0 : s->neck_to_eye_m[1]));
+    cJSON_AddBoolToObject(gaze, "trace_has_position", s->trace_has_position);
+    cJSON_AddBoolToObject(gaze, "trace_has_gaze", s->trace_has_gaze);
+    cJSON_AddNumberToObject(gaze, "eye_speed_degps_mean", s->eye_speed_degps_mean);
     cJSON_AddNumberToObject(root, "frames", (double)s->frames);
     cJSON_AddNumberToObject(root, "budget_ms", s->budget_ms);
     cJSON_AddNumberToObject(root, "frame_ms_mean", s->frame_ms_mean);
@@ -330,6 +346,17 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
     fprintf(f, "\n%s on %s, selector %s, %ld frames (renderer: %s)\n", s->scene, s->display, s->selector,
             s->frames, s->renderer);
     fprintf(f, "  %-34s %10.3f ms; cost model: %s\n", "budget", s->budget_ms, s->cost_profile);
+    if (strcmp(s->gaze, "vor") == 0)
+        fprintf(f, "  %-34s %10s, fixation %.3g m, gain %.3g, latency %.3g ms\n", "gaze model", s->gaze,
+                s->fixation_m, s->vor_gain, s->vor_latency_ms);
+    else
+        fprintf(f, "  %-34s %10s\n", "gaze model", s->gaze);
+    if (s->trace_has_position)
+        fprintf(f, "  %-34s %10s\n", "eyes", "the trace's positions");
+    else
+        fprintf(f, "  %-34s %10.1f forward, %.1f up (mm)\n", "eyes from the neck pivot", 1e3 * s->neck_to_eye_m[0],
+                1e3 * s->neck_to_eye_m[1]);
+    fprintf(f, "  %-34s %10.1f deg/s\n", "eye angular speed mean (world)", s->eye_speed_degps_mean);
     fprintf(f, "  %-34s %10.3f / %.3f / %.3f ms\n", "frame time mean / max / stddev", s->frame_ms_mean,
             s->frame_ms_max, s->frame_ms_stddev);
     fprintf(f, "  %-34s %10.3f / %.3f / %.3f ms\n", "frame time median / p95 / p99", s->frame_ms_median,

@@ -98,7 +98,7 @@ struct rpl_options {
     /* Gaze models (acuity/gaze.h; docs/gaze.md) */
     const char *gaze;        /* NULL/"auto" (default): tracked when the trace has gaze, else vor;
                               * or "head" | "vor" | "tracked" */
-    double vor_gain;         /* ≤ 0 → acu_vor_params_default's */
+    double vor_gain;         /* < 0 → acu_vor_params_default's; 0 … 1.2 */
     double vor_latency_ms;   /* < 0 → default */
     double fixation_m;       /* ≤ 0 → the scene's default fixation distance */
     double saccade_onset_degps; /* ≤ 0 → acu_saccade_params_default's */
@@ -138,6 +138,12 @@ struct rpl_summary {
     char cost_profile[160];
     long band_frames[RPL_SPEED_BAND_COUNT];
     double band_triangle_share[RPL_SPEED_BAND_COUNT]; /* triangles drawn / finest, per band */
+    /* the gaze model used (acuity/gaze.h) and its parameters; the eye's mean angular speed */
+    char gaze[16];
+    double fixation_m, vor_gain, vor_latency_ms;
+    double neck_to_eye_m[2];   /* the display's, used where the trace has no positions */
+    int trace_has_position, trace_has_gaze;
+    double eye_speed_degps_mean;
     char renderer[128];
     char selector[16], scene[256], display[64];
     /* saccades (replay/saccade_step.c; docs/gaze.md), only when the trace has gaze (gaze_frames > 0) */

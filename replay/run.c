@@ -22,6 +22,7 @@ void rpl_options_defaults(struct rpl_options *o)
     o->static_px_per_triangle = 64.0;
     o->cost_correction = 1;
     o->gaze = "auto";
+    o->vor_gain = -1.0;
     o->vor_latency_ms = -1.0;
 }
 
@@ -70,6 +71,15 @@ static int check_options(const struct rpl_options *o, enum rpl_selector *selecto
         return hl_fail(err, "--render-scale: %g is outside (0, 4]", o->render_scale);
     if (o->frames < 0 || o->capture_every < 0)
         return hl_fail(err, "--frames and --capture must be >= 0");
+    enum acu_gaze_model model;
+    if (o->gaze && strcmp(o->gaze, "auto") != 0 && acu_gaze_model_parse(o->gaze, &model) != 0)
+        return hl_fail(err, "--gaze: '%s' is not a gaze model (auto, head, vor, tracked)", o->gaze);
+    if (!(o->vor_gain <= 1.2) || !isfinite(o->vor_gain))
+        return hl_fail(err, "--vor-gain: %g is outside [0, 1.2]", o->vor_gain);
+    if (!(o->vor_latency_ms <= 100.0) || !isfinite(o->vor_latency_ms))
+        return hl_fail(err, "--vor-latency-ms: %g ms is outside [0, 100]", o->vor_latency_ms);
+    if (!(o->fixation_m <= 1e6) || isnan(o->fixation_m))
+        return hl_fail(err, "--fixation-m: %g m is outside (0, 1e6]", o->fixation_m);
     return 0;
 }
 
@@ -78,6 +88,63 @@ int rpl_scene_is_file(const char *scene)
     size_t len = scene ? strlen(scene) : 0;
     struct stat st;
     return (len > 5 && strcmp(scene + len - 5, ".json") == 0) || (len > 0 && stat(scene, &st) == 0 && S_ISREG(st.st_mode));
+}
+
+static int compare_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The VOR's default fixation distance: the median distance from the first frame's eye to the
+ * instances' bounding spheres (0 inside one), clamped to [0.5, 50] m — a viewer fixates what the
+ * scene holds, neither the headset's lens nor the horizon. Computed once at load. */
+static int scene_fixation_m(const struct scn_scene *scene, hl_vec3d eye_m, double *out, struct hl_error *err)
+{
+    uint32_t n = scene->instance_count;
+    *out = 50.0;
+    if (n == 0)
+        return 0;
+    double *d = malloc((size_t)n * sizeof *d);
+    if (!d)
+        return hl_fail(err, "out of memory for the fixation distance of %u objects", n);
+    for (uint32_t i = 0; i < n; ++i) {
+        const double *c = &scene->center_m[3 * i];
+        double r = hl_v3_length(hl_v3_sub(hl_v3(c[0], c[1], c[2]), eye_m)) - scene->radius_m[i];
+        d[i] = r > 0.0 ? r : 0.0;
+    }
+    qsort(d, n, sizeof *d, compare_double);
+    double median = n % 2 ? d[n / 2] : 0.5 * (d[n / 2 - 1] + d[n / 2]);
+    free(d);
+    *out = fmin(fmax(median, 0.5), 50.0);
+    return 0;
+}
+
+/* Resolves the model (auto: tracked when the trace has gaze, else vor), the VOR's parameters and
+ * the eyes' offset; needs the source and the scene. */
+static int session_gaze(struct rpl_session *s, const struct rpl_options *o, int trace_has_gaze, struct hl_error *err)
+{
+    if (!o->gaze || strcmp(o->gaze, "auto") == 0)
+        s->gaze = trace_has_gaze ? ACU_GAZE_TRACKED : ACU_GAZE_VOR;
+    else if (acu_gaze_model_parse(o->gaze, &s->gaze) != 0)
+        return hl_fail(err, "--gaze: '%s' is not a gaze model (auto, head, vor, tracked)", o->gaze);
+    if (s->gaze == ACU_GAZE_TRACKED && !trace_has_gaze)
+        return hl_fail(err, "--gaze tracked: %s has no gaze columns (use --gaze vor or head)",
+                       o->raw_path ? o->raw_path : o->trace_path ? o->trace_path : "the built-in clip");
+    s->neck_to_eye_head_m = hmd_neck_to_eye_head(&s->display);
+    struct trk_pose start;
+    struct acu_head_state head;
+    if (rpl_frame_head_state(s, s->source->start_time_s, &start, &head, err) != 0)
+        return -1;
+    double fixation_m = o->fixation_m;
+    if (!(fixation_m > 0.0) && scene_fixation_m(&s->scene, head.eye_position_m, &fixation_m, err) != 0)
+        return -1;
+    acu_vor_params_default(&s->vor, fixation_m);
+    if (o->vor_gain >= 0.0)
+        s->vor.gain = o->vor_gain;
+    if (o->vor_latency_ms >= 0.0)
+        s->vor.latency_s = o->vor_latency_ms * 1e-3;
+    return 0;
 }
 
 static int session_open(struct rpl_session *s, const struct rpl_options *o, struct hl_error *err)
@@ -96,7 +163,11 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     int rc = o->raw_path     ? rpl_trace_from_recording(o->raw_path, &trace, err)
              : o->trace_path ? rpl_trace_load(o->trace_path, &trace, err)
                              : rpl_trace_builtin_clip(&trace, err);
-    if (rc != 0 || rpl_trace_source_create(&trace, &s->source, err) != 0)
+    if (rc != 0)
+        return -1;
+    s->trace_has_gaze = trace.gaze_dir != NULL;
+    s->trace_has_position = trace.position_m != NULL;
+    if (rpl_trace_source_create(&trace, &s->source, err) != 0)
         return -1;
 
     if (rpl_scene_is_file(o->scene)) {
@@ -109,7 +180,7 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
         if (scn_scene_build(o->scene, &params, &s->scene, err) != 0)
             return -1;
     }
-    if (scn_culler_init(&s->culler, &s->scene, err) != 0)
+    if (scn_culler_init(&s->culler, &s->scene, err) != 0 || session_gaze(s, o, s->trace_has_gaze, err) != 0)
         return -1;
     /* The measured tables (cached after the first run); selector none and the geometric reading
      * never read them. */
@@ -269,6 +340,14 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     summary->scene_groups = s.scene.group_count;
     rpl_resident_memory(&summary->vm_hwm_kib, &summary->vm_rss_kib);
     snprintf(summary->display, sizeof summary->display, "%s", s.display.name);
+    snprintf(summary->gaze, sizeof summary->gaze, "%s", acu_gaze_model_name(s.gaze));
+    summary->fixation_m = s.vor.fixation_m;
+    summary->vor_gain = s.vor.gain;
+    summary->vor_latency_ms = s.vor.latency_s * 1e3;
+    summary->neck_to_eye_m[0] = s.display.neck_to_eye_m[0];
+    summary->neck_to_eye_m[1] = s.display.neck_to_eye_m[1];
+    summary->trace_has_position = s.trace_has_position;
+    summary->trace_has_gaze = s.trace_has_gaze;
     rc = rpl_summary_write_json(o->out_dir, summary, err);
     if (rc == 0 && !o->quiet)
         rpl_summary_print(stdout, summary);

@@ -23,6 +23,7 @@ struct rpl_frame_record {
     long frame;
     double time_s;
     double head_speed_degps;
+    double eye_speed_degps; /* the eye's angular speed in the world under the gaze model */
     uint32_t visible;
     uint32_t cull_groups_tested, cull_instances_tested; /* scn_cull_stats (summary only, not the CSV) */
     uint64_t acuity_evaluations;
@@ -50,7 +51,19 @@ struct rpl_session {
     double near_m, far_m;
     struct rpl_cull_frustum cull_frustum; /* computed once per session: no square roots per frame */
     struct scn_culler culler; /* the hierarchical cull's scratch, sized when the scene loads */
+    /* Gaze (acuity/gaze.h, docs/gaze.md): the model, the VOR's parameters with the fixation
+     * distance, and the eyes' offset from the neck for traces without positions (zero otherwise). */
+    enum acu_gaze_model gaze;
+    struct acu_vor_params vor;
+    hl_vec3d neck_to_eye_head_m;
+    int trace_has_gaze, trace_has_position;
 };
+
+/* The head's state at time_s for the session's gaze model: eyes from the neck model (or the trace's
+ * position), the measured gaze, and for the VOR the head latency_s earlier. Also the pose whose
+ * position is the cyclopean eye, for the cull and the eye views. */
+int rpl_frame_head_state(struct rpl_session *s, double time_s, struct trk_pose *eye_pose,
+                         struct acu_head_state *head, struct hl_error *err);
 
 /* Culls, computes viewing geometry, selects and draws one frame at `time_s`. */
 int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_frame_record *rec,
@@ -72,6 +85,7 @@ int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct 
 struct rpl_accumulator {
     long n;
     double frame_mean, frame_m2, frame_max;
+    double eye_speed_sum;
     double draw_sum, acuity_sum, select_sum, evals_sum, visible_sum;
     double cull_groups_sum, cull_instances_sum;
     double triangles_sum, finest_sum;

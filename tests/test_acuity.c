@@ -166,6 +166,31 @@ static void test_geometry(void)
     CHECK_NEAR(vel[0], 0.0, 1e-9);
 }
 
+/* The eye's own linear velocity (gaze models: head translation and the swing about the neck) enters
+ * as motion relative to the eye: an object moving with the eye holds still, a still one 4 m ahead
+ * slides at |v|/r, against the eye's motion. */
+static void test_geometry_eye_velocity(void)
+{
+    const double center[] = {0, 0, -4, 2, 0, -4};
+    const double radius[] = {0.1, 0.1};
+    const double with_eye[] = {0.5, 0, 0, 0.5, 0, 0};
+    const uint32_t index[] = {0, 1};
+    double ecc[2], vel[2], diam[2];
+    struct acu_viewer viewer = {
+        .eye_position_m = hl_v3(0, 0, 0),
+        .gaze_dir = hl_v3(0, 0, -1),
+        .angular_velocity_radps = hl_v3(0, 0, 0),
+        .linear_velocity_mps = hl_v3(0.5, 0, 0),
+    };
+    acu_compute_geometry(&viewer, center, radius, with_eye, index, 2, ecc, vel, diam);
+    CHECK_NEAR(vel[0], 0.0, 1e-12);
+    CHECK_NEAR(vel[1], 0.0, 1e-12);
+    acu_compute_geometry(&viewer, center, radius, NULL, index, 2, ecc, vel, diam);
+    CHECK_NEAR(vel[0], 0.125 * HL_DEG_PER_RAD, 1e-9);
+    /* the second is 2 m aside at 4 m ahead: r = √20, u⊥ = 0.5·(4/√20) */
+    CHECK_NEAR(vel[1], 0.5 * (4.0 / sqrt(20.0)) / sqrt(20.0) * HL_DEG_PER_RAD, 1e-9);
+}
+
 /* Projected coverage against pixels counted one by one: a pixel is covered when its ray through the
  * pixel centre passes within the sphere (the exact silhouette). The estimate is the silhouette's
  * exact bounding box × π/4 (rising to 1 as the image clips the box): exact on the view axis, within
@@ -237,6 +262,7 @@ int main(void)
     test_hard_cases();
     test_skip_region();
     test_geometry();
+    test_geometry_eye_velocity();
     test_pixels();
     return tu_finish("test_acuity");
 }

@@ -272,6 +272,8 @@ static const struct bad_case g_bad[] = {
     {"invalid_duplicate_key.json", "'name'"},
     {"invalid_json.json", "not valid JSON near byte"},
     {"invalid_truncated.json", "not valid JSON near byte"},
+    {"invalid_neck_long.json", "'neck_to_eye_m'"},
+    {"invalid_neck_shape.json", "'neck_to_eye_m'"},
 };
 
 static void test_json_invalid(void)
@@ -295,6 +297,35 @@ static void test_json_invalid(void)
     CHECK(strcmp(err.msg, want) == 0);
     hmd_profile_load_json(fixture("invalid_json.json"), &p, &err);
     CHECK(strstr(err.msg, "near byte 80") != NULL); /* the second ',' of ",," */
+}
+
+/* The eyes' offset from the neck (docs/display-profile.md): every built-in and a file without the
+ * key get the Oculus SDK's 80.5 mm forward, 75 mm up; a file may set it; validation refuses NaN and
+ * lengths of 0.3 m or more; the head-frame vector points forward (−Z) and up (+Y). */
+static void test_neck_to_eye(void)
+{
+    for (int i = 0; i < hmd_builtin_count(); ++i) {
+        const struct hmd_profile *b = hmd_builtin_at(i);
+        CHECK_NEAR(b->neck_to_eye_m[0], 0.0805, 0);
+        CHECK_NEAR(b->neck_to_eye_m[1], 0.075, 0);
+    }
+    struct hmd_profile p;
+    struct hl_error err = {{0}};
+    CHECK(hmd_profile_load_json(fixture("valid_tangents.json"), &p, &err) == 0);
+    CHECK_NEAR(p.neck_to_eye_m[0], 0.0805, 0);
+    CHECK(hmd_profile_load_json(fixture("valid_neck.json"), &p, &err) == 0);
+    CHECK_NEAR(p.neck_to_eye_m[0], 0.09, 0);
+    CHECK_NEAR(p.neck_to_eye_m[1], 0.06, 0);
+    hl_vec3d v = hmd_neck_to_eye_head(&p);
+    CHECK(v.x == 0.0 && v.y == 0.06 && v.z == -0.09);
+    CHECK(hmd_profile_validate(&p, "t", &err) == 0);
+    p.neck_to_eye_m[1] = NAN;
+    CHECK(hmd_profile_validate(&p, "t", &err) != 0 && strstr(err.msg, "t: field 'neck_to_eye_m'"));
+    p.neck_to_eye_m[1] = 0.0;
+    p.neck_to_eye_m[0] = -0.3;
+    CHECK(hmd_profile_validate(&p, "t", &err) != 0 && strstr(err.msg, "'neck_to_eye_m'"));
+    p.neck_to_eye_m[0] = -0.29;
+    CHECK(hmd_profile_validate(&p, "t", &err) == 0);
 }
 
 /* Every prefix of a valid profile fails cleanly or parses; a file over the size limit is refused. */
@@ -364,5 +395,6 @@ int main(void)
     test_json_valid();
     test_json_invalid();
     test_json_truncation_and_size();
+    test_neck_to_eye();
     return tu_finish("test_hmd");
 }

@@ -60,6 +60,7 @@ static int run(const char *selector, const char *dir, struct rpl_summary *s)
     rpl_options_defaults(&o);
     o.selector = selector;
     o.out_dir = dir;
+    o.gaze = "head"; /* the velocity term's check below needs the head-locked eye (docs/gaze.md) */
     o.render_scale = 0.25; /* the pixels do not matter here; the selection does */
     o.capture_every = 200;
     o.quiet = 1;

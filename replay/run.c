@@ -222,7 +222,7 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     s->select.static_px = o->static_px_per_triangle;
     s->select.correct = o->cost_correction;
     s->select.saccade_onset_degps = o->saccade_onset_degps; /* replay/saccade_step.c */
-    s->select.saccade_off = o->gaze && (!strcmp(o->gaze, "head") || !strcmp(o->gaze, "vor")); /* no eye tracker */
+    s->select.saccade_off = s->gaze != ACU_GAZE_TRACKED; /* head, vor: no eye tracker, no saccades known */
     if (rpl_cost_model_load(o->cost_profile, &s->select.cost, s->cost_label, sizeof s->cost_label, err) != 0 ||
         rpl_select_init(&s->select, &s->scene, err) != 0)
         return -1;

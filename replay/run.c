@@ -120,17 +120,23 @@ static int scene_fixation_m(const struct scn_scene *scene, hl_vec3d eye_m, doubl
     return 0;
 }
 
-/* Resolves the model (auto: tracked when the trace has gaze, else vor), the VOR's parameters and
- * the eyes' offset; needs the source and the scene. */
-static int session_gaze(struct rpl_session *s, const struct rpl_options *o, int trace_has_gaze, struct hl_error *err)
+/* The model: auto is tracked when the trace has gaze, else vor; tracked without gaze is refused
+ * before the scene is built. */
+static int session_gaze_model(struct rpl_session *s, const struct rpl_options *o, struct hl_error *err)
 {
     if (!o->gaze || strcmp(o->gaze, "auto") == 0)
-        s->gaze = trace_has_gaze ? ACU_GAZE_TRACKED : ACU_GAZE_VOR;
+        s->gaze = s->trace_has_gaze ? ACU_GAZE_TRACKED : ACU_GAZE_VOR;
     else if (acu_gaze_model_parse(o->gaze, &s->gaze) != 0)
         return hl_fail(err, "--gaze: '%s' is not a gaze model (auto, head, vor, tracked)", o->gaze);
-    if (s->gaze == ACU_GAZE_TRACKED && !trace_has_gaze)
+    if (s->gaze == ACU_GAZE_TRACKED && !s->trace_has_gaze)
         return hl_fail(err, "--gaze tracked: %s has no gaze columns (use --gaze vor or head)",
                        o->raw_path ? o->raw_path : o->trace_path ? o->trace_path : "the built-in clip");
+    return 0;
+}
+
+/* The VOR's parameters and the eyes' offset; needs the source and the scene. */
+static int session_gaze_params(struct rpl_session *s, const struct rpl_options *o, struct hl_error *err)
+{
     s->neck_to_eye_head_m = hmd_neck_to_eye_head(&s->display);
     struct trk_pose start;
     struct acu_head_state head;
@@ -167,7 +173,7 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
         return -1;
     s->trace_has_gaze = trace.gaze_dir != NULL;
     s->trace_has_position = trace.position_m != NULL;
-    if (rpl_trace_source_create(&trace, &s->source, err) != 0)
+    if (rpl_trace_source_create(&trace, &s->source, err) != 0 || session_gaze_model(s, o, err) != 0)
         return -1;
 
     if (rpl_scene_is_file(o->scene)) {
@@ -180,7 +186,7 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
         if (scn_scene_build(o->scene, &params, &s->scene, err) != 0)
             return -1;
     }
-    if (scn_culler_init(&s->culler, &s->scene, err) != 0 || session_gaze(s, o, s->trace_has_gaze, err) != 0)
+    if (scn_culler_init(&s->culler, &s->scene, err) != 0 || session_gaze_params(s, o, err) != 0)
         return -1;
     /* The measured tables (cached after the first run); selector none and the geometric reading
      * never read them. */

@@ -235,6 +235,27 @@ expect_error "calibrate unknown display" "nope" -- "$bin" calibrate --quick --di
 expect_error "calibrate unknown option" "unknown option '--fast'" -- "$bin" calibrate --fast --out "$tmp/c.json"
 [ ! -e "$tmp/c.json" ] || fail "a refused calibrate left its output"
 
+# Gaze models (docs/gaze.md): bad values are refused with one message and no output; tracked needs a
+# trace with gaze; the summary names the model used (auto: vor without gaze, tracked with it).
+expect_error "replay bad --gaze" "--gaze: 'eyes' is not a gaze model" -- "$bin" replay --gaze eyes --out "$tmp/gz"
+expect_error "replay bad --vor-gain" "--vor-gain: 1.5 is outside" -- "$bin" replay --vor-gain 1.5 --out "$tmp/gz"
+expect_error "replay bad --vor-latency-ms" "--vor-latency-ms: -2 is outside" -- "$bin" replay --vor-latency-ms -2 --out "$tmp/gz"
+expect_error "replay bad --fixation-m" "--fixation-m: 0 is not a distance" -- "$bin" replay --fixation-m 0 --out "$tmp/gz"
+expect_error "replay --gaze tracked without gaze" "--gaze tracked: .*turn.csv has no gaze" -- "$bin" replay \
+  --trace "$tmp/turn.csv" --gaze tracked --out "$tmp/gz"
+[ ! -e "$tmp/gz" ] || fail "a refused gaze option left its output folder"
+printf '{"name": "n", "eye_pixels": [100, 100], "fov_deg": [90, 90], "refresh_hz": 60, "neck_to_eye_m": [0.3, 0]}\n' \
+  >"$tmp/neck.json"
+expect_error "replay with a long neck" "neck.json: field 'neck_to_eye_m'" -- "$bin" replay --display "$tmp/neck.json" --out "$tmp/gz"
+expect_ok "replay auto gaze without gaze" "gaze model +vor, fixation" -- "$bin" replay --trace "$tmp/turn.csv" \
+  --scene field --frames 20 --render-scale 0.25 --out "$tmp/gz-auto"
+expect_ok "replay auto gaze with gaze" "gaze model +tracked" -- "$bin" replay --trace "$tmp/gaze-side.csv" \
+  --scene field --frames 20 --render-scale 0.25 --out "$tmp/gz-tracked"
+expect_ok "replay --gaze vor flags" "gain 0.8, latency 20 ms" -- "$bin" replay --trace "$tmp/turn.csv" --scene field \
+  --gaze vor --vor-gain 0.8 --vor-latency-ms 20 --fixation-m 3 --frames 20 --render-scale 0.25 --out "$tmp/gz-vor"
+grep -Eq '"model":[[:space:]]*"vor"' "$tmp/gz-vor/summary.json" && grep -Eq '"fixation_m":[[:space:]]*3,' "$tmp/gz-vor/summary.json" \
+  || fail "summary.json does not name the gaze model and fixation"
+expect_ok "display shows the neck offset" "eyes from the neck pivot \(mm\) +80.5 forward, 75.0 up" -- "$bin" display show vive
 # Saccades (replay/saccade_step.c): the onset flag is checked; the EDVAM log loads as it is and the
 # summary reports its saccades.
 expect_error "replay bad --saccade-onset-degps" "--saccade-onset-degps: -5 is not a speed" -- "$bin" replay \

@@ -1,4 +1,5 @@
-/* replay: sessions over time. Head-motion trace formats (the project's CSV and Corbillon MMSys'18),
+/* replay: sessions over time. Head-motion trace formats (the project's CSV, Corbillon MMSys'18,
+ * Nasrabadi MMSys'19, the EDVAM eye-tracker log),
  * resampling by slerp with sane angular velocity, the trace pose source, the frame loop on a
  * virtual clock, per-frame CSV and summaries. Prefix rpl_. The only module that joins the others. */
 #ifndef HMDLOD_REPLAY_H
@@ -12,7 +13,12 @@
 #include "replay/cost.h"
 
 /* ---- traces --------------------------------------------------------------------------------- */
-enum rpl_trace_format { RPL_TRACE_HMDLOD_CSV = 0, RPL_TRACE_CORBILLON = 1, RPL_TRACE_NASRABADI = 2 };
+enum rpl_trace_format {
+    RPL_TRACE_HMDLOD_CSV = 0,
+    RPL_TRACE_CORBILLON = 1,
+    RPL_TRACE_NASRABADI = 2,
+    RPL_TRACE_EDVAM = 3 /* EDVAM eye-tracker log: camera pose + 3D point of gaze (docs/trace-format.md §2c) */
+};
 
 /* What loading found and did (docs/trace-format.md lists each rule). */
 struct rpl_trace_report {
@@ -23,10 +29,18 @@ struct rpl_trace_report {
     double longest_gap_s;
     size_t speed_outliers;    /* samples whose step speed exceeds RPL_TRACE_OUTLIER_DEGPS (marked) */
     double max_step_speed_degps;
+    size_t repeated_timestamps; /* rows whose time equalled the previous row's (spread, kept) */
+    size_t timestamp_runs;    /* runs of ≥ 2 rows sharing one time */
+    double timestamp_step_s;  /* median step between distinct times, the spread's limit; 0 if no runs */
+    size_t low_confidence_gaze; /* EDVAM: rows without a measured gaze (interpolated from neighbours) */
+    size_t placeholder_rows;  /* EDVAM: leading placeholder rows skipped (C = 0, F = (0,0,1)) */
+    size_t held_orientations; /* EDVAM: forward within RPL_EDVAM_VERTICAL_DEG of vertical: previous kept */
 };
 #define RPL_TRACE_GAP_S 0.1
 #define RPL_TRACE_OUTLIER_DEGPS 1000.0   /* above physiological head turns (traces peak at 600–800 deg/s) */
 #define RPL_TRACE_UNIT_TOLERANCE 1e-3    /* | |q| − 1 | beyond this is an error, not renormalised */
+#define RPL_EDVAM_MIN_CONFIDENCE 0.8     /* Pupil confidence below this: no measured gaze (data README §3) */
+#define RPL_EDVAM_VERTICAL_DEG 10.0      /* forward this close to ±Y has no usable yaw (0.1 rounding: 5.7°/step) */
 
 /* A loaded trace: times strictly increasing, orientations unit and hemisphere-continuous,
  * body-to-world in the project frame (+Y up, −Z forward). Arrays owned by the trace. */
@@ -40,6 +54,10 @@ struct rpl_trace {
     unsigned char *outlier; /* 1 where the sample was a speed outlier (excluded from velocity) */
     struct rpl_trace_report report;
 };
+
+/* One line (no newline) describing what loading did: rows, flips, repeats, gaps, outliers, repeated
+ * timestamps and, for eye-tracker logs, the gaze counts. Always NUL-terminates buf (size > 0). */
+void rpl_trace_report_format(const struct rpl_trace_report *r, char *buf, size_t size);
 
 /* Parses a whole file held in memory; `name` labels messages ("name:line: reason"). Pure: no I/O.
  * Detects the format from the header line. On error returns −1 and frees what it allocated. */
@@ -63,9 +81,12 @@ int rpl_trace_from_recording(const char *path, struct rpl_trace *out, struct hl_
  * and gaze columns when present) to path via a temporary file and rename: never a partial file. */
 int rpl_trace_write_csv(const struct rpl_trace *t, const char *path, struct hl_error *err);
 
-/* Orientation at t (slerp between neighbours, clamped to the ends) and angular velocity (world,
- * rad/s) from a ±RPL_VELOCITY_HALF_WINDOW_S window that skips outliers and bridges gaps. */
+/* Orientation at t (slerp between neighbours, clamped to the ends), angular and linear velocity
+ * (world, rad/s and m/s) from a ±RPL_VELOCITY_HALF_WINDOW_S window that skips outliers and bridges
+ * gaps, and the world gaze's angular velocity from a ±RPL_GAZE_VELOCITY_HALF_WINDOW_S window
+ * (docs/trace-format.md §4: 10 ms keeps a saccade's peak, 50 ms would smear it). No allocation. */
 #define RPL_VELOCITY_HALF_WINDOW_S 0.025
+#define RPL_GAZE_VELOCITY_HALF_WINDOW_S 0.005
 void rpl_trace_sample(const struct rpl_trace *trace, double time_s, struct trk_pose *out);
 
 /* A pose source over a trace (takes ownership of *trace's arrays; zeroes *trace). */

@@ -1,4 +1,6 @@
-/* The row builder shared by the trace parser and the built-in clip (see trace_internal.h). */
+/* The row builder shared by the trace parsers, the raw-recording reader and the built-in clip (see
+ * trace_internal.h): push stores rows as read; finish resolves repeated timestamps and fills the
+ * time-dependent part of the report. */
 #include "replay/trace_internal.h"
 
 #include <stdlib.h>
@@ -72,9 +74,86 @@ void trace_builder_push(struct trace_builder *b, double time_s, hl_quatd q, cons
         tr->position_m[i] = position_m ? *position_m : hl_v3(0, 0, 0);
     if (tr->gaze_dir)
         tr->gaze_dir[i] = gaze_unit ? *gaze_unit : hl_v3(0, 0, -1);
+    b->prev_raw = raw;
+    b->prev_flipped = flipped;
+    tr->count = i + 1;
+    rep->rows = tr->count;
+}
 
-    if (i > 0) {
-        double dt_s = time_s - tr->time_s[i - 1];
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median of the steps between consecutive distinct times; 0 when there are none, −1 when out of
+ * memory. The median, not the mean: a log at 1 kHz rounded to 10 ms steps by exactly 10 ms, and a
+ * few long gaps must not widen that. */
+static double median_distinct_step(const double *t, size_t n)
+{
+    double *steps = malloc((n > 1 ? n - 1 : 1) * sizeof *steps);
+    if (!steps)
+        return -1.0;
+    size_t k = 0;
+    for (size_t i = 1; i < n; ++i)
+        if (t[i] > t[i - 1])
+            steps[k++] = t[i] - t[i - 1];
+    double median = 0.0;
+    if (k > 0) {
+        qsort(steps, k, sizeof *steps, cmp_double);
+        median = steps[k / 2];
+    }
+    free(steps);
+    return median;
+}
+
+/* Rows that share a timestamp were sampled during one tick of a coarse clock: they keep their order
+ * and are placed evenly over [T, T + s), s = min(next distinct time − T, median step) — the tick
+ * they fell in, never stretched across a gap. Exact for a truncating clock; a rounding clock leaves
+ * them a constant half tick late, which shifts latency but not velocity. */
+static int spread_timestamps(struct rpl_trace *tr, const char *name, size_t first_row_line, struct hl_error *err)
+{
+    size_t n = tr->count;
+    size_t i = 1;
+    while (i < n && tr->time_s[i] != tr->time_s[i - 1])
+        ++i;
+    if (i >= n)
+        return 0; /* the usual case: no repeated time, nothing allocated */
+    double step = median_distinct_step(tr->time_s, n);
+    if (step < 0.0)
+        return hl_fail(err, "%s: out of memory spreading repeated timestamps", name);
+    if (step == 0.0)
+        return hl_fail(err, "%s:%zu: all %zu rows share one time (%.9g s): no rate to spread them over", name,
+                       first_row_line, n, tr->time_s[0]);
+    struct rpl_trace_report *rep = &tr->report;
+    for (size_t start = 0; start < n;) {
+        size_t end = start + 1;
+        while (end < n && tr->time_s[end] == tr->time_s[start])
+            ++end;
+        size_t run = end - start;
+        if (run > 1) {
+            double t0 = tr->time_s[start];
+            double span = end < n && tr->time_s[end] - t0 < step ? tr->time_s[end] - t0 : step;
+            for (size_t k = 1; k < run; ++k)
+                tr->time_s[start + k] = t0 + span * (double)k / (double)run;
+            ++rep->timestamp_runs;
+            rep->repeated_timestamps += run - 1;
+        }
+        start = end;
+    }
+    rep->timestamp_step_s = step;
+    return 0;
+}
+
+/* Gaps, per-step speed and outliers, on the final times. */
+static void judge_steps(struct rpl_trace *tr)
+{
+    struct rpl_trace_report *rep = &tr->report;
+    size_t last_good = 0, outlier_run = 0;
+    for (size_t i = 1; i < tr->count; ++i) {
+        double t = tr->time_s[i];
+        hl_quatd q = tr->orientation[i];
+        double dt_s = t - tr->time_s[i - 1];
         if (dt_s > RPL_TRACE_GAP_S) {
             ++rep->gaps;
             if (dt_s > rep->longest_gap_s)
@@ -86,19 +165,25 @@ void trace_builder_push(struct trace_builder *b, double time_s, hl_quatd q, cons
             rep->max_step_speed_degps = step_degps;
         /* Outliers are judged against the last good sample, so the row that returns from a
          * one-sample spike is not itself taken for a spike. */
-        size_t g = b->last_good;
-        double ref_degps = hl_q_angle_rad(tr->orientation[g], q) * HL_DEG_PER_RAD / (time_s - tr->time_s[g]);
-        if (ref_degps > RPL_TRACE_OUTLIER_DEGPS && b->outlier_run < RPL_TRACE_MAX_OUTLIER_RUN) {
+        double ref_degps = hl_q_angle_rad(tr->orientation[last_good], q) * HL_DEG_PER_RAD / (t - tr->time_s[last_good]);
+        if (ref_degps > RPL_TRACE_OUTLIER_DEGPS && outlier_run < RPL_TRACE_MAX_OUTLIER_RUN) {
             tr->outlier[i] = 1;
             ++rep->speed_outliers;
-            ++b->outlier_run;
+            ++outlier_run;
         } else {
-            b->last_good = i;
-            b->outlier_run = 0;
+            last_good = i;
+            outlier_run = 0;
         }
     }
-    b->prev_raw = raw;
-    b->prev_flipped = flipped;
-    tr->count = i + 1;
-    rep->rows = tr->count;
+}
+
+int trace_builder_finish(struct trace_builder *b, const char *name, size_t first_row_line, struct hl_error *err)
+{
+    struct rpl_trace *tr = b->trace;
+    if (spread_timestamps(tr, name ? name : "trace", first_row_line, err) != 0) {
+        rpl_trace_free(tr);
+        return -1;
+    }
+    judge_steps(tr);
+    return 0;
 }

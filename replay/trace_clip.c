@@ -60,5 +60,5 @@ int rpl_trace_builtin_clip(struct rpl_trace *out, struct hl_error *err)
                               hl_q_from_axis_angle(hl_v3(1, 0, 0), pitch_deg * HL_RAD_PER_DEG));
         trace_builder_push(&b, t, hl_q_normalize(q), NULL, NULL);
     }
-    return 0;
+    return trace_builder_finish(&b, "built-in clip", 0, err);
 }

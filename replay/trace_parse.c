@@ -1,5 +1,5 @@
-/* Trace parsing: the project's CSV, Corbillon MMSys'18 and Nasrabadi MMSys'19 text files, held in memory. Every rule
- * is in docs/trace-format.md. The parser never reads past `length` and never relies on a NUL:
+/* Trace parsing: the project's CSV, Corbillon MMSys'18 and Nasrabadi MMSys'19 text files, held in memory (the
+ * EDVAM eye-tracker log is recognised here and read by trace_edvam.c). Every rule is in docs/trace-format.md. The parser never reads past `length` and never relies on a NUL:
  * each line is bounded by the buffer, and only data lines are copied (bounded) for strtod. */
 #include "replay/trace_internal.h"
 
@@ -29,15 +29,6 @@ struct layout {
 };
 
 static int is_blank(char c) { return c == ' ' || c == '\t'; }
-
-/* Trims spaces, tabs and a CR (CRLF files) from both ends of [*s, *s+*n). */
-static void trim(const char **s, size_t *n)
-{
-    while (*n > 0 && (is_blank(**s) || **s == '\r'))
-        ++*s, --*n;
-    while (*n > 0 && (is_blank((*s)[*n - 1]) || (*s)[*n - 1] == '\r'))
-        --*n;
-}
 
 static int span_equals(const char *s, size_t n, const char *lit)
 {
@@ -118,20 +109,6 @@ static int detect_layout(const char *s, size_t n, struct layout *L)
     return rn == 0 ? 0 : -1;
 }
 
-/* Copies a short field for a message, replacing anything unprintable. */
-static void quote_field(const char *s, size_t n, char *buf, size_t size)
-{
-    size_t k = 0;
-    for (size_t i = 0; i < n && k + 4 < size; ++i) {
-        unsigned char c = (unsigned char)s[i];
-        buf[k++] = (c >= 0x20 && c < 0x7f) ? (char)c : '?';
-    }
-    if (n > 0 && k + 4 >= size && k < n) {
-        buf[k++] = '.', buf[k++] = '.', buf[k++] = '.';
-    }
-    buf[k] = '\0';
-}
-
 /* Splits a data line (already trimmed, no NUL inside) into fields and converts each to a finite
  * double. Returns 0, or −1 with the message filled. */
 static int parse_row(const char *name, size_t line_no, const char *s, size_t n, const struct layout *L,
@@ -174,26 +151,9 @@ static int parse_row(const char *name, size_t line_no, const char *s, size_t n, 
     if (count != L->columns)
         return hl_fail(err, "%s:%zu: expected %d columns, found %d", name, line_no, L->columns, count);
 
-    for (int c = 0; c < count; ++c) {
-        const char *f = fs[c];
-        size_t m = fn[c];
-        trim(&f, &m);
-        char buf[LINE_MAX_BYTES + 1];
-        char shown[48];
-        quote_field(f, m, shown, sizeof shown);
-        if (m == 0)
-            return hl_fail(err, "%s:%zu: column %s: empty field", name, line_no, L->names[c]);
-        memcpy(buf, f, m); /* m ≤ line length ≤ LINE_MAX_BYTES */
-        buf[m] = '\0';
-        char *end = NULL;
-        errno = 0;
-        double x = strtod(buf, &end);
-        if (end != buf + m || end == buf)
-            return hl_fail(err, "%s:%zu: column %s: not a number: \"%s\"", name, line_no, L->names[c], shown);
-        if (!isfinite(x))
-            return hl_fail(err, "%s:%zu: column %s: not finite: \"%s\"", name, line_no, L->names[c], shown);
-        v[c] = x;
-    }
+    for (int c = 0; c < count; ++c)
+        if (trace_read_number(name, line_no, L->names[c], fs[c], fn[c], &v[c], err) != 0)
+            return -1;
     return 0;
 }
 
@@ -215,7 +175,7 @@ int rpl_trace_parse(const char *text, size_t length, const char *name, struct rp
 
     struct layout L;
     int have_header = 0;
-    size_t header_line = 0;
+    size_t header_line = 0, first_row_line = 0;
     struct trace_builder b;
     size_t pos = 0, line_no = 0;
     double prev_t = 0.0;
@@ -230,7 +190,7 @@ int rpl_trace_parse(const char *text, size_t length, const char *name, struct rp
 
         const char *s = line;
         size_t m = n;
-        trim(&s, &m);
+        trace_trim(&s, &m);
         if (m == 0 || s[0] == '#')
             continue; /* blank or comment; content is never read further */
 
@@ -240,6 +200,8 @@ int rpl_trace_parse(const char *text, size_t length, const char *name, struct rp
             return rpl_trace_free(out),
                    hl_fail(err, "%s:%zu: line too long (%zu bytes, at most %d)", name, line_no, m, LINE_MAX_BYTES);
 
+        if (!have_header && trace_is_edvam_header(s, m))
+            return trace_parse_edvam(text, length, name, out, err); /* its own row reader, from the start */
         if (!have_header) {
             if (detect_layout(s, m, &L) != 0)
                 return hl_fail(err, "%s:%zu: unrecognised header (expected %s)", name, line_no, CSV_EXPECTED);
@@ -270,9 +232,8 @@ int rpl_trace_parse(const char *text, size_t length, const char *name, struct rp
         else
             memcpy(wxyz, L.format == RPL_TRACE_CORBILLON ? v + 2 : v + 1, sizeof wxyz);
         const double *qv = wxyz;
-        if (out->count > 0 && t == prev_t)
-            return rpl_trace_free(out),
-                   hl_fail(err, "%s:%zu: time does not increase (%.9g s equals the previous row)", name, line_no, t);
+        /* An equal time is a coarse clock's repeat, resolved by trace_builder_finish; only a time
+         * that goes backwards is an error. */
         if (out->count > 0 && t < prev_t)
             return rpl_trace_free(out),
                    hl_fail(err, "%s:%zu: time goes backwards (%.9g s after %.9g s)", name, line_no, t, prev_t);
@@ -299,6 +260,8 @@ int rpl_trace_parse(const char *text, size_t length, const char *name, struct rp
                 return rpl_trace_free(out), hl_fail(err, "%s:%zu: gaze vector has zero length", name, line_no);
             g = hl_v3_scale(g, 1.0 / len);
         }
+        if (out->count == 0)
+            first_row_line = line_no;
         trace_builder_push(&b, t, q, L.has_position ? &p : NULL, L.has_gaze ? &g : NULL);
         prev_t = t;
     }
@@ -309,7 +272,7 @@ int rpl_trace_parse(const char *text, size_t length, const char *name, struct rp
         rpl_trace_free(out);
         return hl_fail(err, "%s:%zu: no data rows after the header", name, header_line);
     }
-    return 0;
+    return trace_builder_finish(&b, name, first_row_line, err);
 }
 
 int rpl_trace_load(const char *path, struct rpl_trace *out, struct hl_error *err)

@@ -80,6 +80,11 @@ int rpl_trace_from_recording(const char *path, struct rpl_trace *out, struct hl_
             continue; /* the parsers drop backward samples; keep the trace strictly increasing anyway */
         trace_builder_push(&b, t_s, hl_q_normalize(pose.orientation), NULL, NULL);
     }
+    if (out->count > 0 && trace_builder_finish(&b, path, 0, err) != 0) {
+        trk_recording_reader_close(r);
+        free(s);
+        return -1; /* cannot happen: times are strictly increasing; the builder freed the trace */
+    }
     int torn = r->torn_tail;
     uint64_t torn_bytes = r->torn_bytes;
     trk_recording_reader_close(r);

@@ -1,6 +1,7 @@
 /* Tests of the trace part of replay/: parsing rules and their messages, every truncated prefix,
  * hemisphere handling, windowed angular velocity (constant rate, gaps, spikes), the real Corbillon
- * traces when ../shared has them, the built-in clip, and the pose source. */
+ * traces when ../shared has them, the built-in clip, the pose source, repeated (millisecond)
+ * timestamps, linear and gaze velocity, and the EDVAM eye-tracker log. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -33,6 +34,18 @@ static void text_add(struct text *t, const char *fmt, ...)
     }
     memcpy(t->s + t->n, line, (size_t)k + 1);
     t->n += (size_t)k;
+}
+
+/* Appends n bytes as they are (for text longer than text_add's line). */
+static void text_put(struct text *t, const char *s, size_t n)
+{
+    if (t->n + n + 1 > t->cap) {
+        t->cap = (t->cap + n + 1) * 2;
+        t->s = realloc(t->s, t->cap);
+    }
+    memcpy(t->s + t->n, s, n);
+    t->n += n;
+    t->s[t->n] = '\0';
 }
 
 /* Parses exactly `len` bytes from a private heap copy, so any read past the end trips ASan. */
@@ -204,13 +217,13 @@ static void test_malformed(void)
         {"t_s,qw,qx,qy,qz\n0,1,0,0,0\n0.1,1.01,0,0,0\n", 3, "norm 1.01"},
         {"t_s,qw,qx,qy,qz\n0,1,0,0,0\n0.1,0,0,0,0\n", 3, "norm 0"},
         {"t_s,qw,qx,qy,qz\n0,1,0,0,0\n0.1,1,0,0,0\n0.05,1,0,0,0\n", 4, "time goes backwards"},
-        {"t_s,qw,qx,qy,qz\n0,1,0,0,0\n0.1,1,0,0,0\n0.1,1,0,0,0\n", 4, "time does not increase"},
         {"t_s,qw,qx,qy,qz\n0,1,0,0,0\n0.1,1,0,0\n", 3, "expected 5 columns, found 4"},
         {"t_s,qw,qx,qy,qz\n0,1,0,0,0\n0.1,1,0,0,0,0\n", 3, "expected 5 columns, found 6"},
         {"t_s,qw,qx,qy,qz\n0,1,0,0,0\n0.1,1,0,0,0", 3, "truncated last row"},
         {"t_s,qw,qx,qy,qz,gx,gy,gz\n0,1,0,0,0,0,0,-1\n0.1,1,0,0,0,0,0,0\n", 3, "gaze vector has zero length"},
         {"timestamp viewpoint w x y z\n0.0 0 1 0 0 0\n0.1 0 1 0 0\n", 3, "expected 6 columns, found 5"},
-        {"timestamp viewpoint w x y z\n0.0 0 1 0 0 0\n0.0 0 1 0 0 0\n", 3, "time does not increase"},
+        {"timestamp viewpoint w x y z\n0.0 0 1 0 0 0\n0.0 0 1 0 0 0\n", 2, "all 2 rows share one time"},
+        {"t_s,qw,qx,qy,qz\n0,1,0,0,0\n0.1,1,0,0,0\n0.1,1,0,0,0\n0.09,1,0,0,0\n", 5, "time goes backwards"},
         {"timestamp viewpoint w x y z\n0.0 x 1 0 0 0\n", 2, "column viewpoint: not a number"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
@@ -615,6 +628,480 @@ static void test_nasrabadi(void)
     rpl_trace_free(&tr);
 }
 
+/* ---- (g) repeated timestamps ----------------------------------------------------------------- */
+
+static void test_repeated_timestamps(void)
+{
+    /* Rows of one time are spread evenly over [T, T + min(next − T, median step)); the last run over
+     * one median step; a run before a gap is not stretched across it. */
+    static const char text[] = "t_s,qw,qx,qy,qz\n"
+                               "0.00,1,0,0,0\n0.01,1,0,0,0\n0.02,1,0,0,0\n0.02,1,0,0,0\n"
+                               "0.50,1,0,0,0\n0.51,1,0,0,0\n0.51,1,0,0,0\n0.51,1,0,0,0\n";
+    struct rpl_trace tr;
+    struct hl_error err = {{0}};
+    int rc = parse_exact(text, sizeof text - 1, "runs.csv", &tr, &err);
+    CHECK(rc == 0 && tr.count == 8);
+    if (rc != 0) {
+        fprintf(stderr, "%s\n", err.msg);
+        return;
+    }
+    CHECK(tr.report.timestamp_runs == 2 && tr.report.repeated_timestamps == 3);
+    CHECK_NEAR(tr.report.timestamp_step_s, 0.01, 1e-12);
+    CHECK_NEAR(tr.time_s[3], 0.025, 1e-12);            /* not halfway to 0.50 */
+    CHECK_NEAR(tr.time_s[6], 0.51 + 0.01 / 3, 1e-12);  /* last run: the median step */
+    CHECK_NEAR(tr.time_s[7], 0.51 + 0.02 / 3, 1e-12);
+    for (size_t i = 1; i < tr.count; ++i)
+        CHECK(tr.time_s[i] > tr.time_s[i - 1]);
+    CHECK(tr.report.gaps == 1); /* 0.025 → 0.50 */
+    char line[512];
+    rpl_trace_report_format(&tr.report, line, sizeof line);
+    CHECK(strstr(line, "3 repeated timestamps in 2 runs") != NULL);
+    printf("report: %s\n", line);
+    rpl_trace_free(&tr);
+}
+
+/* A smooth head motion (yaw ramp with a wobble, pitch sway) and its world angular velocity. */
+static hl_quatd smooth_head(double t)
+{
+    double yaw = 100.0 * t + 20.0 * sin(2.0 * HL_PI * 0.7 * t), pitch = 10.0 * sin(2.0 * HL_PI * 0.3 * t);
+    return hl_q_mul(yaw_q(yaw), hl_q_from_axis_angle(hl_v3(1, 0, 0), pitch * HL_RAD_PER_DEG));
+}
+
+/* A 1 kHz log of smooth_head, its clock jittered by ±jitter_s (≤ 0.7 ms keeps it increasing), with
+ * its times written by `fmt` ("%.3f" rounds to 1 ms, "%.2f" to 10 ms) or truncated to `floor_s`. */
+static void make_khz_log(struct text *t, const char *fmt, double floor_s, double jitter_s)
+{
+    text_add(t, "t_s,qw,qx,qy,qz\n");
+    for (int i = 0; i <= 3000; ++i) {
+        double tau = i / 1000.0 + jitter_s * sin(1.3 * i);
+        if (tau < 0)
+            tau = 0;
+        hl_quatd q = smooth_head(tau);
+        char ts[32];
+        if (floor_s > 0)
+            snprintf(ts, sizeof ts, "%.6f", floor(tau / floor_s + 1e-9) * floor_s);
+        else
+            snprintf(ts, sizeof ts, fmt, tau);
+        text_add(t, "%s,%.17g,%.17g,%.17g,%.17g\n", ts, q.w, q.x, q.y, q.z);
+    }
+}
+
+static void test_rounded_timestamps(void)
+{
+    /* ±0.7 ms of clock jitter makes 1 ms rounding repeat some times and skip others; the 10 ms
+     * cases run with and without it. Each is compared with the same clock written to 1 ns. */
+    static const struct {
+        const char *label, *fmt;
+        double floor_s, jitter_s, rms_max, worst_max;
+    } cases[] = {
+        {"1 ms rounded, jitter 0.7 ms", "%.3f", 0, 0.0007, 0.02, 0.06},
+        {"10 ms rounded, steady clock", "%.2f", 0, 0.0, 0.02, 0.05},
+        {"10 ms rounded, jitter 0.7 ms", "%.2f", 0, 0.0007, 0.03, 0.08},
+        {"10 ms truncated, jitter 0.7 ms", NULL, 0.01, 0.0007, 0.03, 0.08},
+    };
+    struct hl_error err = {{0}};
+    for (int c = 0; c < 4; ++c) {
+        struct text exact = {0};
+        make_khz_log(&exact, "%.9f", 0, cases[c].jitter_s);
+        struct rpl_trace ref;
+        CHECK(rpl_trace_parse(exact.s, exact.n, "exact", &ref, &err) == 0);
+        CHECK(ref.report.timestamp_runs == 0);
+        free(exact.s);
+        struct text txt = {0};
+        make_khz_log(&txt, cases[c].fmt, cases[c].floor_s, cases[c].jitter_s);
+        struct rpl_trace tr;
+        int rc = rpl_trace_parse(txt.s, txt.n, cases[c].label, &tr, &err);
+        CHECK(rc == 0);
+        if (rc != 0) {
+            fprintf(stderr, "%s\n", err.msg);
+            free(txt.s);
+            rpl_trace_free(&ref);
+            continue;
+        }
+        CHECK(tr.report.timestamp_runs > 0 && tr.report.speed_outliers == 0);
+        double sum_err2 = 0, sum_ref2 = 0, worst = 0;
+        int k = 0;
+        for (double t = 0.1; t <= 2.9; t += 1.0 / 90.0, ++k) {
+            struct trk_pose a, b;
+            rpl_trace_sample(&ref, t, &a);
+            rpl_trace_sample(&tr, t, &b);
+            double e = hl_v3_length(hl_v3_sub(a.angular_velocity_radps, b.angular_velocity_radps));
+            sum_err2 += e * e;
+            sum_ref2 += hl_v3_dot(a.angular_velocity_radps, a.angular_velocity_radps);
+            worst = fmax(worst, e);
+        }
+        double rms_ref = sqrt(sum_ref2 / k), rel_rms = sqrt(sum_err2 / k) / rms_ref, rel_worst = worst / rms_ref;
+        printf("%s: %zu repeated timestamps in %zu runs; |Δω| RMS %.2f %%, worst %.2f %% of RMS |ω| (%.1f deg/s)\n",
+               cases[c].label, tr.report.repeated_timestamps, tr.report.timestamp_runs, 100 * rel_rms,
+               100 * rel_worst, rms_ref * HL_DEG_PER_RAD);
+        CHECK(rel_rms < cases[c].rms_max);
+        CHECK(rel_worst < cases[c].worst_max);
+        rpl_trace_free(&tr);
+        rpl_trace_free(&ref);
+        free(txt.s);
+    }
+
+    /* Every prefix of a small millisecond log with repeats: loads, or fails naming a line. */
+    static const char small[] = "t_s,qw,qx,qy,qz\n0.000,1,0,0,0\n0.000,1,0,0,0\n0.001,1,0,0,0\n"
+                                "0.001,0.9999619230641713,0,0.008726535498373935,0\n0.001,1,0,0,0\n0.003,1,0,0,0\n";
+    int ok = 0, failed = 0, wrong = 0;
+    for (size_t len = 0; len <= sizeof small - 1; ++len) {
+        struct rpl_trace tr;
+        struct hl_error e = {{0}};
+        int rc = parse_exact(small, len, "ms.csv", &tr, &e);
+        if (rc == 0)
+            ++ok;
+        else if (message_line(e.msg, "ms.csv") > 0 && tr.time_s == NULL)
+            ++failed;
+        else
+            ++wrong, fprintf(stderr, "prefix %zu: %s\n", len, e.msg);
+        rpl_trace_free(&tr);
+    }
+    printf("ms-log prefixes: %d load, %d fail with a line, %d wrong\n", ok, failed, wrong);
+    CHECK(wrong == 0 && ok >= 4);
+}
+
+/* ---- (h) linear velocity and the world gaze's angular velocity ------------------------------- */
+
+static void test_linear_velocity(void)
+{
+    /* Constant velocity at 60 Hz with a 300 ms gap: the same velocity everywhere, gap included. */
+    const hl_vec3d v = hl_v3(0.5, 0.0, -1.2);
+    struct text t = {0};
+    text_add(&t, "t_s,qw,qx,qy,qz,px,py,pz\n");
+    for (int i = 0; i <= 120; ++i) {
+        double tau = i / 60.0;
+        if (tau > 1.0 && tau < 1.3)
+            continue;
+        text_add(&t, "%.9f,1,0,0,0,%.17g,%.17g,%.17g\n", tau, v.x * tau, 1.6 + v.y * tau, v.z * tau);
+    }
+    struct rpl_trace tr;
+    struct hl_error err = {{0}};
+    CHECK(rpl_trace_parse(t.s, t.n, "walk", &tr, &err) == 0);
+    double worst = 0;
+    for (double tau = 0.03; tau <= 1.97; tau += 0.0013) {
+        struct trk_pose p;
+        rpl_trace_sample(&tr, tau, &p);
+        worst = fmax(worst, hl_v3_length(hl_v3_sub(p.linear_velocity_mps, v)));
+    }
+    CHECK(worst < 1e-6); /* times written to 1 ns */
+    rpl_trace_free(&tr);
+    free(t.s);
+
+    /* A curved path at 100 Hz against its analytic derivative and a finite difference of the
+     * sampled positions (independent of the window code). */
+    struct text c = {0};
+    text_add(&c, "t_s,qw,qx,qy,qz,px,py,pz\n");
+    for (int i = 0; i <= 300; ++i) {
+        double tau = i / 100.0;
+        text_add(&c, "%.9f,1,0,0,0,%.17g,%.17g,%.17g\n", tau, sin(tau), 0.1 * tau * tau, cos(2.0 * tau));
+    }
+    CHECK(rpl_trace_parse(c.s, c.n, "curve", &tr, &err) == 0);
+    double worst_truth = 0, worst_fd = 0;
+    for (double tau = 0.1; tau <= 2.9; tau += 0.0107) {
+        struct trk_pose p, a, b;
+        rpl_trace_sample(&tr, tau, &p);
+        rpl_trace_sample(&tr, tau - 0.025, &a);
+        rpl_trace_sample(&tr, tau + 0.025, &b);
+        hl_vec3d truth = hl_v3(cos(tau), 0.2 * tau, -2.0 * sin(2.0 * tau));
+        hl_vec3d fd = hl_v3_scale(hl_v3_sub(b.position_m, a.position_m), 1.0 / 0.05);
+        worst_truth = fmax(worst_truth, hl_v3_length(hl_v3_sub(p.linear_velocity_mps, truth)));
+        worst_fd = fmax(worst_fd, hl_v3_length(hl_v3_sub(p.linear_velocity_mps, fd)));
+    }
+    printf("linear velocity on a curve: worst error %.2g m/s vs analytic, %.2g vs finite difference\n", worst_truth,
+           worst_fd);
+    CHECK(worst_truth < 0.01); /* window and lerp bias: ~h²/6·|p'''| + step²/8·|p''| */
+    CHECK(worst_fd < 1e-9);
+    rpl_trace_free(&tr);
+    free(c.s);
+
+    /* No positions: zero velocity, has_position 0. */
+    static const char no_pos[] = "t_s,qw,qx,qy,qz\n0,1,0,0,0\n0.1,1,0,0,0\n";
+    CHECK(parse_exact(no_pos, sizeof no_pos - 1, "np", &tr, &err) == 0);
+    struct trk_pose p;
+    rpl_trace_sample(&tr, 0.05, &p);
+    CHECK(!p.has_position && hl_v3_length(p.linear_velocity_mps) == 0.0);
+    CHECK(!p.has_gaze && hl_v3_length(p.gaze_angular_velocity_radps) == 0.0);
+    rpl_trace_free(&tr);
+}
+
+/* Eye-in-head yaw/pitch (deg) and head yaw (deg) at t; the world gaze direction they give. */
+struct gaze_motion {
+    double eye_yaw_degps, head_yaw_degps; /* constant parts */
+    double eye_wobble_deg, head_wobble_deg;
+};
+
+static hl_vec3d eye_in_head(const struct gaze_motion *m, double t)
+{
+    double yaw = (m->eye_yaw_degps * t + m->eye_wobble_deg * sin(2.0 * HL_PI * 2.0 * t)) * HL_RAD_PER_DEG;
+    double pitch = m->eye_wobble_deg * 0.5 * sin(2.0 * HL_PI * 1.0 * t) * HL_RAD_PER_DEG;
+    return hl_q_rotate(hl_q_mul(hl_q_from_axis_angle(hl_v3(0, 1, 0), yaw), hl_q_from_axis_angle(hl_v3(1, 0, 0), pitch)),
+                       hl_v3(0, 0, -1));
+}
+
+static hl_quatd head_of(const struct gaze_motion *m, double t)
+{
+    return yaw_q(m->head_yaw_degps * t + m->head_wobble_deg * sin(2.0 * HL_PI * 0.5 * t));
+}
+
+static struct rpl_trace gaze_trace(const struct gaze_motion *m, double rate_hz)
+{
+    struct text t = {0};
+    text_add(&t, "t_s,qw,qx,qy,qz,gx,gy,gz\n");
+    for (int i = 0; i <= (int)(2.0 * rate_hz); ++i) {
+        double tau = i / rate_hz;
+        hl_quatd q = head_of(m, tau);
+        hl_vec3d g = eye_in_head(m, tau);
+        text_add(&t, "%.9f,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", tau, q.w, q.x, q.y, q.z, g.x, g.y, g.z);
+    }
+    struct rpl_trace tr;
+    struct hl_error err = {{0}};
+    if (rpl_trace_parse(t.s, t.n, "gaze", &tr, &err) != 0)
+        fprintf(stderr, "%s\n", err.msg), memset(&tr, 0, sizeof tr);
+    free(t.s);
+    return tr;
+}
+
+static void test_gaze_velocity(void)
+{
+    /* The eye turns left in the head at 60 deg/s while the head turns right at 40 deg/s: the world
+     * gaze turns left at 20 deg/s, about +Y. */
+    struct gaze_motion still = {60.0, -40.0, 0.0, 0.0};
+    struct rpl_trace tr = gaze_trace(&still, 100.0);
+    CHECK(tr.count == 201);
+    double worst = 0;
+    for (double t = 0.05; t <= 1.95 && tr.count; t += 0.0037) {
+        struct trk_pose p;
+        rpl_trace_sample(&tr, t, &p);
+        CHECK(p.has_gaze);
+        worst = fmax(worst, hl_v3_length(hl_v3_sub(hl_v3_scale(p.gaze_angular_velocity_radps, HL_DEG_PER_RAD),
+                                                   hl_v3(0, 20.0, 0))));
+    }
+    printf("gaze 60 deg/s in the head, head -40 deg/s: world gaze rate worst error %.3g deg/s (true 20)\n", worst);
+    CHECK(worst < 0.02);
+    rpl_trace_free(&tr);
+
+    /* Wobbling eye and head at 500 Hz against a fine finite difference of the analytic world gaze. */
+    struct gaze_motion wob = {0.0, 30.0, 8.0, 20.0};
+    tr = gaze_trace(&wob, 500.0);
+    double worst_rel = 0, peak = 0;
+    for (double t = 0.05; t <= 1.95 && tr.count; t += 0.0041) {
+        struct trk_pose p;
+        rpl_trace_sample(&tr, t, &p);
+        const double d = 1e-5;
+        hl_vec3d a = hl_q_rotate(head_of(&wob, t - d), eye_in_head(&wob, t - d));
+        hl_vec3d b = hl_q_rotate(head_of(&wob, t + d), eye_in_head(&wob, t + d));
+        hl_vec3d axis = hl_v3_normalize(hl_v3_cross(a, b));
+        hl_vec3d truth = hl_v3_scale(axis, hl_v3_angle_rad(a, b) / (2 * d));
+        double e = hl_v3_length(hl_v3_sub(p.gaze_angular_velocity_radps, truth));
+        peak = fmax(peak, hl_v3_length(truth));
+        worst_rel = fmax(worst_rel, e);
+    }
+    worst_rel /= peak;
+    printf("wobbling gaze: worst |Δω_gaze| %.2f %% of the peak %.1f deg/s\n", 100 * worst_rel, peak * HL_DEG_PER_RAD);
+    CHECK(worst_rel < 0.01);
+    rpl_trace_free(&tr);
+
+    /* A 10° minimum-jerk saccade in 40 ms at 1 kHz: the ±5 ms window keeps its peak (1.875·10/0.04
+     * = 468.75 deg/s); the head's ±25 ms window would not. */
+    struct text s = {0};
+    text_add(&s, "t_s,qw,qx,qy,qz,gx,gy,gz\n");
+    for (int i = 0; i <= 300; ++i) {
+        double tau = i / 1000.0, u = (tau - 0.1) / 0.04;
+        u = u < 0 ? 0 : (u > 1 ? 1 : u);
+        double yaw = 10.0 * u * u * u * (10 - 15 * u + 6 * u * u) * HL_RAD_PER_DEG;
+        text_add(&s, "%.9f,1,0,0,0,%.17g,0,%.17g\n", tau, -sin(yaw), -cos(yaw));
+    }
+    struct hl_error err = {{0}};
+    CHECK(rpl_trace_parse(s.s, s.n, "saccade", &tr, &err) == 0);
+    double sac_peak = 0;
+    for (double t = 0.05; t <= 0.25; t += 0.0005) {
+        struct trk_pose p;
+        rpl_trace_sample(&tr, t, &p);
+        sac_peak = fmax(sac_peak, hl_v3_length(p.gaze_angular_velocity_radps) * HL_DEG_PER_RAD);
+    }
+    printf("40 ms 10 deg saccade: peak world gaze rate %.1f deg/s (true 468.75)\n", sac_peak);
+    CHECK(sac_peak > 0.95 * 468.75 && sac_peak < 1.001 * 468.75);
+    rpl_trace_free(&tr);
+    free(s.s);
+}
+
+/* ---- (i) the EDVAM eye-tracker log ----------------------------------------------------------- */
+
+/* Unity (left-handed, +Z forward) → project (+Z back): mirror Z. */
+static hl_vec3d unity_v(double x, double y, double z) { return hl_v3(x, y, -z); }
+
+static void test_edvam_fixture(void)
+{
+    const char *src = getenv("HMDLOD_SOURCE");
+    if (!src || !*src) {
+        printf("skip: HMDLOD_SOURCE unset, EDVAM fixture not loaded\n");
+        return;
+    }
+    char path[4096];
+    snprintf(path, sizeof path, "%s/tests/data/edvam_small.csv", src);
+    size_t size = 0;
+    char *text = tu_read_file(path, &size);
+    CHECK(text != NULL);
+    if (!text)
+        return;
+    CHECK(strstr(text, "\r\n") != NULL); /* the fixture keeps the log's CRLF */
+    struct rpl_trace tr;
+    struct hl_error err = {{0}};
+    int rc = rpl_trace_load(path, &tr, &err);
+    CHECK(rc == 0);
+    if (rc != 0) {
+        fprintf(stderr, "%s\n", err.msg);
+        free(text);
+        return;
+    }
+    const struct rpl_trace_report *r = &tr.report;
+    CHECK(tr.format == RPL_TRACE_EDVAM && tr.count == 6 && tr.position_m && tr.gaze_dir);
+    CHECK(r->placeholder_rows == 1 && r->low_confidence_gaze == 2 && r->held_orientations == 1);
+    CHECK(r->timestamp_runs == 1 && r->repeated_timestamps == 1);
+    CHECK_NEAR(tr.time_s[0], 0.033, 1e-12);
+    CHECK_NEAR(tr.time_s[2], 0.066 + 0.033 / 2, 1e-12); /* spread over the median step */
+    /* Row 2: looking along Unity +Z = project −Z, at the origin (positions relative to it). */
+    CHECK_NEAR(hl_q_angle_rad(tr.orientation[0], hl_q(1, 0, 0, 0)), 0.0, 1e-12);
+    CHECK_NEAR(hl_v3_length(tr.position_m[0]), 0.0, 1e-15);
+    CHECK_NEAR(tr.position_m[2].x, 0.1, 1e-12);
+    /* Rows 3 and 7: forward = normalize(F mirrored), no roll (head +X horizontal). */
+    static const double fwd[][3] = {{0.1, 0, 1}, {0.3, 0, 1}};
+    static const size_t at[] = {1, 5};
+    for (int k = 0; k < 2; ++k) {
+        hl_quatd q = tr.orientation[at[k]];
+        hl_vec3d f = hl_v3_normalize(unity_v(fwd[k][0], fwd[k][1], fwd[k][2]));
+        CHECK_NEAR(hl_v3_angle_rad(hl_q_rotate(q, hl_v3(0, 0, -1)), f), 0.0, 1e-12);
+        CHECK_NEAR(hl_q_rotate(q, hl_v3(1, 0, 0)).y, 0.0, 1e-12);
+    }
+    /* Row 6 looks straight up: the previous orientation is held. */
+    CHECK_NEAR(hl_q_angle_rad(tr.orientation[4], tr.orientation[3]), 0.0, 1e-15);
+    /* Measured gaze in the world = normalize(L − C), mirrored: row 5's. */
+    hl_vec3d g5 = hl_q_rotate(tr.orientation[3], tr.gaze_dir[3]);
+    CHECK_NEAR(hl_v3_angle_rad(g5, unity_v(0.8, -0.5, 4.0)), 0.0, 1e-12);
+    /* Row 4 (confidence 0.5) lies between rows 3 and 5 in the world. */
+    hl_vec3d g3 = hl_q_rotate(tr.orientation[1], tr.gaze_dir[1]), g4 = hl_q_rotate(tr.orientation[2], tr.gaze_dir[2]);
+    CHECK_NEAR(hl_v3_angle_rad(g3, g4) + hl_v3_angle_rad(g4, g5), hl_v3_angle_rad(g3, g5), 1e-9);
+    struct trk_pose p;
+    rpl_trace_sample(&tr, 0.09, &p);
+    CHECK(p.has_gaze && p.has_position && hl_v3_length(p.gaze_angular_velocity_radps) > 0.0);
+    char line[512];
+    rpl_trace_report_format(r, line, sizeof line);
+    CHECK(strstr(line, "2 rows without a measured gaze") != NULL);
+    rpl_trace_free(&tr);
+
+    /* Every prefix: loads, or fails naming a line (never a crash; ASan runs this). */
+    int ok = 0, failed = 0, wrong = 0;
+    for (size_t len = 0; len <= size; ++len) {
+        struct hl_error e = {{0}};
+        int prc = parse_exact(text, len, "edvam.csv", &tr, &e);
+        if (prc == 0)
+            ++ok;
+        else if (message_line(e.msg, "edvam.csv") > 0 && tr.time_s == NULL)
+            ++failed;
+        else
+            ++wrong, fprintf(stderr, "edvam prefix %zu: %s\n", len, e.msg);
+        rpl_trace_free(&tr);
+    }
+    printf("EDVAM fixture prefixes: %d load, %d fail with a line, %d wrong\n", ok, failed, wrong);
+    CHECK(wrong == 0 && ok == 6); /* after each complete real row (the placeholder alone is no row) */
+
+    /* Corrupted fields: each names its line and column. Row 3 (line 4) is edited in place. */
+    static const struct {
+        const char *from, *to, *needle;
+    } edits[] = {
+        {"3,0.066,1.4,", "3,0.066,x1.4,", "column L_x: not a number"},
+        {"3,0.066,1.4,", "3,0.066,nan,", "column L_x: not finite"},
+        {"3,0.066,1.4,", "3,0.066,,", "column L_x: empty field"},
+        {"3,0.066,1.4,", "3,0.066,1.4,7,", "expected 44 columns, found 45"},
+        {"3,0.066,1.4,", "3,0.020,1.4,", "column time: time goes backwards"},
+        {"0.1,0,1,0.99,", "0.1,0,1,1.5,", "column confidence: 1.5 is outside"},
+        {"0.1,0,1,0.99,", "0.9,0,1,0.99,", "forward vector length 1.35 is not 1"},
+        {"530.2,3,0.066", "530.2,3,0.067", "column time (field 44): 0.067 differs from field 2"},
+    };
+    for (size_t k = 0; k < sizeof edits / sizeof edits[0]; ++k) {
+        const char *hit = strstr(text, edits[k].from);
+        CHECK(hit != NULL);
+        if (!hit)
+            continue;
+        struct text t = {0};
+        text_put(&t, text, (size_t)(hit - text));
+        text_put(&t, edits[k].to, strlen(edits[k].to));
+        const char *rest = hit + strlen(edits[k].from);
+        text_put(&t, rest, strlen(rest));
+        struct hl_error e = {{0}};
+        int erc = parse_exact(t.s, t.n, "bad.csv", &tr, &e);
+        int good = erc == -1 && message_line(e.msg, "bad.csv") == 4 && strstr(e.msg, edits[k].needle) && !tr.time_s;
+        CHECK(good);
+        if (!good)
+            fprintf(stderr, "edit %zu: rc %d \"%s\", wanted line 4 and \"%s\"\n", k, erc, e.msg, edits[k].needle);
+        rpl_trace_free(&tr);
+        free(t.s);
+    }
+    free(text);
+}
+
+/* Speeds (deg/s) at 90 Hz over the trace: world gaze and head. */
+static void edvam_speeds(const struct rpl_trace *tr, double gaze_pct[3], double head_pct[3])
+{
+    double t0 = tr->time_s[0], t1 = tr->time_s[tr->count - 1];
+    size_t n = (size_t)((t1 - t0) * 90.0) + 1;
+    double *g = malloc(n * sizeof *g), *h = malloc(n * sizeof *h);
+    for (size_t i = 0; i < n; ++i) {
+        struct trk_pose p;
+        rpl_trace_sample(tr, t0 + (double)i / 90.0, &p);
+        g[i] = hl_v3_length(p.gaze_angular_velocity_radps) * HL_DEG_PER_RAD;
+        h[i] = hl_v3_length(p.angular_velocity_radps) * HL_DEG_PER_RAD;
+    }
+    qsort(g, n, sizeof *g, cmp_double);
+    qsort(h, n, sizeof *h, cmp_double);
+    static const double q[3] = {0.5, 0.95, 0.99};
+    for (int k = 0; k < 3; ++k) {
+        gaze_pct[k] = g[(size_t)(q[k] * (double)(n - 1))];
+        head_pct[k] = h[(size_t)(q[k] * (double)(n - 1))];
+    }
+    free(g);
+    free(h);
+}
+
+static void test_edvam_shared(void)
+{
+    static const char *const files[] = {"participant2.csv", "participant6.csv"};
+    static const size_t rows[] = {3638, 2927}, placeholders[] = {0, 1};
+    for (int f = 0; f < 2; ++f) {
+        char rel[128];
+        snprintf(rel, sizeof rel, "data/traces/edvam-gaze/%s", files[f]);
+        const char *path = tu_shared_path(rel);
+        if (!path)
+            continue;
+        struct rpl_trace tr;
+        struct hl_error err = {{0}};
+        int rc = rpl_trace_load(path, &tr, &err);
+        CHECK(rc == 0);
+        if (rc != 0) {
+            fprintf(stderr, "%s\n", err.msg);
+            continue;
+        }
+        const struct rpl_trace_report *r = &tr.report;
+        CHECK(tr.format == RPL_TRACE_EDVAM && tr.gaze_dir && tr.position_m);
+        CHECK(r->rows == rows[f] && r->placeholder_rows == placeholders[f]);
+        CHECK(r->repeated_timestamps == 0 && r->held_orientations == 0);
+        double low = (double)r->low_confidence_gaze / (double)r->rows;
+        CHECK(low > 0.2 && low < 0.35); /* data README: 73.9 % / 68.0 % at ≥ 0.8 */
+        CHECK_NEAR(hl_v3_length(tr.position_m[0]), 0.0, 1e-15);
+        double gz[3], hd[3];
+        edvam_speeds(&tr, gz, hd);
+        char line[512];
+        rpl_trace_report_format(r, line, sizeof line);
+        printf("%s: %s\n", files[f], line);
+        printf("%s: %.2f s, low-confidence %.1f %%; world gaze |ω| p50 %.1f p95 %.1f p99 %.1f deg/s; head p50 %.1f "
+               "p95 %.1f p99 %.1f deg/s\n",
+               files[f], tr.time_s[tr.count - 1] - tr.time_s[0], 100 * low, gz[0], gz[1], gz[2], hd[0], hd[1], hd[2]);
+        CHECK(gz[2] < 2000.0 && gz[0] >= 0.0);
+        rpl_trace_free(&tr);
+    }
+}
+
 int main(void)
 {
     test_load();
@@ -625,5 +1112,11 @@ int main(void)
     test_corbillon();
     test_nasrabadi();
     test_clip_and_source();
+    test_repeated_timestamps();
+    test_rounded_timestamps();
+    test_linear_velocity();
+    test_gaze_velocity();
+    test_edvam_fixture();
+    test_edvam_shared();
     return tu_finish("test_trace");
 }

@@ -50,6 +50,10 @@ struct gaze_bench {
     struct gaze_trace traces[MAX_TRACES];
     int n_traces;
     struct rpl_summary sum[MAX_TRACES][N_SCENES][N_MODELS];
+    /* Saccades over the whole log (or --quick's first 1200 frames): tracked, reddy and fs, on a small
+     * field at a quarter of the pixels — the classifier and the refinement count, not the timing. */
+    struct rpl_summary whole[MAX_TRACES][2];
+    long whole_frames;
     int ran[MAX_TRACES][N_SCENES][N_MODELS];
 };
 
@@ -177,8 +181,48 @@ static int run_all(struct gaze_bench *b)
                 }
                 b->ran[t][sc][m] = rc == 0;
             }
+    static const char *const whole_selectors[2] = {"reddy", "fs"};
+    for (int t = 0; t < b->n_traces && rc == 0; ++t)
+        for (int k = 0; k < 2 && b->traces[t].has_gaze && rc == 0; ++k) {
+            char out_dir[sizeof tmp + 16];
+            snprintf(out_dir, sizeof out_dir, "%s/whole%d%d", tmp, t, k);
+            struct rpl_options o;
+            rpl_options_defaults(&o);
+            o.trace_path = b->traces[t].path;
+            o.scene = "field";
+            o.selector = whole_selectors[k];
+            o.gaze = "tracked";
+            o.out_dir = out_dir;
+            o.frames = b->quick ? 1200 : 0;
+            o.render_scale = 0.25;
+            o.quiet = 1;
+            fprintf(stderr, "hmdlod bench gaze: %s, whole log, field (100 objects), tracked, %s\n",
+                    b->traces[t].label, whole_selectors[k]);
+            struct hl_error err = {{0}};
+            if (rpl_run(&o, &b->whole[t][k], &err) != 0) {
+                fprintf(stderr, "hmdlod bench gaze: %s, whole log: %s\n", b->traces[t].label, err.msg);
+                rc = 1;
+            }
+        }
     nftw(tmp, remove_entry, 8, FTW_DEPTH | FTW_PHYS);
     return rc;
+}
+
+static void print_saccade_table(const struct gaze_bench *b)
+{
+    bench_emit("\n### Saccades over the %s (tracked; field, 100 objects, render scale 0.25)\n\n"
+               "| trace | selector | frames | saccades | per second | frames suppressed | refinements missing 28 ms "
+               "(frames / saccades) | triangles vs none |\n|---|---|--:|--:|--:|--:|--:|--:|\n",
+               b->quick ? "first 1200 frames" : "whole log");
+    static const char *const names[2] = {"reddy", "fs"};
+    for (int t = 0; t < b->n_traces; ++t)
+        for (int k = 0; k < 2 && b->traces[t].has_gaze; ++k) {
+            const struct rpl_summary *s = &b->whole[t][k];
+            bench_emit("| %s | %s | %ld | %ld | %.2f | %.1f %% | %ld / %ld (%.1f %%) | %.3f |\n", b->traces[t].label,
+                       names[k], s->frames, s->saccades, s->rate_hz * (double)s->saccades / (double)s->frames,
+                       100.0 * s->suppressed_fraction, s->refine_miss_frames, s->refine_missed_saccades,
+                       100.0 * s->refine_missed_saccade_fraction, s->triangles_relative_to_none);
+        }
 }
 
 /* (tri_vor_novel − tri_vor) / (tri_head_novel − tri_head): of what the velocity term saves under the
@@ -284,6 +328,7 @@ int bench_gaze(int argc, char **argv, int full_argc, char **full_argv)
     for (int sc = 0; sc < N_SCENES; ++sc)
         print_scene_table(&b, sc);
     print_velocity_table(&b);
+    print_saccade_table(&b);
     print_notes(&b, wall_s, runs);
     return bench_copy_finish(b.results, GAZE_HEADING, "hmdlod bench gaze", 0);
 }

@@ -60,11 +60,14 @@ int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct 
     s->chain_triangles = calloc(chains * LOD_MAX_LEVELS, sizeof(uint32_t));
     s->chain_lod_count = calloc(chains, 1);
     s->scratch = malloc(lod_scratch_bytes(n, cands));
+    s->saccade.level_before = malloc(n);
     if (!s->pixels_px || !s->ceiling_level || !s->previous_level || !s->choice || !s->first || !s->count ||
         !s->cand_cost_ms || !s->cand_benefit || !s->cand_level || !s->cand_samples || !s->level_of_instance ||
-        !s->last_visible || !s->chain_triangles || !s->chain_lod_count || !s->scratch)
+        !s->last_visible || !s->chain_triangles || !s->chain_lod_count || !s->scratch || !s->saccade.level_before)
         return hl_fail(err, "scene '%s': out of memory for the selector's arrays (%zu objects)", scene->name, n);
     memset(s->level_of_instance, LOD_UNSEEN, n);
+    s->level_capacity = n;
+    memset(s->saccade.level_before, LOD_UNSEEN, n);
     for (uint32_t c = 0; c < scene->chain_count; ++c) {
         const struct scn_chain *ch = &scene->chains[c];
         s->chain_lod_count[c] = (uint8_t)(ch->lod_count < LOD_MAX_LEVELS ? ch->lod_count : LOD_MAX_LEVELS);
@@ -104,6 +107,7 @@ void rpl_select_free(struct rpl_select *s)
     free(s->chain_triangles);
     free(s->chain_lod_count);
     free(s->scratch);
+    free(s->saccade.level_before);
     rpl_mb_destroy(s->mb);
     s->mb = NULL;
 }

@@ -28,6 +28,7 @@ struct rpl_saccade {
     int active;           /* this frame's pose has gaze */
     int missed;           /* the current refinement has already missed its deadline */
     int started;          /* a saccade started this frame */
+    uint8_t *level_before; /* per scene instance: its level on the frame before the saccade (LOD_UNSEEN) */
     double speed_degps;   /* this frame's gaze speed in the world (0 without gaze) */
     double time_s;        /* this frame's time */
 };
@@ -55,6 +56,7 @@ struct rpl_select {
     uint32_t *cand_samples;
     /* per scene instance: last frame's level (LOD_UNSEEN when not drawn), and the last visible list */
     uint8_t *level_of_instance;
+    size_t level_capacity; /* entries of level_of_instance (the scene's instances) */
     uint32_t *last_visible;
     uint32_t last_visible_count;
     /* per chain, for static and feedback: triangles[c·LOD_MAX_LEVELS + l], lod_count[c] */

@@ -293,7 +293,8 @@ static void print_notes(const struct gaze_bench *b, double wall_s, int runs)
                "eye fixed in the head, the part it still saves when the VOR holds the fixated point on the fovea. "
                "Saccades: I-VT on the gaze's world speed (onset 100, offset 50 deg/s), suppression 50 ms after each, "
                "refinement due 28 ms after that (acuity/saccade.c); a miss is a frame past the deadline with an "
-               "object still coarser than its ceiling that the budget had room to refine (replay/saccade_step.c). "
+               "object still coarser than its target (the coarser of its ceiling and its level before the saccade) "
+               "that the budget had room to raise (replay/saccade_step.c). "
                "Timings vary by ±20 %% between runs on a shared machine: compare ratios within one run.\n",
                runs, wall_s, b->frames, s->display, s->rate_hz, b->render_scale);
 }

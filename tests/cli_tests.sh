@@ -269,5 +269,18 @@ if [ -f "$edvam" ]; then
            END { exit !(c > 0 && n == 120) }' "$tmp/g2/frames.csv" || fail "EDVAM replay: no saccade_phase column"
 fi
 
+# Issue 14's acceptance on the real Corbillon trace: under vor (the default without gaze) the share
+# of the finest triangles at 60-120 deg/s stays near the still-head share; under head it falls.
+if [ -r "$trace" ]; then
+  for g in head vor; do
+    "$bin" replay --trace "$trace" --scene field --display vive --gaze $g --frames 600 --render-scale 0.25 --quiet \
+      --out "$tmp/c-gaze-$g" 2>"$tmp/err" || fail "corbillon --gaze $g: $(cat "$tmp/err")"
+  done
+  band_share() { grep -A2 "\"from_degps\":[[:space:]]*$2," "$1/summary.json" | grep -o 'triangle_share":[[:space:]]*[0-9.]*' | grep -o '[0-9.]*$'; }
+  awk -v h="$(band_share "$tmp/c-gaze-head" 60)" -v v="$(band_share "$tmp/c-gaze-vor" 60)" \
+      -v v0="$(band_share "$tmp/c-gaze-vor" 0)" 'BEGIN { exit !(h < 0.5 && v > 0.8 && v > v0 - 0.1) }' \
+    || fail "corbillon: the 60-120 deg/s band share should stay high under vor and fall under head"
+fi
+
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

@@ -84,7 +84,7 @@ int rpl_trace_write_csv(const struct rpl_trace *t, const char *path, struct hl_e
 /* Orientation at t (slerp between neighbours, clamped to the ends), angular and linear velocity
  * (world, rad/s and m/s) from a ±RPL_VELOCITY_HALF_WINDOW_S window that skips outliers and bridges
  * gaps, and the world gaze's angular velocity from a ±RPL_GAZE_VELOCITY_HALF_WINDOW_S window
- * (docs/trace-format.md §4: 10 ms keeps a saccade's peak, 50 ms would smear it). No allocation. */
+ * (docs/trace-format.md §4: a 10 ms span keeps a saccade's peak, 50 ms would smear it). No allocation. */
 #define RPL_VELOCITY_HALF_WINDOW_S 0.025
 #define RPL_GAZE_VELOCITY_HALF_WINDOW_S 0.005
 void rpl_trace_sample(const struct rpl_trace *trace, double time_s, struct trk_pose *out);

@@ -1,6 +1,7 @@
-/* Trace parsing: the project's CSV, Corbillon MMSys'18 and Nasrabadi MMSys'19 text files, held in memory (the
- * EDVAM eye-tracker log is recognised here and read by trace_edvam.c). Every rule is in docs/trace-format.md. The parser never reads past `length` and never relies on a NUL:
- * each line is bounded by the buffer, and only data lines are copied (bounded) for strtod. */
+/* Trace parsing: the project's CSV, Corbillon MMSys'18 and Nasrabadi MMSys'19 text files, held in memory
+ * (the EDVAM eye-tracker log is recognised here and read by trace_edvam.c). Every rule is in
+ * docs/trace-format.md. The parser never reads past `length` and never relies on a NUL: each line
+ * is bounded by the buffer, and only data lines' fields are copied (bounded) for strtod. */
 #include "replay/trace_internal.h"
 
 #include <errno.h>
@@ -194,14 +195,14 @@ int rpl_trace_parse(const char *text, size_t length, const char *name, struct rp
         if (m == 0 || s[0] == '#')
             continue; /* blank or comment; content is never read further */
 
+        if (!have_header && trace_is_edvam_header(s, m))
+            return trace_parse_edvam(text, length, name, out, err); /* its own row reader, from the start */
         if (memchr(s, '\0', m))
             return rpl_trace_free(out), hl_fail(err, "%s:%zu: NUL byte in the line", name, line_no);
         if (m > LINE_MAX_BYTES)
             return rpl_trace_free(out),
                    hl_fail(err, "%s:%zu: line too long (%zu bytes, at most %d)", name, line_no, m, LINE_MAX_BYTES);
 
-        if (!have_header && trace_is_edvam_header(s, m))
-            return trace_parse_edvam(text, length, name, out, err); /* its own row reader, from the start */
         if (!have_header) {
             if (detect_layout(s, m, &L) != 0)
                 return hl_fail(err, "%s:%zu: unrecognised header (expected %s)", name, line_no, CSV_EXPECTED);

@@ -140,7 +140,7 @@ void rpl_trace_sample(const struct rpl_trace *trace, double time_s, struct trk_p
     }
 
     /* The world gaze's rate over a narrower window: saccades last 20–80 ms, and a ±5 ms window keeps
-     * ≥ 95 % of a 40 ms saccade's peak (82 % of a 20 ms one) where ±25 ms keeps 20–60 %. At 31 Hz
+     * 85–99 % of a minimum-jerk saccade's peak where ±25 ms keeps 21–77 %. At 31 Hz
      * (EDVAM) the window is shorter than a step, so the rate is that step's own: nothing finer
      * exists there. ω = (g_a × g_b)/|g_a × g_b| · atan2(|g_a × g_b|, g_a·g_b) / span. */
     if (tr->gaze_dir) {

@@ -281,6 +281,20 @@ if [ -r "$trace" ]; then
       -v v0="$(band_share "$tmp/c-gaze-vor" 0)" 'BEGIN { exit !(h < 0.5 && v > 0.8 && v > v0 - 0.1) }' \
     || fail "corbillon: the 60-120 deg/s band share should stay high under vor and fall under head"
 fi
+# Millisecond logs repeat times (spread, loaded); a time that goes backwards is still file:line; the
+# EDVAM eye-tracker log loads as it is (the hand-written fixture, and participant2 when present).
+printf 't_s,qw,qx,qy,qz\n0.000,1,0,0,0\n0.000,1,0,0,0\n0.001,1,0,0,0\n0.002,1,0,0,0\n' >"$tmp/ms.csv"
+expect_ok "replay ms-rounded trace" "frames within the budget" -- "$bin" replay --trace "$tmp/ms.csv" \
+  --scene field --objects 50 --display vive --selector none --render-scale 0.25 --out "$tmp/ms"
+printf 't_s,qw,qx,qy,qz\n0.000,1,0,0,0\n0.002,1,0,0,0\n0.001,1,0,0,0\n' >"$tmp/back.csv"
+expect_error "replay backwards trace" "back.csv:4: time goes backwards" -- "$bin" replay --trace "$tmp/back.csv" \
+  --out "$tmp/back"
+for edvam in "${HMDLOD_SOURCE:-.}/tests/data/edvam_small.csv" "$shared/data/traces/edvam-gaze/participant2.csv"; do
+  [ -r "$edvam" ] || { echo "skip: $edvam is absent"; continue; }
+  expect_ok "replay EDVAM $(basename "$edvam")" "frames within the budget" -- "$bin" replay --trace "$edvam" \
+    --scene field --objects 50 --display vive --selector none --frames 30 --render-scale 0.25 --out "$tmp/edvam"
+  rm -rf "$tmp/edvam"
+done
 
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

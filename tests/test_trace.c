@@ -1038,11 +1038,42 @@ static void test_edvam_fixture(void)
         rpl_trace_free(&tr);
         free(t.s);
     }
+
+    /* No row with a measured gaze (all below 0.8, or L = C): the trace has no gaze at all. */
+    static const char blind[] = "index,time,L_x,L_y,L_z,C_x,C_y,C_z,F_x,F_y,F_z,confidence\r\n"
+                                "1,0.0,0,1.7,5,0,1.7,1,0,0,1,0.3\r\n2,0.033,0,1.7,1,0,1.7,1,0,0,1,0.9\r\n";
+    CHECK(parse_exact(blind, sizeof blind - 1, "blind.csv", &tr, &err) == 0);
+    CHECK(tr.count == 2 && tr.gaze_dir == NULL && tr.position_m && tr.report.low_confidence_gaze == 2);
+    rpl_trace_sample(&tr, 0.01, &p);
+    CHECK(!p.has_gaze && hl_v3_length(p.gaze_angular_velocity_radps) == 0.0);
+    rpl_trace_free(&tr);
+
+    /* Byte mutations: never a crash; a failure always names a line. */
+    uint64_t rng = 0x2545f4914f6cdd1dull;
+    char *buf = malloc(size);
+    int rejected = 0, unplaced = 0;
+    for (int iter = 0; iter < 2000; ++iter) {
+        memcpy(buf, text, size);
+        for (int k = 0; k < 1 + iter % 3; ++k) {
+            rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+            buf[(size_t)(rng >> 33) % size] = (char)(rng >> 17);
+        }
+        struct hl_error e = {{0}};
+        if (parse_exact(buf, size, "m.csv", &tr, &e) != 0) {
+            ++rejected;
+            if (message_line(e.msg, "m.csv") < 1)
+                ++unplaced, fprintf(stderr, "EDVAM mutation without a line: %s\n", e.msg);
+        }
+        rpl_trace_free(&tr);
+    }
+    free(buf);
+    printf("EDVAM mutations: %d of 2000 rejected, %d without file:line\n", rejected, unplaced);
+    CHECK(unplaced == 0);
     free(text);
 }
 
 /* Speeds (deg/s) at 90 Hz over the trace: world gaze and head. */
-static void edvam_speeds(const struct rpl_trace *tr, double gaze_pct[3], double head_pct[3])
+static void edvam_speeds(const struct rpl_trace *tr, double gaze_pct[3], double head_pct[3], double *gaze_still)
 {
     double t0 = tr->time_s[0], t1 = tr->time_s[tr->count - 1];
     size_t n = (size_t)((t1 - t0) * 90.0) + 1;
@@ -1055,6 +1086,10 @@ static void edvam_speeds(const struct rpl_trace *tr, double gaze_pct[3], double 
     }
     qsort(g, n, sizeof *g, cmp_double);
     qsort(h, n, sizeof *h, cmp_double);
+    size_t still = 0;
+    while (still < n && g[still] < 0.5)
+        ++still;
+    *gaze_still = (double)still / (double)n;
     static const double q[3] = {0.5, 0.95, 0.99};
     for (int k = 0; k < 3; ++k) {
         gaze_pct[k] = g[(size_t)(q[k] * (double)(n - 1))];
@@ -1089,14 +1124,15 @@ static void test_edvam_shared(void)
         double low = (double)r->low_confidence_gaze / (double)r->rows;
         CHECK(low > 0.2 && low < 0.35); /* data README: 73.9 % / 68.0 % at ≥ 0.8 */
         CHECK_NEAR(hl_v3_length(tr.position_m[0]), 0.0, 1e-15);
-        double gz[3], hd[3];
-        edvam_speeds(&tr, gz, hd);
+        double gz[3], hd[3], gaze_still;
+        edvam_speeds(&tr, gz, hd, &gaze_still);
         char line[512];
         rpl_trace_report_format(r, line, sizeof line);
         printf("%s: %s\n", files[f], line);
-        printf("%s: %.2f s, low-confidence %.1f %%; world gaze |ω| p50 %.1f p95 %.1f p99 %.1f deg/s; head p50 %.1f "
-               "p95 %.1f p99 %.1f deg/s\n",
-               files[f], tr.time_s[tr.count - 1] - tr.time_s[0], 100 * low, gz[0], gz[1], gz[2], hd[0], hd[1], hd[2]);
+        printf("%s: %.2f s, low-confidence %.1f %%; world gaze |ω| @90Hz p50 %.1f p95 %.1f p99 %.1f deg/s (%.1f %% "
+               "under 0.5); head p50 %.1f p95 %.1f p99 %.1f deg/s\n",
+               files[f], tr.time_s[tr.count - 1] - tr.time_s[0], 100 * low, gz[0], gz[1], gz[2], 100 * gaze_still,
+               hd[0], hd[1], hd[2]);
         CHECK(gz[2] < 2000.0 && gz[0] >= 0.0);
         rpl_trace_free(&tr);
     }

@@ -12,10 +12,13 @@ struct trk_pose {
     hl_quatd orientation;
     hl_vec3d position_m;          /* world; zero when the source has no position */
     hl_vec3d angular_velocity_radps; /* world frame */
-    hl_vec3d linear_velocity_mps; /* world frame, of position_m; zero when the source has no position */
+    hl_vec3d linear_velocity_mps; /* world frame, of position_m; zero when the source has no position.
+                                   * Trace sources: over ±25 ms, like the angular velocity */
     hl_vec3d gaze_dir_head;       /* unit, head frame; (0,0,−1) when eye locked to the head */
     hl_vec3d gaze_angular_velocity_radps; /* world frame, of the gaze in the world (eye + head); zero
-                                           * when the source has no gaze */
+                                           * when the source has no gaze. Perpendicular to the gaze:
+                                           * a turn about the gaze axis does not move it. Trace
+                                           * sources: over ±5 ms (docs/trace-format.md §4) */
     int has_position;
     int has_gaze;
 };

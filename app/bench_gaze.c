@@ -69,7 +69,7 @@ static const char gaze_usage[] =
     "  --objects N       objects in the field scene, 1..100000 (default 1000; --quick 300)\n"
     "  --render-scale F  per-eye resolution factor in (0, 4] (default 1; --quick 0.5)\n"
     "  --results FILE    also write the output as the section \"" GAZE_HEADING "\" of FILE\n"
-    "  --quick           fewer frames and objects, half the resolution (about 2 minutes here)\n"
+    "  --quick           fewer frames and objects, half the resolution (75 s of CPU here)\n"
     "Traces: Corbillon user1, Nasrabadi 322SAJ_9, EDVAM participant2.\n"
     "The shared folder: $HMDLOD_SHARED, else ../shared, else next to the executable's checkout.\n";
 

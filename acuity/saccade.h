@@ -16,6 +16,8 @@ struct acu_saccade_params {
     double suppression_s;     /* vision stays suppressed this long after the saccade ends */
     double refine_deadline_s; /* refinement to the ceiling due within this after suppression ends */
 };
+/* 100 / 50 deg/s, 50 ms, 28 ms (each cited in saccade.c). Precondition of acu_saccade_update:
+ * 0 < offset ≤ onset, both finite; suppression_s, refine_deadline_s ≥ 0. */
 void acu_saccade_params_default(struct acu_saccade_params *p);
 
 enum acu_saccade_phase {
@@ -33,8 +35,13 @@ struct acu_saccade_state {
 void acu_saccade_init(struct acu_saccade_state *s);
 
 /* One sample at time_s (non-decreasing) with the gaze's world speed in deg/s (NaN → treated as no
- * saccade). Returns the phase for this sample. */
+ * saccade: it starts none and ends one in progress). A saccade starts at speed ≥ onset (also inside
+ * the last one's window: counted as a new one) and ends at the first sample below offset; the window
+ * then runs suppression_s from that sample's time. The first sample at or past the window's end is
+ * NONE again and sets refine_due_s = window end + refine_deadline_s. Returns the sample's phase. */
 enum acu_saccade_phase acu_saccade_update(struct acu_saccade_state *s, const struct acu_saccade_params *p,
                                           double time_s, double gaze_speed_degps);
+/* The caller has refined everything the last saccade let drop: refine_due_s back to +∞. */
+void acu_saccade_refined(struct acu_saccade_state *s);
 
 #endif

@@ -44,6 +44,7 @@ static const char replay_usage[] =
     "  --opt-limit-us T   stop fs or mb after T microseconds per frame (default 0: run to the end); the\n"
     "                     choice is feasible after every iteration (Nirenstein et al. 5.5)\n"
     "  --static-px N      static's pixels per triangle (default 64); feedback starts from it\n"
+    "  --saccade-onset-degps V  gaze speed that starts a saccade (default 100; the end is at half of it)\n"
     "  --cost-correction on|ratio|affine|off  correct fs's and mb's budget from measured draw times: the\n"
     "                     smoothed measured/predicted ratio (on = ratio, the default), or an affine fit\n"
     "                     measured = a + b x by recursive least squares (x: the objects' predicted cost)\n"
@@ -124,6 +125,13 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
         } else if (!strcmp(opt, "--static-px")) {
             if (app_parse_double(opt, val, &o->static_px_per_triangle))
                 return 1;
+        } else if (!strcmp(opt, "--saccade-onset-degps")) { /* replay/saccade_step.c */
+            if (app_parse_double(opt, val, &o->saccade_onset_degps))
+                return 1;
+            if (!(o->saccade_onset_degps > 0.0 && o->saccade_onset_degps < 1e5)) {
+                fprintf(stderr, "hmdlod: --saccade-onset-degps: %s is not a speed in (0, 1e5) deg/s\n", val);
+                return 1;
+            }
         } else if (!strcmp(opt, "--cost-correction")) {
             if (!strcmp(val, "on") || !strcmp(val, "ratio"))
                 o->cost_correction = RPL_CORRECTION_RATIO;

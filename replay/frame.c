@@ -119,6 +119,7 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
     if (rpl_frame_head_state(s, time_s, &pose, &head, err) != 0)
         return -1;
     rec->head_speed_degps = hl_v3_length(pose.angular_velocity_radps) * HL_DEG_PER_RAD;
+    rpl_select_saccade(&s->select, &pose, time_s); /* saccade suppression (replay/saccade_step.c) */
     const double *object_velocity_mps = rpl_motion_step(&s->scene, time_s); /* NULL: static scene */
 
     struct scn_cull_stats cull = {0};

@@ -21,7 +21,8 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
     for (int k = 0; k < max_lods; ++k)
         fprintf(o->csv, ",lod%d", k);
     fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
-          "over_budget,eye_speed_degps,acuity_us,select_us,optimizer_us,draw_ms,frame_ms,deadline_met\n", o->csv);
+          "over_budget,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,acuity_us,select_us,"
+          "optimizer_us,draw_ms,frame_ms,deadline_met\n", o->csv);
     return 0;
 }
 
@@ -42,6 +43,8 @@ void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int 
     fprintf(o->csv, ",%u,%u,%d,%d", q->lod_changes, q->iterations, q->truncated, q->over_budget);
     /* The eye's angular speed in the world under the gaze model (deterministic). */
     fprintf(o->csv, ",%.3f", r->eye_speed_degps);
+    fprintf(o->csv, ",%.3f,%d,%u,%d", q->gaze_speed_degps, q->saccade_phase, q->refine_pending,
+            q->refine_miss); /* saccade_step.c */
     /* The timings last: everything before them is deterministic (the optimizer's budget aside, which
      * follows the measured overhead and correction). */
     fprintf(o->csv, ",%.2f,%.2f,%.2f,%.3f,%.3f,%d\n", r->acuity_us, r->select_us, q->optimizer_us, r->draw_ms,
@@ -177,6 +180,11 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
         a->benefit_share_sum += share;
         a->benefit_share_frames++;
     }
+    a->gaze_frames += q->saccade_active; /* saccades (replay/saccade_step.c) */
+    a->saccades += q->saccade_started;
+    a->suppressed_frames += q->saccade_phase != 0;
+    a->refine_miss_frames += q->refine_miss;
+    a->refine_missed_saccades += q->refine_missed_saccade;
 }
 
 void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
@@ -215,6 +223,10 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     /* per visible object per second: changes / (object-frames) × frames per second; the caller
      * knows the rate and scales (rpl_run). */
     s->lod_changes_per_object_s = a->visible_sum > 0 ? a->lod_changes_sum / a->visible_sum : 0.0;
+    s->gaze_frames = a->gaze_frames, s->saccades = a->saccades, s->suppressed_frames = a->suppressed_frames;
+    s->suppressed_fraction = (double)a->suppressed_frames / n;
+    s->refine_miss_frames = a->refine_miss_frames, s->refine_missed_saccades = a->refine_missed_saccades;
+    s->refine_missed_saccade_fraction = a->saccades ? (double)a->refine_missed_saccades / (double)a->saccades : 0.0;
     for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
         s->band_frames[b] = a->band_frames[b];
         s->band_triangle_share[b] = a->band_finest[b] > 0 ? a->band_triangles[b] / a->band_finest[b] : NAN;
@@ -286,6 +298,15 @@ int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct 
     } else {
         cJSON_AddNullToObject(root, "benefit_share_of_lp_mean");
         cJSON_AddNullToObject(root, "benefit_share_of_lp_min");
+    }
+    if (s->gaze_frames > 0) { /* saccades (replay/saccade_step.c): only when the trace has gaze */
+        cJSON *sac = cJSON_AddObjectToObject(root, "saccades");
+        cJSON_AddNumberToObject(sac, "count", (double)s->saccades);
+        cJSON_AddNumberToObject(sac, "suppressed_frames", (double)s->suppressed_frames);
+        cJSON_AddNumberToObject(sac, "suppressed_fraction", s->suppressed_fraction);
+        cJSON_AddNumberToObject(sac, "refine_miss_frames", (double)s->refine_miss_frames);
+        cJSON_AddNumberToObject(sac, "refine_missed_saccades", (double)s->refine_missed_saccades);
+        cJSON_AddNumberToObject(sac, "refine_missed_saccade_fraction", s->refine_missed_saccade_fraction);
     }
     cJSON *bands = cJSON_AddArrayToObject(root, "head_speed_bands");
     for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
@@ -365,6 +386,12 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
     if (s->vm_hwm_kib >= 0 && s->vm_rss_kib >= 0)
         fprintf(f, "  %-34s %10.1f / %.1f MiB\n", "resident memory peak / at the end", s->vm_hwm_kib / 1024.0,
                 s->vm_rss_kib / 1024.0);
+    if (s->gaze_frames > 0) { /* saccades (replay/saccade_step.c): only when the trace has gaze */
+        fprintf(f, "  %-34s %10ld, %.1f %% of frames suppressed\n", "saccades", s->saccades,
+                100.0 * s->suppressed_fraction);
+        fprintf(f, "  %-34s %10ld frames, %ld saccades (%.1f %%)\n", "refinements missing 28 ms", s->refine_miss_frames,
+                s->refine_missed_saccades, 100.0 * s->refine_missed_saccade_fraction);
+    }
     fprintf(f, "  share of finest triangles drawn, by head speed:\n");
     for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
         if (s->band_frames[b] == 0)

@@ -126,6 +126,7 @@ struct rpl_options {
     double vor_latency_ms;   /* < 0 → default */
     double fixation_m;       /* ≤ 0 → the scene's default fixation distance */
     double saccade_onset_degps; /* ≤ 0 → acu_saccade_params_default's */
+    int velocity_term_off;   /* 1: acu_limits.use_velocity = 0 (bench gaze: what the velocity term saves) */
 };
 void rpl_options_defaults(struct rpl_options *o);
 /* 1 when a --scene value names a scene file (docs/scene-format.md): it ends in .json or is an
@@ -169,6 +170,11 @@ struct rpl_summary {
     double eye_speed_degps_mean;
     char renderer[128];
     char selector[16], scene[256], display[64];
+    /* saccades (replay/saccade_step.c; docs/gaze.md), only when the trace has gaze (gaze_frames > 0) */
+    long gaze_frames, saccades, suppressed_frames;
+    double suppressed_fraction;           /* frames inside a saccade or its window / frames */
+    long refine_miss_frames, refine_missed_saccades; /* frames past the 28 ms deadline; saccades with one */
+    double refine_missed_saccade_fraction; /* refine_missed_saccades / saccades (0 without saccades) */
 };
 
 /* The visible-set test of a frame (DESIGN.md step 3): the union of both eyes' frusta of a display

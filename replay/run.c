@@ -162,6 +162,7 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     s->near_m = 0.05;
     rpl_cull_frustum_init(&s->cull_frustum, &s->display, s->near_m);
     acu_limits_init(&s->limits, hmd_compute_xi(&s->display).used_cpd, o->acuity_scale);
+    s->limits.use_velocity = !o->velocity_term_off; /* bench gaze: the velocity term's saving */
     s->far_m = 2000.0;
 
     struct rpl_trace trace;
@@ -234,6 +235,8 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     s->select.opt_limit_us = o->opt_limit_us;
     s->select.static_px = o->static_px_per_triangle;
     s->select.correct = o->cost_correction;
+    s->select.saccade_onset_degps = o->saccade_onset_degps; /* replay/saccade_step.c */
+    s->select.saccade_off = s->gaze != ACU_GAZE_TRACKED; /* head, vor: no eye tracker, no saccades known */
     if (rpl_cost_model_load(o->cost_profile, &s->select.cost, s->cost_label, sizeof s->cost_label, err) != 0 ||
         rpl_select_init(&s->select, &s->scene, err) != 0)
         return -1;

@@ -94,6 +94,7 @@ struct rpl_accumulator {
     double lod_changes_sum, optimizer_us_sum, optimizer_us_max, iterations_sum;
     double benefit_share_sum, benefit_share_min; /* benefit / LP bound where the bound is known */
     long benefit_share_frames;
+    long gaze_frames, saccades, suppressed_frames, refine_miss_frames, refine_missed_saccades; /* saccade */
     /* Per head-speed band (rpl_speed_band_lower_degps): what share of the finest triangles was drawn,
      * so the velocity term's effect shows in one run. */
     long band_frames[RPL_SPEED_BAND_COUNT];

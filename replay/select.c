@@ -61,11 +61,14 @@ int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct 
     s->chain_triangles = calloc(chains * LOD_MAX_LEVELS, sizeof(uint32_t));
     s->chain_lod_count = calloc(chains, 1);
     s->scratch = malloc(lod_scratch_bytes(n, cands));
+    s->saccade.level_before = malloc(n);
     if (!s->pixels_px || !s->ceiling_level || !s->previous_level || !s->choice || !s->first || !s->count ||
         !s->cand_cost_ms || !s->cand_benefit || !s->cand_level || !s->cand_samples || !s->level_of_instance ||
-        !s->last_visible || !s->chain_triangles || !s->chain_lod_count || !s->scratch)
+        !s->last_visible || !s->chain_triangles || !s->chain_lod_count || !s->scratch || !s->saccade.level_before)
         return hl_fail(err, "scene '%s': out of memory for the selector's arrays (%zu objects)", scene->name, n);
     memset(s->level_of_instance, LOD_UNSEEN, n);
+    s->level_capacity = n;
+    memset(s->saccade.level_before, LOD_UNSEEN, n);
     for (uint32_t c = 0; c < scene->chain_count; ++c) {
         const struct scn_chain *ch = &scene->chains[c];
         s->chain_lod_count[c] = (uint8_t)(ch->lod_count < LOD_MAX_LEVELS ? ch->lod_count : LOD_MAX_LEVELS);
@@ -75,6 +78,14 @@ int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct 
     if (s->selector == RPL_SELECT_MB && rpl_mb_create(scene, n, &s->mb, err) != 0)
         return -1;
     lod_benefit_params_default(&s->benefit);
+    acu_saccade_params_default(&s->saccade.params);
+    if (!isfinite(s->saccade_onset_degps))
+        return hl_fail(err, "--saccade-onset-degps: %g is not a finite speed", s->saccade_onset_degps);
+    if (s->saccade_onset_degps > 0.0) { /* ≤ 0: the default; the offset keeps the default's ratio */
+        s->saccade.params.offset_degps *= s->saccade_onset_degps / s->saccade.params.onset_degps;
+        s->saccade.params.onset_degps = s->saccade_onset_degps;
+    }
+    acu_saccade_init(&s->saccade.state);
     lod_cost_correction_init(&s->correction, 0.1);
     lod_cost_rls_init(&s->rls, s->cost.c0_ms, 0.98);
     lod_feedback_init(&s->feedback, s->static_px > 0.0 ? s->static_px : 64.0);
@@ -98,6 +109,7 @@ void rpl_select_free(struct rpl_select *s)
     free(s->chain_triangles);
     free(s->chain_lod_count);
     free(s->scratch);
+    free(s->saccade.level_before);
     rpl_mb_destroy(s->mb);
     s->mb = NULL;
 }
@@ -192,6 +204,7 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
         lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
                          in->velocity_degps, in->diameter_deg, s->ceiling_level, NULL, &stats);
         rec->acuity_evaluations = stats.model_evaluations;
+        rpl_saccade_lower_ceilings(s, scene, in); /* suppressed: nothing above the coarsest is seen */
     }
 
     switch (s->selector) {
@@ -254,6 +267,7 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
         acu_compute_pixels(in->eyes, 2, scene->center_m, scene->radius_m, &extra_index[k], 1, &px);
         rec->predicted_ms += level_cost_ms(&s->cost, &ch->lods[extra_level[k]], px);
     }
+    rpl_saccade_account(s, scene, in, lod_out, rec);
     rec->lod_changes = remember_levels(s, in, lod_out);
 }
 

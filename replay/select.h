@@ -4,6 +4,7 @@
 #ifndef HMDLOD_REPLAY_SELECT_H
 #define HMDLOD_REPLAY_SELECT_H
 
+#include "acuity/acuity.h"
 #include "lod/lod.h"
 #include "scene/scene.h"
 
@@ -17,6 +18,20 @@ enum rpl_selector {
 };
 /* "none" … "fs" → the enum; −1 with the known names in err for anything else. */
 int rpl_selector_parse(const char *name, enum rpl_selector *out, struct hl_error *err);
+
+/* Saccade suppression and the 28 ms refinement rule (acuity/saccade.h; docs/gaze.md). Active only
+ * when the frame's pose has a measured gaze and the gaze model is tracked (head and vor stand for a
+ * headset without an eye tracker, which cannot see saccades); otherwise the phase stays NONE. */
+struct rpl_saccade {
+    struct acu_saccade_params params;
+    struct acu_saccade_state state;
+    int active;           /* this frame's pose has gaze */
+    int missed;           /* the current refinement has already missed its deadline */
+    int started;          /* a saccade started this frame */
+    uint8_t *level_before; /* per scene instance: its level on the frame before the saccade (LOD_UNSEEN) */
+    double speed_degps;   /* this frame's gaze speed in the world (0 without gaze) */
+    double time_s;        /* this frame's time */
+};
 
 struct rpl_select {
     enum rpl_selector selector;
@@ -42,6 +57,7 @@ struct rpl_select {
     uint32_t *cand_samples;
     /* per scene instance: last frame's level (LOD_UNSEEN when not drawn), and the last visible list */
     uint8_t *level_of_instance;
+    size_t level_capacity; /* entries of level_of_instance (the scene's instances) */
     uint32_t *last_visible;
     uint32_t last_visible_count;
     /* per chain, for static and feedback: triangles[c·LOD_MAX_LEVELS + l], lod_count[c] */
@@ -50,6 +66,9 @@ struct rpl_select {
     void *scratch;
     double fs_margin_value;    /* last frame's lod_result.margin_value (fs), 0 before the first */
     struct rpl_mb *mb; /* the mb selector's tree and last solution (replay/select_mb.h); NULL otherwise */
+    double saccade_onset_degps; /* set before rpl_select_init; ≤ 0 → acu_saccade_params_default's */
+    int saccade_off;            /* 1: a gaze model without an eye tracker (head, vor): no saccades known */
+    struct rpl_saccade saccade;
 };
 
 /* What selection did in one frame, for its CSV row. */
@@ -62,6 +81,13 @@ struct rpl_select_record {
     int truncated, over_budget;
     double optimizer_us;
     double lp_us;                          /* the LP bound's own time, left out of the frame's */
+    /* saccades (replay/saccade_step.c): phase this frame; once suppression has ended and until the
+     * objects are refined, the objects drawn coarser than their ceiling (pending) and those among them
+     * whose refinement the budget's slack would have paid for; miss = such objects past the deadline */
+    int saccade_active, saccade_phase, saccade_started;
+    double gaze_speed_degps;
+    uint32_t refine_pending, refine_unbudgeted;
+    int refine_miss, refine_missed_saccade; /* this frame missed; first missed frame of its saccade */
 };
 
 /* The machine cost profile: `path` (a JSON file written by hmdlod calibrate) or, for NULL, the
@@ -86,6 +112,17 @@ struct rpl_view_inputs {
 void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
                       uint8_t *lod_out, uint32_t *extra_index, uint8_t *extra_level, size_t *extra_count,
                       struct rpl_select_record *rec);
+/* Before rpl_select_frame, once per frame: the gaze's world speed (pose's gaze angular velocity, deg/s)
+ * into the saccade classifier. While suppressed (inside a saccade and its window) the selectors that
+ * use the perceptual ceiling (reddy, fs, mb) see every object's ceiling at its coarsest level; static,
+ * feedback and none do not use the ceiling and are left as they are (replay/saccade_step.c). */
+struct trk_pose;
+void rpl_select_saccade(struct rpl_select *s, const struct trk_pose *pose, double time_s);
+/* Inside rpl_select_frame (replay/saccade_step.c): while suppressed, lowers the ceilings of the n
+ * visible objects to their coarsest levels; after the choice, the refinement accounting of rec. */
+void rpl_saccade_lower_ceilings(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in);
+void rpl_saccade_account(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
+                         const uint8_t *lod, struct rpl_select_record *rec);
 /* After the draw: the measured draw and frame times feed the correction and the feedback controller. */
 void rpl_select_measured(struct rpl_select *s, const struct rpl_select_record *rec, double draw_ms, double frame_ms);
 

@@ -256,6 +256,18 @@ expect_ok "replay --gaze vor flags" "gain 0.8, latency 20 ms" -- "$bin" replay -
 grep -Eq '"model":[[:space:]]*"vor"' "$tmp/gz-vor/summary.json" && grep -Eq '"fixation_m":[[:space:]]*3,' "$tmp/gz-vor/summary.json" \
   || fail "summary.json does not name the gaze model and fixation"
 expect_ok "display shows the neck offset" "eyes from the neck pivot \(mm\) +80.5 forward, 75.0 up" -- "$bin" display show vive
+# Saccades (replay/saccade_step.c): the onset flag is checked; the EDVAM log loads as it is and the
+# summary reports its saccades.
+expect_error "replay bad --saccade-onset-degps" "--saccade-onset-degps: -5 is not a speed" -- "$bin" replay \
+  --saccade-onset-degps -5 --out "$tmp/sac-bad"
+[ ! -e "$tmp/sac-bad" ] || fail "a refused replay made its output folder"
+edvam="$shared/data/traces/edvam-gaze/participant2.csv"
+if [ -f "$edvam" ]; then
+  expect_ok "replay EDVAM tracked" "saccades +[0-9]+, [0-9.]+ % of frames suppressed" -- "$bin" replay \
+    --trace "$edvam" --gaze tracked --scene auditorium --display vive --frames 120 --render-scale 0.25 --out "$tmp/g2"
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "saccade_phase") c = i; next } { n++ }
+           END { exit !(c > 0 && n == 120) }' "$tmp/g2/frames.csv" || fail "EDVAM replay: no saccade_phase column"
+fi
 
 # Issue 14's acceptance on the real Corbillon trace: under vor (the default without gaze) the share
 # of the finest triangles at 60-120 deg/s stays near the still-head share; under head it falls.

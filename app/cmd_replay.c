@@ -12,7 +12,7 @@ static const char replay_usage[] =
     "                     [--acuity-scale S] [--render-scale F] [--frequency-reading R] [--quiet]\n"
     "                     [--budget-ms T] [--cost-profile FILE] [--opt-limit-us T] [--static-px N]\n"
     "                     [--cost-correction on|ratio|affine|off] [--gaze MODEL] [--vor-gain G]\n"
-    "                     [--vor-latency-ms T] [--fixation-m D]\n"
+    "                     [--vor-latency-ms T] [--fixation-m D] [--saccade-onset-degps V]\n"
     "  Replays a head-motion trace on a virtual clock through a scene, rendering both eyes headless.\n"
     "  --trace FILE       hmdlod CSV (t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]), a Corbillon MMSys'18\n"
     "                     quaternion file, a Nasrabadi MMSys'19 CSV or an EDVAM eye-tracker log (gaze and\n"

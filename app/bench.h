@@ -44,6 +44,11 @@ void bench_commit(char *out, size_t size);
  * 0 and its path, or −1 (out holds the path that was looked for). */
 int bench_find_shared(char *out, size_t size);
 
+/* A fresh folder /tmp/hmdlod-bench-NAME-XXXXXX for a bench's replays (path ≥ 64 bytes); 0, or −1
+ * after saying why on stderr. bench_temp_dir_remove deletes it and everything in it. */
+int bench_temp_dir(const char *name, char *path, size_t size);
+void bench_temp_dir_remove(const char *path);
+
 /* Replaces (or appends) the section starting at `heading` in the Markdown file at path. */
 int bench_write_results_section(const char *path, const char *heading, const char *body);
 

@@ -1,7 +1,8 @@
 /* The context every bench shares: output to stdout with a copy kept for --results, the machine,
  * commit and date a measurement was taken on, the shared data folder, and the RESULTS.md writer. */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* mkdtemp, nftw (POSIX 2008 with the XSI part) */
 #include <fcntl.h>
+#include <ftw.h>
 #include <spawn.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -279,3 +280,20 @@ int bench_write_results_section(const char *path, const char *heading, const cha
 }
 
 void bench_commit(char *out, size_t size) { commit_id(out, size); }
+
+static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw)
+{
+    (void)st, (void)flag, (void)ftw;
+    return remove(path);
+}
+
+int bench_temp_dir(const char *name, char *path, size_t size)
+{
+    if (snprintf(path, size, "/tmp/hmdlod-bench-%s-XXXXXX", name) >= (int)size || !mkdtemp(path)) {
+        fprintf(stderr, "hmdlod bench %s: cannot create a temporary folder\n", name);
+        return -1;
+    }
+    return 0;
+}
+
+void bench_temp_dir_remove(const char *path) { nftw(path, remove_entry, 8, FTW_DEPTH | FTW_PHYS); }

@@ -3,8 +3,7 @@
  * head, vor) and EDVAM (with measured gaze: also tracked, and its saccades). Each model also runs with
  * the velocity term off (acu_limits.use_velocity = 0) to measure what the velocity term saves and how
  * much of that saving survives under the VOR. Everything measured comes from rpl_run's summary. */
-#define _XOPEN_SOURCE 700 /* mkdtemp, nftw */
-#include <ftw.h>
+#define _XOPEN_SOURCE 700
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -134,19 +133,11 @@ static int choose_traces(struct gaze_bench *b)
     return 0;
 }
 
-static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw)
-{
-    (void)st, (void)flag, (void)ftw;
-    return remove(path);
-}
-
 static int run_all(struct gaze_bench *b)
 {
-    char tmp[] = "/tmp/hmdlod-bench-gaze-XXXXXX";
-    if (!mkdtemp(tmp)) {
-        fprintf(stderr, "hmdlod bench gaze: cannot create a temporary folder\n");
+    char tmp[64];
+    if (bench_temp_dir("gaze", tmp, sizeof tmp) != 0)
         return 1;
-    }
     int total = 0, run = 0, rc = 0;
     for (int t = 0; t < b->n_traces; ++t)
         for (int m = 0; m < N_MODELS; ++m)
@@ -204,7 +195,7 @@ static int run_all(struct gaze_bench *b)
                 rc = 1;
             }
         }
-    nftw(tmp, remove_entry, 8, FTW_DEPTH | FTW_PHYS);
+    bench_temp_dir_remove(tmp);
     return rc;
 }
 

@@ -1,8 +1,7 @@
 /* hmdlod bench replay: the same head motion through both built-in scenes on the Vive with the
  * selectors none and reddy, in one run, so that their ratios are measured under the same load.
  * Everything measured comes from rpl_run's summary; this file only runs it and formats. */
-#define _XOPEN_SOURCE 700 /* mkdtemp, nftw */
-#include <ftw.h>
+#define _XOPEN_SOURCE 700
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -107,20 +106,12 @@ static void choose_traces(struct replay_bench *b)
     }
 }
 
-static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw)
-{
-    (void)st, (void)flag, (void)ftw;
-    return remove(path);
-}
-
 /* Every run into its own folder under a fresh temporary one, removed at the end either way. */
 static int run_all(struct replay_bench *b)
 {
-    char tmp[] = "/tmp/hmdlod-bench-replay-XXXXXX";
-    if (!mkdtemp(tmp)) {
-        fprintf(stderr, "hmdlod bench replay: cannot create a temporary folder\n");
+    char tmp[64];
+    if (bench_temp_dir("replay", tmp, sizeof tmp) != 0)
         return 1;
-    }
     int total = b->n_traces * N_SCENES * N_SELECTORS, run = 0, rc = 0;
     for (int t = 0; t < b->n_traces && rc == 0; ++t)
         for (int sc = 0; sc < N_SCENES && rc == 0; ++sc)
@@ -147,7 +138,7 @@ static int run_all(struct replay_bench *b)
                     rc = 1;
                 }
             }
-    nftw(tmp, remove_entry, 8, FTW_DEPTH | FTW_PHYS);
+    bench_temp_dir_remove(tmp);
     return rc;
 }
 

@@ -70,6 +70,28 @@ static long message_line(const char *msg, const char *name)
     return (end != msg + k + 1 && *end == ':') ? line : -1;
 }
 
+/* Parses every prefix of text[0, size): each loads, or fails naming a line of `name` with nothing
+ * left allocated (never a crash: ASan runs this). Counts the three outcomes. */
+struct prefix_counts {
+    int ok, failed, wrong;
+};
+static struct prefix_counts parse_every_prefix(const char *text, size_t size, const char *name)
+{
+    struct prefix_counts c = {0, 0, 0};
+    for (size_t len = 0; len <= size; ++len) {
+        struct rpl_trace tr;
+        struct hl_error e = {{0}};
+        if (parse_exact(text, len, name, &tr, &e) == 0)
+            ++c.ok;
+        else if (message_line(e.msg, name) > 0 && tr.time_s == NULL)
+            ++c.failed;
+        else
+            ++c.wrong, fprintf(stderr, "%s prefix %zu: %s\n", name, len, e.msg);
+        rpl_trace_free(&tr);
+    }
+    return c;
+}
+
 static hl_quatd yaw_q(double yaw_deg)
 {
     return hl_q_from_axis_angle(hl_v3(0, 1, 0), yaw_deg * HL_RAD_PER_DEG);
@@ -744,21 +766,9 @@ static void test_rounded_timestamps(void)
     /* Every prefix of a small millisecond log with repeats: loads, or fails naming a line. */
     static const char small[] = "t_s,qw,qx,qy,qz\n0.000,1,0,0,0\n0.000,1,0,0,0\n0.001,1,0,0,0\n"
                                 "0.001,0.9999619230641713,0,0.008726535498373935,0\n0.001,1,0,0,0\n0.003,1,0,0,0\n";
-    int ok = 0, failed = 0, wrong = 0;
-    for (size_t len = 0; len <= sizeof small - 1; ++len) {
-        struct rpl_trace tr;
-        struct hl_error e = {{0}};
-        int rc = parse_exact(small, len, "ms.csv", &tr, &e);
-        if (rc == 0)
-            ++ok;
-        else if (message_line(e.msg, "ms.csv") > 0 && tr.time_s == NULL)
-            ++failed;
-        else
-            ++wrong, fprintf(stderr, "prefix %zu: %s\n", len, e.msg);
-        rpl_trace_free(&tr);
-    }
-    printf("ms-log prefixes: %d load, %d fail with a line, %d wrong\n", ok, failed, wrong);
-    CHECK(wrong == 0 && ok >= 4);
+    struct prefix_counts c = parse_every_prefix(small, sizeof small - 1, "ms.csv");
+    printf("ms-log prefixes: %d load, %d fail with a line, %d wrong\n", c.ok, c.failed, c.wrong);
+    CHECK(c.wrong == 0 && c.ok >= 4);
 }
 
 /* ---- (h) linear velocity and the world gaze's angular velocity ------------------------------- */
@@ -991,20 +1001,9 @@ static void test_edvam_fixture(void)
     rpl_trace_free(&tr);
 
     /* Every prefix: loads, or fails naming a line (never a crash; ASan runs this). */
-    int ok = 0, failed = 0, wrong = 0;
-    for (size_t len = 0; len <= size; ++len) {
-        struct hl_error e = {{0}};
-        int prc = parse_exact(text, len, "edvam.csv", &tr, &e);
-        if (prc == 0)
-            ++ok;
-        else if (message_line(e.msg, "edvam.csv") > 0 && tr.time_s == NULL)
-            ++failed;
-        else
-            ++wrong, fprintf(stderr, "edvam prefix %zu: %s\n", len, e.msg);
-        rpl_trace_free(&tr);
-    }
-    printf("EDVAM fixture prefixes: %d load, %d fail with a line, %d wrong\n", ok, failed, wrong);
-    CHECK(wrong == 0 && ok == 6); /* after each complete real row (the placeholder alone is no row) */
+    struct prefix_counts c = parse_every_prefix(text, size, "edvam.csv");
+    printf("EDVAM fixture prefixes: %d load, %d fail with a line, %d wrong\n", c.ok, c.failed, c.wrong);
+    CHECK(c.wrong == 0 && c.ok == 6); /* after each complete real row (the placeholder alone is no row) */
 
     /* Corrupted fields: each names its line and column. Row 3 (line 4) is edited in place. */
     static const struct {

@@ -14,20 +14,6 @@
 
 static char tmp_dir[] = "/tmp/hmdlod-test-scenefile-XXXXXX";
 
-static const char *source_path(const char *relative)
-{
-    static char path[4096];
-    const char *src = getenv("HMDLOD_SOURCE");
-    if (src && *src) {
-        snprintf(path, sizeof path, "%s/%s", src, relative);
-    } else { /* run by hand: this file's folder is tests/ (CMake passes full paths) */
-        snprintf(path, sizeof path, "%s", __FILE__);
-        char *slash = strrchr(path, '/');
-        snprintf(slash ? slash + 1 : path, sizeof path - (size_t)(slash ? slash + 1 - path : 0), "../%s", relative);
-    }
-    return path;
-}
-
 static const char *write_temp(const char *name, const char *text)
 {
     static char path[256];
@@ -75,7 +61,7 @@ static uint32_t group_named(const struct scn_scene *s, const char *name)
 
 static void test_nested_groups(void)
 {
-    const char *path = source_path("tests/scenes/nested-groups.json");
+    const char *path = tu_source_path("tests/scenes/nested-groups.json");
     struct scn_scene s;
     struct hl_error err = {{0}};
     int rc = scn_scenefile_load(path, NULL, &s, &err);
@@ -329,7 +315,7 @@ static int tetra_resolve(void *user, const char *path, struct scn_lodset *out, s
 
 static void test_real_meshes_structure(void)
 {
-    const char *path = source_path("tests/scenes/real-meshes.json");
+    const char *path = tu_source_path("tests/scenes/real-meshes.json");
     char file[4096];
     snprintf(file, sizeof file, "%s", path);
     struct counting_resolver count = {0, 0};

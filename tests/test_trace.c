@@ -567,13 +567,7 @@ static void test_load(void)
     struct hl_error err = {{0}};
     CHECK(rpl_trace_load("/nonexistent/trace.csv", &tr, &err) == -1);
     CHECK(strstr(err.msg, "/nonexistent/trace.csv: cannot open") == err.msg);
-    const char *src = getenv("HMDLOD_SOURCE");
-    if (!src || !*src) {
-        printf("skip: HMDLOD_SOURCE unset, example trace not loaded\n");
-        return;
-    }
-    char path[4096];
-    snprintf(path, sizeof path, "%s/tests/data/trace_example.csv", src);
+    const char *path = tu_source_path("tests/data/trace_example.csv");
     int rc = rpl_trace_load(path, &tr, &err);
     CHECK(rc == 0);
     if (rc != 0) {
@@ -943,13 +937,7 @@ static hl_vec3d unity_v(double x, double y, double z) { return hl_v3(x, y, -z); 
 
 static void test_edvam_fixture(void)
 {
-    const char *src = getenv("HMDLOD_SOURCE");
-    if (!src || !*src) {
-        printf("skip: HMDLOD_SOURCE unset, EDVAM fixture not loaded\n");
-        return;
-    }
-    char path[4096];
-    snprintf(path, sizeof path, "%s/tests/data/edvam_small.csv", src);
+    const char *path = tu_source_path("tests/data/edvam_small.csv");
     size_t size = 0;
     char *text = tu_read_file(path, &size);
     CHECK(text != NULL);

@@ -2,6 +2,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 int tu_failures;
@@ -24,6 +25,20 @@ const char *tu_shared_path(const char *relative)
     if (access(path, R_OK) != 0) {
         printf("skip: %s is absent (set HMDLOD_SHARED to the shared data folder)\n", path);
         return NULL;
+    }
+    return path;
+}
+
+const char *tu_source_path(const char *relative)
+{
+    static char path[4096];
+    const char *src = getenv("HMDLOD_SOURCE");
+    if (src && *src) {
+        snprintf(path, sizeof path, "%s/%s", src, relative);
+    } else { /* run by hand: this file's folder is tests/ (CMake passes full paths) */
+        snprintf(path, sizeof path, "%s", __FILE__);
+        char *slash = strrchr(path, '/');
+        snprintf(slash ? slash + 1 : path, sizeof path - (size_t)(slash ? slash + 1 - path : 0), "../%s", relative);
     }
     return path;
 }

@@ -26,6 +26,10 @@ void tu_check_near(double actual, double expected, double tol, const char *what,
  * after printing "skip: <why>". The returned buffer is static (one at a time). */
 const char *tu_shared_path(const char *relative);
 
+/* Path of a file in the source tree (HMDLOD_SOURCE, which ctest sets; else found from this file's
+ * own path, for a test run by hand). The returned buffer is static (one at a time). */
+const char *tu_source_path(const char *relative);
+
 /* Reads a whole file into a new NUL-terminated buffer (caller frees); NULL if it cannot.
  * *size gets the byte count (the NUL is not counted). */
 char *tu_read_file(const char *path, size_t *size);

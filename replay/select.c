@@ -275,8 +275,10 @@ void rpl_select_measured(struct rpl_select *s, const struct rpl_select_record *r
 {
     double overhead = fmax(0.0, frame_ms - draw_ms);
     s->overhead_ms = s->overhead_ms > 0.0 ? s->overhead_ms + 0.1 * (overhead - s->overhead_ms) : overhead;
-    lod_cost_correction_update(&s->correction, draw_ms, rec->predicted_ms);
-    lod_cost_rls_update(&s->rls, draw_ms, rec->predicted_ms - s->cost.c0_ms);
+    if (s->correct == RPL_CORRECTION_RATIO) /* only the correction in use learns */
+        lod_cost_correction_update(&s->correction, draw_ms, rec->predicted_ms);
+    else if (s->correct == RPL_CORRECTION_AFFINE)
+        lod_cost_rls_update(&s->rls, draw_ms, rec->predicted_ms - s->cost.c0_ms);
     if (s->selector == RPL_SELECT_FEEDBACK)
         lod_feedback_update(&s->feedback, frame_ms, s->budget_ms);
 }

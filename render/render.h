@@ -48,6 +48,9 @@ int rnd_png_write(const char *path, const uint8_t *rgba, int width_px, int heigh
 /* ---- offline spatial-frequency analysis (Reddy 1998 §3.2–3.3) -------------------------------- */
 #include "render/analyze.h"
 
+/* ---- image error against a reference frame (PSNR, SSIM, foveated SSIM) ------------------ */
+#include "render/image_error.h"
+
 /* ---- the machine cost model and its profile (PAPERS.md §2, §5) ------------------------------ */
 #include "render/cost.h"
 

@@ -233,6 +233,48 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     }
 }
 
+/* A number, or null where it is not finite (JSON has no NaN or infinity). */
+static void add_number_or_null(cJSON *o, const char *name, double v)
+{
+    if (isfinite(v))
+        cJSON_AddNumberToObject(o, name, v);
+    else
+        cJSON_AddNullToObject(o, name);
+}
+
+static void add_stat(cJSON *o, const char *name, double mean, double min, double p5)
+{
+    cJSON *stat = cJSON_AddObjectToObject(o, name);
+    add_number_or_null(stat, "mean", mean);
+    add_number_or_null(stat, "min", min);
+    add_number_or_null(stat, "p5", p5);
+}
+
+/* "image_error": what --reference measured (docs/replay-output.md), null when nothing was compared. */
+static void add_image_error(cJSON *root, const struct rpl_summary *s)
+{
+    if (s->reference_frames <= 0) {
+        cJSON_AddNullToObject(root, "image_error");
+        return;
+    }
+    cJSON *e = cJSON_AddObjectToObject(root, "image_error");
+    cJSON_AddNumberToObject(e, "frames", (double)s->reference_frames);
+    cJSON_AddNumberToObject(e, "identical_frames", (double)s->identical_frames);
+    add_stat(e, "psnr_db", s->psnr_db_mean, s->psnr_db_min, s->psnr_db_p5);
+    add_stat(e, "ssim", s->ssim_mean, s->ssim_min, s->ssim_p5);
+    add_number_or_null(e, "ssim_rgb_mean", s->ssim_rgb_mean);
+    add_stat(e, "fssim", s->fssim_mean, s->fssim_min, s->fssim_p5);
+    cJSON *bands = cJSON_AddArrayToObject(e, "fssim_bands");
+    for (int b = 0; b < RND_ECC_BANDS; ++b) {
+        cJSON *band = cJSON_CreateObject();
+        cJSON_AddNumberToObject(band, "from_deg", rnd_ecc_band_lower_deg[b]);
+        add_number_or_null(band, "ssim_mean", s->fssim_band_mean[b]);
+        cJSON_AddItemToArray(bands, band);
+    }
+    add_number_or_null(e, "px_over_32_share_mean", s->px_over_32_share_mean);
+    add_number_or_null(e, "visible_error_mean", s->visible_error_reference_mean);
+}
+
 int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct hl_error *err)
 {
     cJSON *root = cJSON_CreateObject();
@@ -308,6 +350,10 @@ int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct 
         cJSON_AddNumberToObject(sac, "refine_missed_saccades", (double)s->refine_missed_saccades);
         cJSON_AddNumberToObject(sac, "refine_missed_saccade_fraction", s->refine_missed_saccade_fraction);
     }
+    cJSON *vis = cJSON_AddObjectToObject(root, "visible_error"); /* predicted, every frame */
+    cJSON_AddNumberToObject(vis, "mean", s->visible_error_mean);
+    cJSON_AddNumberToObject(vis, "max", s->visible_error_max);
+    add_image_error(root, s);
     cJSON *bands = cJSON_AddArrayToObject(root, "head_speed_bands");
     for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
         cJSON *band = cJSON_CreateObject();

@@ -127,6 +127,10 @@ struct rpl_options {
     double fixation_m;       /* ≤ 0 → the scene's default fixation distance */
     double saccade_onset_degps; /* ≤ 0 → acu_saccade_params_default's */
     int velocity_term_off;   /* 1: acu_limits.use_velocity = 0 (bench gaze: what the velocity term saves) */
+    /* Image error (render/image_error.h; docs/replay-output.md): 0 → none; N → frames 0, N, 2N … are
+     * also drawn at full detail (selector none, same pose and eyes) after being timed, and both images
+     * are compared: PSNR, SSIM, foveated SSIM around the frame's gaze. */
+    long reference_every;
 };
 void rpl_options_defaults(struct rpl_options *o);
 /* 1 when a --scene value names a scene file (docs/scene-format.md): it ends in .json or is an
@@ -175,6 +179,21 @@ struct rpl_summary {
     double suppressed_fraction;           /* frames inside a saccade or its window / frames */
     long refine_miss_frames, refine_missed_saccades; /* frames past the 28 ms deadline; saccades with one */
     double refine_missed_saccade_fraction; /* refine_missed_saccades / saccades (0 without saccades) */
+    /* Predicted visible error, every frame: the share of the visible objects' projected pixels whose
+     * object is drawn coarser than its perceptual ceiling (or dropped, or left to a group impostor). */
+    double visible_error_mean, visible_error_max;
+    /* Measured image error against the full-detail frame (--reference), over the compared frames;
+     * all NaN when none were compared. PSNR over the RGB channels (+inf for an identical frame, which
+     * the mean leaves out and identical_frames counts); SSIM on luminance (Wang et al. 2004, Gaussian
+     * 11×11, σ 1.5), ssim_rgb the mean of the per-channel SSIMs; fssim weighted by Reddy's M(E) around
+     * the frame's gaze; fssim_band per eccentricity band (RND_ECC_BANDS); p5: 5th percentile. */
+    long reference_frames, identical_frames;
+    double psnr_db_mean, psnr_db_min, psnr_db_p5;
+    double ssim_mean, ssim_min, ssim_p5, ssim_rgb_mean;
+    double fssim_mean, fssim_min, fssim_p5;
+    double fssim_band_mean[4];
+    double px_over_32_share_mean;          /* pixels with a channel off by more than 32 levels */
+    double visible_error_reference_mean;   /* predicted visible error over the compared frames only */
 };
 
 /* The visible-set test of a frame (DESIGN.md step 3): the union of both eyes' frusta of a display

@@ -13,6 +13,7 @@ static const char replay_usage[] =
     "                     [--budget-ms T] [--cost-profile FILE] [--opt-limit-us T] [--static-px N]\n"
     "                     [--cost-correction on|ratio|affine|off] [--gaze MODEL] [--vor-gain G]\n"
     "                     [--vor-latency-ms T] [--fixation-m D] [--saccade-onset-degps V]\n"
+    "                     [--reference EVERY] [--velocity-term on|off] [--eccentricity-term on|off]\n"
     "  Replays a head-motion trace on a virtual clock through a scene, rendering both eyes headless.\n"
     "  --trace FILE       hmdlod CSV (t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]), a Corbillon MMSys'18\n"
     "                     quaternion file, a Nasrabadi MMSys'19 CSV or an EDVAM eye-tracker log (gaze and\n"
@@ -55,6 +56,12 @@ static const char replay_usage[] =
     "  --vor-latency-ms T VOR latency in [0, 100] ms (default 10)\n"
     "  --fixation-m D     distance of the VOR's fixated point, > 0 m (default: the median distance\n"
     "                     from the first eye position to the objects, clamped to [0.5, 50] m)\n"
+    "  --reference EVERY  every EVERY frames, also draw the frame at full detail (selector none, same\n"
+    "                     pose and eyes, after it was timed) and write PSNR, SSIM, foveated SSIM and\n"
+    "                     the predicted visible error to frames.csv and the summary (docs/replay-output.md)\n"
+    "  --velocity-term on|off      off: every object is taken as still on the retina (Reddy's size +\n"
+    "                     eccentricity only); default on\n"
+    "  --eccentricity-term on|off  off: every object is taken as at the gaze centre; default on\n"
     "  --quiet            no summary table on stdout\n";
 
 /* Parses the options replay and demo share; returns 0, or 1 after printing the message. */
@@ -174,6 +181,19 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
                 return 1;
             }
             o->fixation_m = d;
+        } else if (!strcmp(opt, "--reference")) {
+            if (app_parse_long(opt, val, 0, 100000000, &o->reference_every))
+                return 1;
+        } else if (!strcmp(opt, "--velocity-term") || !strcmp(opt, "--eccentricity-term")) {
+            int off = !strcmp(val, "off");
+            if (!off && strcmp(val, "on")) {
+                fprintf(stderr, "hmdlod: %s: '%s' is not on or off\n", opt, val);
+                return 1;
+            }
+            if (opt[2] == 'v')
+                o->velocity_term_off = off;
+            else
+                o->eccentricity_term_off = off;
         } else if (!strcmp(opt, "--render-scale")) {
             if (app_parse_double(opt, val, &d))
                 return 1;

@@ -127,6 +127,7 @@ struct rpl_options {
     double fixation_m;       /* ≤ 0 → the scene's default fixation distance */
     double saccade_onset_degps; /* ≤ 0 → acu_saccade_params_default's */
     int velocity_term_off;   /* 1: acu_limits.use_velocity = 0 (bench gaze: what the velocity term saves) */
+    int eccentricity_term_off; /* 1: acu_limits.use_eccentricity = 0 (Reddy's study: size + velocity) */
     /* Image error (render/image_error.h; docs/replay-output.md): 0 → none; N → frames 0, N, 2N … are
      * also drawn at full detail (selector none, same pose and eyes) after being timed, and both images
      * are compared: PSNR, SSIM, foveated SSIM around the frame's gaze. */

@@ -163,6 +163,7 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     rpl_cull_frustum_init(&s->cull_frustum, &s->display, s->near_m);
     acu_limits_init(&s->limits, hmd_compute_xi(&s->display).used_cpd, o->acuity_scale);
     s->limits.use_velocity = !o->velocity_term_off; /* bench gaze: the velocity term's saving */
+    s->limits.use_eccentricity = !o->eccentricity_term_off;
     s->far_m = 2000.0;
 
     struct rpl_trace trace;

@@ -236,6 +236,7 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     s->select.opt_limit_us = o->opt_limit_us;
     s->select.static_px = o->static_px_per_triangle;
     s->select.correct = o->cost_correction;
+    s->select.mb_simplify = o->mb_simplify;
     s->select.saccade_onset_degps = o->saccade_onset_degps; /* replay/saccade_step.c */
     s->select.saccade_off = s->gaze != ACU_GAZE_TRACKED; /* head, vor: no eye tracker, no saccades known */
     if (rpl_cost_model_load(o->cost_profile, &s->select.cost, s->cost_label, sizeof s->cost_label, err) != 0 ||

@@ -168,20 +168,6 @@ static int oh_warm(struct oh_session *s, const struct trk_imu_csv_row *row0, dou
     return 0;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Nearest rank, as tracking/evaluate.c. */
-static double quantile_sorted(const double *v, size_t n, double p)
-{
-    if (n == 0)
-        return 0.0;
-    size_t i = (size_t)ceil(p * (double)n);
-    return v[i > 0 ? (i <= n ? i - 1 : n - 1) : 0];
-}
 
 int bench_openhmd_evaluate(const struct trk_imu_csv_row *rows, size_t n, double yaw_skip_s, int repeats,
                            struct bench_openhmd_result *res, struct hl_error *err)
@@ -243,9 +229,9 @@ int bench_openhmd_evaluate(const struct trk_imu_csv_row *rows, size_t n, double 
         res->acc.duration_s = rows[n - 1].t_s - rows[0].t_s;
         res->acc.device_rate_hz = 1.0 / dt_s;
         res->acc.samples_fused = res->samples = n - 1;
-        qsort(lat_us, n - 1, sizeof *lat_us, cmp_double);
-        res->sample_to_pose_us_median = quantile_sorted(lat_us, n - 1, 0.5);
-        res->sample_to_pose_us_p99 = quantile_sorted(lat_us, n - 1, 0.99);
+        hl_sort_doubles(lat_us, n - 1);
+        res->sample_to_pose_us_median = hl_percentile_sorted(lat_us, n - 1, 0.5);
+        res->sample_to_pose_us_p99 = hl_percentile_sorted(lat_us, n - 1, 0.99);
     }
 
     /* Pass 2: throughput, fresh device each repeat; lat_us reused for the per-repeat figures. */
@@ -271,7 +257,7 @@ int bench_openhmd_evaluate(const struct trk_imu_csv_row *rows, size_t n, double 
         oh_close(&s);
     }
     if (rc == 0 && done > 0) {
-        qsort(lat_us, (size_t)done, sizeof *lat_us, cmp_double);
+        hl_sort_doubles(lat_us, (size_t)done);
         res->fuse_ns_per_sample = lat_us[done / 2];
     }
     free(recs);

@@ -332,20 +332,6 @@ double trk_yaw_error_rad(hl_quatd est, hl_quatd truth)
     return 2.0 * atan2(d.y, d.w);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Value at quantile p of sorted v (nearest rank). */
-static double quantile_sorted(const double *v, size_t n, double p)
-{
-    if (n == 0)
-        return 0.0;
-    size_t i = (size_t)ceil(p * (double)n);
-    return v[i > 0 ? (i <= n ? i - 1 : n - 1) : 0];
-}
 
 /* Accuracy only, the same reports with another fusion configuration (magnetometer ignored, or the
  * hard-iron offset given): tilt RMS, yaw drift slope, yaw RMS/max after yaw_skip_s, into res. */
@@ -519,9 +505,9 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
     res->lost = c->lost;
     res->duplicates = c->duplicates;
     res->backward = c->backward;
-    qsort(lat_us, gen.count, sizeof *lat_us, cmp_double);
-    res->report_to_pose_us_median = quantile_sorted(lat_us, gen.count, 0.5);
-    res->report_to_pose_us_p99 = quantile_sorted(lat_us, gen.count, 0.99);
+    hl_sort_doubles(lat_us, gen.count);
+    res->report_to_pose_us_median = hl_percentile_sorted(lat_us, gen.count, 0.5);
+    res->report_to_pose_us_p99 = hl_percentile_sorted(lat_us, gen.count, 0.99);
 
     /* Pass 2: parse+fuse throughput over the whole stream, no clock reads inside the loop. lat_us is
      * reused for the per-repeat figures (repeats ≤ its capacity). */
@@ -538,7 +524,7 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
         lat_us[k] = st.fused ? (double)(t1 - t0) / (double)st.fused : 0.0; /* ns per sample */
     }
     if (repeats > 0) {
-        qsort(lat_us, (size_t)repeats, sizeof *lat_us, cmp_double);
+        hl_sort_doubles(lat_us, (size_t)repeats);
         res->parse_fuse_ns_per_sample = lat_us[repeats / 2];
     }
     free(gen.rec);

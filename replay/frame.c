@@ -1,5 +1,6 @@
 /* One frame (DESIGN.md "One frame"): pose → eyes → visible set → viewing geometry → perceptual
  * ceiling and selection → draw. Allocates nothing; every step is timed. */
+#include <stdlib.h>
 #include <math.h>
 #include <string.h>
 
@@ -171,6 +172,48 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
     s->frame_views[0] = views[0], s->frame_views[1] = views[1];
     s->frame_gaze_dir = viewer.gaze_dir;
     return 0;
+}
+
+int rpl_frame_warm_up(struct rpl_session *s, double time_s, struct hl_error *err)
+{
+    const struct scn_scene *scene = &s->scene;
+    uint32_t total = scene->instance_count + scene->impostor_instance_count;
+    uint32_t *index = malloc((size_t)(scene->chain_count ? scene->chain_count : 1) * LOD_MAX_LEVELS * sizeof *index);
+    uint8_t *lod = malloc((size_t)(scene->chain_count ? scene->chain_count : 1) * LOD_MAX_LEVELS);
+    uint8_t *seen = calloc(scene->chain_count ? scene->chain_count : 1, 1);
+    int rc = -1;
+    if (!index || !lod || !seen) {
+        hl_fail(err, "out of memory for the renderer's warm-up");
+        goto done;
+    }
+    /* One instance of each chain at each of its levels: every mesh range and the pipeline are used
+     * once before the clock starts. */
+    size_t n = 0;
+    for (uint32_t i = 0; i < total; ++i) {
+        uint32_t c = scene->chain_of_instance[i];
+        if (c >= scene->chain_count || seen[c])
+            continue;
+        seen[c] = 1;
+        for (int l = 0; l < scene->chains[c].lod_count && l < LOD_MAX_LEVELS; ++l)
+            index[n] = i, lod[n++] = (uint8_t)l;
+    }
+    struct trk_pose pose;
+    struct acu_head_state head;
+    if (rpl_frame_head_state(s, time_s, &pose, &head, err) != 0)
+        goto done;
+    struct rnd_eye_view views[2];
+    eye_views(s, &pose, views);
+    struct rnd_draw_stats draw = {{0}, 0};
+    if (rnd_renderer_draw_stereo(s->renderer, scene, views, index, lod, n, &draw) != 0) {
+        hl_fail(err, "the renderer's warm-up draw failed");
+        goto done;
+    }
+    rc = 0;
+done:
+    free(index);
+    free(lod);
+    free(seen);
+    return rc;
 }
 
 static double reddy_weight(double eccentricity_deg, void *user)

@@ -332,6 +332,8 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     long references = o->reference_every > 0 ? (frames - 1) / o->reference_every + 1 : 0;
     if (rpl_accumulator_init(&acc, frames, references, err) != 0)
         goto done;
+    if (rpl_frame_warm_up(&s, s.source->start_time_s, err) != 0)
+        goto done;
     struct hl_progress progress;
     hl_progress_begin(&progress, "replay", (uint64_t)frames);
     for (long f = 0; f < frames; ++f) {

@@ -75,6 +75,11 @@ int rpl_frame_head_state(struct rpl_session *s, double time_s, struct trk_pose *
 int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_frame_record *rec,
                   struct hl_error *err);
 
+/* Before the first frame: draws one instance of every chain at every level from the pose at time_s,
+ * untimed, so that the driver's first-use work (shader compilation, buffer residency: tens of ms on
+ * llvmpipe) is not measured as frame 0 and fed to the cost correction. */
+int rpl_frame_warm_up(struct rpl_session *s, double time_s, struct hl_error *err);
+
 /* After rpl_frame_run (and any capture of it): reads the frame back into test, draws the same visible
  * objects at their finest levels from the same eyes into ref, and compares them (render/image_error.h)
  * with the foveated weights M(E) around the frame's gaze; fills rec->image and has_image_error. Both

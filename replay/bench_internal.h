@@ -32,6 +32,10 @@ void rpl_bench_result_free(struct rpl_bench_result *r);
 double rpl_bench_mean(const struct rpl_bench_result *r, const double *col);
 double rpl_bench_max(const struct rpl_bench_result *r, const double *col);
 double rpl_bench_stddev(const struct rpl_bench_result *r, const double *col);
+/* The same from frame `first` on (timings leave frame 0 out: the driver compiles its shaders there). */
+double rpl_bench_mean_from(const struct rpl_bench_result *r, const double *col, long first);
+double rpl_bench_max_from(const struct rpl_bench_result *r, const double *col, long first);
+double rpl_bench_stddev_from(const struct rpl_bench_result *r, const double *col, long first);
 
 /* ---- tables: one Markdown table in report.md, the same rows in DIR/NAME.csv ----------------------- */
 enum { RPL_BENCH_MAX_COLS = 20, RPL_BENCH_CELL = 48 };
@@ -39,7 +43,7 @@ struct rpl_bench_table {
     FILE *md, *csv, *echo; /* echo NULL: not printed */
     char csv_tmp[4300], csv_path[4300];
     int cols;
-    int failed;
+    int has_deterministic;
 };
 /* Opens DIR/name.csv (temporary name), writes the heading's table header in md (and echo), and
  * appends the deterministic columns (those marked '*' at the start of their name; the mark is

@@ -185,37 +185,44 @@ void rpl_bench_result_free(struct rpl_bench_result *r)
     r->present = 0;
 }
 
-double rpl_bench_mean(const struct rpl_bench_result *r, const double *col)
+double rpl_bench_mean(const struct rpl_bench_result *r, const double *col) { return rpl_bench_mean_from(r, col, 0); }
+double rpl_bench_max(const struct rpl_bench_result *r, const double *col) { return rpl_bench_max_from(r, col, 0); }
+double rpl_bench_stddev(const struct rpl_bench_result *r, const double *col)
+{
+    return rpl_bench_stddev_from(r, col, 0);
+}
+
+double rpl_bench_mean_from(const struct rpl_bench_result *r, const double *col, long first)
 {
     if (!r || !col)
         return NAN;
     double sum = 0.0;
     long n = 0;
-    for (long i = 0; i < r->n; ++i)
+    for (long i = first; i < r->n; ++i)
         if (isfinite(col[i]))
             sum += col[i], ++n;
     return n ? sum / (double)n : NAN;
 }
 
-double rpl_bench_max(const struct rpl_bench_result *r, const double *col)
+double rpl_bench_max_from(const struct rpl_bench_result *r, const double *col, long first)
 {
     if (!r || !col)
         return NAN;
     double m = NAN;
-    for (long i = 0; i < r->n; ++i)
+    for (long i = first; i < r->n; ++i)
         if (isfinite(col[i]) && !(col[i] <= m))
             m = col[i];
     return m;
 }
 
-double rpl_bench_stddev(const struct rpl_bench_result *r, const double *col)
+double rpl_bench_stddev_from(const struct rpl_bench_result *r, const double *col, long first)
 {
-    double mean = rpl_bench_mean(r, col);
+    double mean = rpl_bench_mean_from(r, col, first);
     if (!isfinite(mean))
         return NAN;
     double ss = 0.0;
     long n = 0;
-    for (long i = 0; i < r->n; ++i)
+    for (long i = first; i < r->n; ++i)
         if (isfinite(col[i]))
             ss += (col[i] - mean) * (col[i] - mean), ++n;
     return n > 1 ? sqrt(ss / (double)(n - 1)) : 0.0;

@@ -48,6 +48,7 @@ int rpl_bench_table_begin(struct rpl_bench_table *t, const char *dir, const char
         int deterministic = h[0] == '*';
         if (deterministic) {
             ++h;
+            t->has_deterministic = 1;
             fprintf(det, "%s%s", first_det ? " " : ",", h);
             first_det = 0;
         }
@@ -74,13 +75,17 @@ void rpl_bench_table_row(struct rpl_bench_table *t, const char *const *cells)
         both(t, " |");
         fprintf(t->csv, "%s%s", c ? "," : "", strcmp(cells[c], "—") ? cells[c] : "");
     }
+    fputc('\n', t->csv);
     both(t, "\n");
 }
 
 int rpl_bench_table_end(struct rpl_bench_table *t, struct hl_error *err)
 {
-    both(t, "\n† deterministic: the same inputs give the same figure on rows marked deterministic (selectors none, "
-            "static, reddy); fs, mb and feedback steer by measured times. `" );
+    if (t->has_deterministic)
+        both(t, "\n† deterministic: the same inputs give the same figure on rows whose `deterministic` is 1 "
+                "(selectors none, static, reddy; fs, mb and feedback steer by measured times). `");
+    else
+        both(t, "\nEvery column follows measured times (none is deterministic). `");
     fputs(strrchr(t->csv_path, '/') + 1, t->md);
     if (t->echo)
         fputs(strrchr(t->csv_path, '/') + 1, t->echo);
@@ -287,7 +292,7 @@ static int write_report(const struct rpl_bench_report_options *o, struct rpl_ben
               "gnuplot-nox, then run `gnuplot NAME.gp` in plots/).\n",
               md);
     if (n_missing)
-        fprintf(md, "\n**Partial report: %zu run(s) missing** (%s%s); their cells read —.\n", n_missing, missing,
+        fprintf(md, "\n**Partial report.** %zu run(s) missing: %s%s; their cells read —.\n", n_missing, missing,
                 n_missing > 8 ? ", …" : "");
     int rc = 0;
     int (*const tables[])(struct rpl_bench_ctx *, struct hl_error *) = {

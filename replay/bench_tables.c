@@ -127,7 +127,7 @@ static int curve(const struct rpl_bench_ctx *c, const char *gaze, const char *se
             x[k] = x[k - 1], y[k] = y[k - 1];
             --k;
         }
-        x[k] = r->fssim_mean, y[k] = rpl_bench_mean(r, r->frame_ms);
+        x[k] = r->fssim_mean, y[k] = rpl_bench_mean_from(r, r->frame_ms, 1);
     }
     return n;
 }
@@ -150,7 +150,7 @@ static int t2_plot(struct rpl_bench_ctx *c, const char *gaze, struct hl_error *e
             const struct rpl_bench_result *r = &c->results[i];
             if (run->table != 2 || strcmp(run->gaze, gaze) || strcmp(run->selector, t2_selectors[s]) || !r->present)
                 continue;
-            double v[5] = {rpl_bench_mean(r, r->frame_ms), r->fssim_mean, r->ssim_mean, r->psnr_db_mean,
+            double v[5] = {rpl_bench_mean_from(r, r->frame_ms, 1), r->fssim_mean, r->ssim_mean, r->psnr_db_mean,
                            r->visible_error_mean};
             for (int k = 0; k < 4; ++k)
                 has[k] |= isfinite(v[0]) && isfinite(v[k + 1]);
@@ -215,7 +215,7 @@ int rpl_bench_tables_t2(struct rpl_bench_ctx *c, struct hl_error *err)
             snprintf(setting, sizeof setting, "%g × period", run->factor);
         else
             snprintf(setting, sizeof setting, "acuity");
-        double fm = r ? rpl_bench_mean(r, r->frame_ms) : NAN;
+        double fm = r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN;
         const char *cells[13] = {run->gaze, run->selector, setting, rpl_bench_cell(cell[0], fm, 3),
                                  rpl_bench_cell(cell[1], 100.0 * fm / period_ms, 1),
                                  rpl_bench_cell(cell[2], r ? r->fssim_mean : NAN, 4),
@@ -250,7 +250,7 @@ int rpl_bench_tables_t2(struct rpl_bench_ctx *c, struct hl_error *err)
             const struct rpl_bench_result *r = c->results[i].present ? &c->results[i] : NULL;
             if (run->table != 2 || strcmp(run->gaze, gaze) || (strcmp(run->selector, "fs") && strcmp(run->selector, "mb")))
                 continue;
-            double q = r ? r->fssim_mean : NAN, fm = r ? rpl_bench_mean(r, r->frame_ms) : NAN;
+            double q = r ? r->fssim_mean : NAN, fm = r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN;
             char cell[6][RPL_BENCH_CELL];
             const char *cells[7] = {gaze, run->selector, rpl_bench_cell(cell[0], run->factor, 2),
                                     rpl_bench_cell(cell[1], q, 4), rpl_bench_cell(cell[2], fm, 3),

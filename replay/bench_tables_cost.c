@@ -37,7 +37,7 @@ int rpl_bench_tables_t4(struct rpl_bench_ctx *c, struct hl_error *err)
             continue;
         const struct rpl_bench_result *r = c->results[i].present ? &c->results[i] : NULL;
         double sum[RPL_SPEED_BAND_COUNT] = {0}, count[RPL_SPEED_BAND_COUNT] = {0};
-        for (long k = 0; r && r->head_speed && r->optimizer_us && k < r->n; ++k) {
+        for (long k = 1; r && r->head_speed && r->optimizer_us && k < r->n; ++k) { /* frame 0: warm-up */
             int b = 0;
             while (b + 1 < bands && r->head_speed[k] >= rpl_speed_band_lower_degps[b + 1])
                 ++b;
@@ -46,11 +46,11 @@ int rpl_bench_tables_t4(struct rpl_bench_ctx *c, struct hl_error *err)
         char cell[7 + RPL_SPEED_BAND_COUNT][RPL_BENCH_CELL];
         const char *cells[7 + RPL_SPEED_BAND_COUNT] = {
             rpl_bench_cell(cell[0], run->factor, 2), rpl_bench_cell(cell[1], run->opt_limit_us, 0),
-            rpl_bench_cell(cell[2], r ? rpl_bench_mean(r, r->optimizer_us) : NAN, 1),
-            rpl_bench_cell(cell[3], r ? rpl_bench_max(r, r->optimizer_us) : NAN, 1),
+            rpl_bench_cell(cell[2], r ? rpl_bench_mean_from(r, r->optimizer_us, 1) : NAN, 1),
+            rpl_bench_cell(cell[3], r ? rpl_bench_max_from(r, r->optimizer_us, 1) : NAN, 1),
             rpl_bench_cell(cell[4], r ? rpl_bench_mean(r, r->iterations) : NAN, 1),
             rpl_bench_cell(cell[5], r ? 100.0 * rpl_bench_mean(r, r->truncated) : NAN, 1),
-            rpl_bench_cell(cell[6], r ? rpl_bench_mean(r, r->frame_ms) : NAN, 3)};
+            rpl_bench_cell(cell[6], r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, 3)};
         if (n_series < 12) {
             snprintf(labels[n_series], sizeof labels[n_series], "%gx-%s", run->factor,
                      run->opt_limit_us > 0 ? "limit" : "nolimit");
@@ -113,8 +113,8 @@ int rpl_bench_tables_t5(struct rpl_bench_ctx *c, struct hl_error *err)
                                  rpl_bench_cell(cell[6], r ? r->ssim_mean : NAN, 4),
                                  rpl_bench_cell(cell[7], r ? r->psnr_db_mean : NAN, 2),
                                  rpl_bench_cell(cell[8], r ? r->visible_error_mean : NAN, 4),
-                                 rpl_bench_cell(cell[9], r ? rpl_bench_mean(r, r->frame_ms) : NAN, 3),
-                                 rpl_bench_cell(cell[10], r ? 100.0 * rpl_bench_mean(r, r->deadline_met) : NAN, 1)};
+                                 rpl_bench_cell(cell[9], r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, 3),
+                                 rpl_bench_cell(cell[10], r ? 100.0 * rpl_bench_mean_from(r, r->deadline_met, 1) : NAN, 1)};
         rpl_bench_table_row(&t, cells);
     }
     return rpl_bench_table_end(&t, err);

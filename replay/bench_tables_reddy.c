@@ -59,7 +59,7 @@ static int speedup_table(struct rpl_bench_ctx *c, struct hl_error *err)
             snprintf(id_r, sizeof id_r, "t3-o%d-%s", run->objects, variants[v][0]);
             snprintf(id_n, sizeof id_n, "t3-o%d-%s", run->objects, variants[v][1]);
             const struct rpl_bench_result *r = rpl_bench_find(c, id_r), *n = rpl_bench_find(c, id_n);
-            double fr = r ? rpl_bench_mean(r, r->frame_ms) : NAN, fn = n ? rpl_bench_mean(n, n->frame_ms) : NAN;
+            double fr = r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, fn = n ? rpl_bench_mean_from(n, n->frame_ms, 1) : NAN;
             double tr = r ? rpl_bench_mean(r, r->triangles) : NAN, tn = n ? rpl_bench_mean(n, n->triangles) : NAN;
             double speedup = fn / fr, vis = r ? r->visible_error_mean : NAN;
             char cell[7][RPL_BENCH_CELL];
@@ -120,7 +120,7 @@ static int display_table(struct rpl_bench_ctx *c, struct hl_error *err)
                                 rpl_bench_cell(cell[1], rb, 4), rpl_bench_cell(cell[2], rv, 4),
                                 rpl_bench_cell(cell[3], re, 4), rpl_bench_cell(cell[4], rb > 0 ? (rb - rv) / rb : NAN, 3),
                                 rpl_bench_cell(cell[5], rb > 0 ? (rb - re) / rb : NAN, 3),
-                                rpl_bench_cell(cell[6], full ? rpl_bench_mean(full, full->frame_ms) : NAN, 3), "1"};
+                                rpl_bench_cell(cell[6], full ? rpl_bench_mean_from(full, full->frame_ms, 1) : NAN, 3), "1"};
         rpl_bench_table_row(&t, cells);
     }
     return rpl_bench_table_end(&t, err);
@@ -149,7 +149,7 @@ static int reading_table(struct rpl_bench_ctx *c, struct hl_error *err)
                                 rpl_bench_cell(cell[3], r ? r->psnr_db_mean : NAN, 2),
                                 rpl_bench_cell(cell[4], r ? r->px_over_32 : NAN, 4),
                                 rpl_bench_cell(cell[5], r ? r->visible_error_mean : NAN, 4),
-                                rpl_bench_cell(cell[6], r ? rpl_bench_mean(r, r->frame_ms) : NAN, 3), "1"};
+                                rpl_bench_cell(cell[6], r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, 3), "1"};
         rpl_bench_table_row(&t, cells);
     }
     return rpl_bench_table_end(&t, err);

@@ -167,5 +167,45 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
     rec->frame_ms = (double)(t3 - t0) * 1e-6 - rec->sel.lp_us * 1e-3;
     rec->deadline_met = rec->frame_ms <= s->select.budget_ms;
     rpl_select_measured(&s->select, &rec->sel, rec->draw_ms, rec->frame_ms);
+    rec->visible_error = rpl_select_visible_error(&s->select, &s->scene, &in, a->lod); /* after the timing */
+    s->frame_views[0] = views[0], s->frame_views[1] = views[1];
+    s->frame_gaze_dir = viewer.gaze_dir;
+    return 0;
+}
+
+static double reddy_weight(double eccentricity_deg, void *user)
+{
+    (void)user;
+    return acu_eccentricity_factor(eccentricity_deg); /* Reddy 1998 eq. 3: error counts as it is seen */
+}
+
+int rpl_frame_reference(struct rpl_session *s, struct rpl_frame_record *rec, uint8_t *test, uint8_t *ref,
+                        struct rnd_image_error_work *w, struct hl_error *err)
+{
+    struct rpl_frame_arrays *a = &s->arrays;
+    if (rnd_renderer_read_rgba(s->renderer, test, err) != 0)
+        return -1;
+    /* The same visible set at full detail (selector none's choice), no group impostors. */
+    for (uint32_t k = 0; k < rec->visible; ++k) {
+        a->draw_index[k] = a->visible[k];
+        a->draw_lod[k] = 0;
+    }
+    struct rnd_draw_stats draw = {{0}, 0};
+    if (rnd_renderer_draw_stereo(s->renderer, &s->scene, s->frame_views, a->draw_index, a->draw_lod, rec->visible,
+                                 &draw) != 0)
+        return hl_fail(err, "frame %ld: drawing its full-detail reference failed", rec->frame);
+    if (rnd_renderer_read_rgba(s->renderer, ref, err) != 0)
+        return -1;
+    struct rnd_eye_gaze gaze[2];
+    for (int e = 0; e < 2; ++e) {
+        hl_vec3d g = hl_q_rotate(hl_q_conj(s->frame_views[e].orientation), s->frame_gaze_dir);
+        gaze[e] = (struct rnd_eye_gaze){s->eyes[e].tan_left, s->eyes[e].tan_right, s->eyes[e].tan_up,
+                                        s->eyes[e].tan_down, {g.x, g.y, g.z}};
+    }
+    int width, height;
+    rnd_renderer_size(s->renderer, &width, &height);
+    if (rnd_image_error_compute(w, test, ref, width, height, 2, gaze, reddy_weight, NULL, &rec->image, err) != 0)
+        return -1;
+    rec->has_image_error = 1;
     return 0;
 }

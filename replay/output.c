@@ -21,9 +21,38 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
     for (int k = 0; k < max_lods; ++k)
         fprintf(o->csv, ",lod%d", k);
     fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
-          "over_budget,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,acuity_us,select_us,"
+          "over_budget,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,visible_error,"
+          "psnr_db,ssim,ssim_rgb,fssim,fssim_e0,fssim_e1,fssim_e2,fssim_e3,px_over_32,acuity_us,select_us,"
           "optimizer_us,draw_ms,frame_ms,deadline_met\n", o->csv);
     return 0;
+}
+
+/* A number, empty where it is NaN, "inf" for an identical frame's PSNR. */
+static void write_optional(FILE *f, const char *format, double v)
+{
+    if (isnan(v))
+        fputc(',', f);
+    else if (isinf(v))
+        fputs(",inf", f);
+    else
+        fprintf(f, format, v);
+}
+
+/* --reference frames' columns (render/image_error.h); empty on other frames. */
+static void write_image_error(FILE *f, const struct rpl_frame_record *r)
+{
+    if (!r->has_image_error) {
+        fputs(",,,,,,,,,", f);
+        return;
+    }
+    const struct rnd_image_error *e = &r->image;
+    write_optional(f, ",%.4f", e->psnr_db);
+    write_optional(f, ",%.6f", e->ssim);
+    write_optional(f, ",%.6f", e->ssim_rgb);
+    write_optional(f, ",%.6f", e->fssim);
+    for (int b = 0; b < RND_ECC_BANDS; ++b)
+        write_optional(f, ",%.6f", e->fssim_band[b]);
+    write_optional(f, ",%.6f", e->px_over_32_share);
 }
 
 void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int max_lods)
@@ -45,6 +74,8 @@ void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int 
     fprintf(o->csv, ",%.3f", r->eye_speed_degps);
     fprintf(o->csv, ",%.3f,%d,%u,%d", q->gaze_speed_degps, q->saccade_phase, q->refine_pending,
             q->refine_miss); /* saccade_step.c */
+    fprintf(o->csv, ",%.6f", r->visible_error);
+    write_image_error(o->csv, r);
     /* The timings last: everything before them is deterministic (the optimizer's budget aside, which
      * follows the measured overhead and correction). */
     fprintf(o->csv, ",%.2f,%.2f,%.2f,%.3f,%.3f,%d\n", r->acuity_us, r->select_us, q->optimizer_us, r->draw_ms,
@@ -105,13 +136,17 @@ static int speed_band(double speed_degps)
     return band;
 }
 
-int rpl_accumulator_init(struct rpl_accumulator *a, long frames, struct hl_error *err)
+int rpl_accumulator_init(struct rpl_accumulator *a, long frames, long references, struct hl_error *err)
 {
     memset(a, 0, sizeof *a);
     a->capacity = frames > 0 ? frames : 1;
     a->frame_ms = malloc((size_t)a->capacity * sizeof(double));
     a->draw_ms = malloc((size_t)a->capacity * sizeof(double));
-    if (!a->frame_ms || !a->draw_ms) {
+    a->ref_capacity = references > 0 ? references : 1;
+    a->ref_psnr_db = malloc((size_t)a->ref_capacity * sizeof(double));
+    a->ref_ssim = malloc((size_t)a->ref_capacity * sizeof(double));
+    a->ref_fssim = malloc((size_t)a->ref_capacity * sizeof(double));
+    if (!a->frame_ms || !a->draw_ms || !a->ref_psnr_db || !a->ref_ssim || !a->ref_fssim) {
         rpl_accumulator_free(a);
         return hl_fail(err, "out of memory for %ld frame times", frames);
     }
@@ -122,7 +157,10 @@ void rpl_accumulator_free(struct rpl_accumulator *a)
 {
     free(a->frame_ms);
     free(a->draw_ms);
-    a->frame_ms = a->draw_ms = NULL;
+    free(a->ref_psnr_db);
+    free(a->ref_ssim);
+    free(a->ref_fssim);
+    a->frame_ms = a->draw_ms = a->ref_psnr_db = a->ref_ssim = a->ref_fssim = NULL;
 }
 
 static int compare_double(const void *x, const void *y)
@@ -138,6 +176,29 @@ static double percentile(const double *sorted, long n, double p)
         return 0.0;
     long rank = (long)ceil(p * (double)n);
     return sorted[rank < 1 ? 0 : rank > n ? n - 1 : rank - 1];
+}
+
+static void accumulate_image_error(struct rpl_accumulator *a, const struct rpl_frame_record *r)
+{
+    const struct rnd_image_error *e = &r->image;
+    if (a->ref_n < a->ref_capacity) {
+        a->ref_psnr_db[a->ref_n] = e->psnr_db;
+        a->ref_ssim[a->ref_n] = e->ssim;
+        a->ref_fssim[a->ref_n] = e->fssim;
+    }
+    ++a->ref_n;
+    if (isfinite(e->psnr_db))
+        a->ref_psnr_sum += e->psnr_db, a->ref_psnr_finite++;
+    else
+        a->ref_identical++;
+    a->ref_ssim_sum += e->ssim;
+    a->ref_ssim_rgb_sum += e->ssim_rgb;
+    a->ref_fssim_sum += e->fssim;
+    a->ref_over32_sum += e->px_over_32_share;
+    a->ref_visible_sum += r->visible_error;
+    for (int b = 0; b < RND_ECC_BANDS; ++b)
+        if (isfinite(e->fssim_band[b]))
+            a->ref_band_sum[b] += e->fssim_band[b], a->ref_band_n[b]++;
 }
 
 void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
@@ -180,11 +241,41 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
         a->benefit_share_sum += share;
         a->benefit_share_frames++;
     }
+    a->visible_error_sum += r->visible_error;
+    a->visible_error_max = fmax(a->visible_error_max, r->visible_error);
+    if (r->has_image_error)
+        accumulate_image_error(a, r);
     a->gaze_frames += q->saccade_active; /* saccades (replay/saccade_step.c) */
     a->saccades += q->saccade_started;
     a->suppressed_frames += q->saccade_phase != 0;
     a->refine_miss_frames += q->refine_miss;
     a->refine_missed_saccades += q->refine_missed_saccade;
+}
+
+/* The reference frames' figures (NaN where none were compared); sorts the stored ones. */
+static void finish_image_error(struct rpl_accumulator *a, struct rpl_summary *s)
+{
+    long stored = a->ref_n < a->ref_capacity ? a->ref_n : a->ref_capacity;
+    double n = (double)a->ref_n;
+    s->reference_frames = a->ref_n;
+    s->identical_frames = a->ref_identical;
+    s->psnr_db_mean = a->ref_psnr_finite ? a->ref_psnr_sum / (double)a->ref_psnr_finite : a->ref_n ? INFINITY : NAN;
+    s->ssim_mean = a->ref_n ? a->ref_ssim_sum / n : NAN;
+    s->ssim_rgb_mean = a->ref_n ? a->ref_ssim_rgb_sum / n : NAN;
+    s->fssim_mean = a->ref_n ? a->ref_fssim_sum / n : NAN;
+    s->px_over_32_share_mean = a->ref_n ? a->ref_over32_sum / n : NAN;
+    s->visible_error_reference_mean = a->ref_n ? a->ref_visible_sum / n : NAN;
+    for (int b = 0; b < RND_ECC_BANDS; ++b)
+        s->fssim_band_mean[b] = a->ref_band_n[b] ? a->ref_band_sum[b] / (double)a->ref_band_n[b] : NAN;
+    qsort(a->ref_psnr_db, (size_t)stored, sizeof(double), compare_double);
+    qsort(a->ref_ssim, (size_t)stored, sizeof(double), compare_double);
+    qsort(a->ref_fssim, (size_t)stored, sizeof(double), compare_double);
+    s->psnr_db_min = stored ? a->ref_psnr_db[0] : NAN;
+    s->ssim_min = stored ? a->ref_ssim[0] : NAN;
+    s->fssim_min = stored ? a->ref_fssim[0] : NAN;
+    s->psnr_db_p5 = stored ? percentile(a->ref_psnr_db, stored, 0.05) : NAN;
+    s->ssim_p5 = stored ? percentile(a->ref_ssim, stored, 0.05) : NAN;
+    s->fssim_p5 = stored ? percentile(a->ref_fssim, stored, 0.05) : NAN;
 }
 
 void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
@@ -227,6 +318,9 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     s->suppressed_fraction = (double)a->suppressed_frames / n;
     s->refine_miss_frames = a->refine_miss_frames, s->refine_missed_saccades = a->refine_missed_saccades;
     s->refine_missed_saccade_fraction = a->saccades ? (double)a->refine_missed_saccades / (double)a->saccades : 0.0;
+    s->visible_error_mean = a->visible_error_sum / n;
+    s->visible_error_max = a->visible_error_max;
+    finish_image_error(a, s);
     for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
         s->band_frames[b] = a->band_frames[b];
         s->band_triangle_share[b] = a->band_finest[b] > 0 ? a->band_triangles[b] / a->band_finest[b] : NAN;
@@ -387,6 +481,28 @@ int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct 
     return 0;
 }
 
+static void print_image_error(FILE *f, const struct rpl_summary *s)
+{
+    fprintf(f, "  image error against full detail, %ld frames (%ld identical):\n", s->reference_frames,
+            s->identical_frames);
+    fprintf(f, "    %-32s %10.2f mean, %.2f min, %.2f p5 dB\n", "PSNR", s->psnr_db_mean, s->psnr_db_min,
+            s->psnr_db_p5);
+    fprintf(f, "    %-32s %10.4f mean, %.4f min, %.4f p5 (RGB %.4f)\n", "SSIM (luminance)", s->ssim_mean, s->ssim_min,
+            s->ssim_p5, s->ssim_rgb_mean);
+    fprintf(f, "    %-32s %10.4f mean, %.4f min, %.4f p5\n", "foveated SSIM (Reddy M(E))", s->fssim_mean,
+            s->fssim_min, s->fssim_p5);
+    fprintf(f, "    %-32s", "SSIM by eccentricity");
+    for (int b = 0; b < RND_ECC_BANDS; ++b) {
+        if (b + 1 < RND_ECC_BANDS)
+            fprintf(f, "%s%g-%g deg %.4f", b ? ", " : " ", rnd_ecc_band_lower_deg[b], rnd_ecc_band_lower_deg[b + 1],
+                    s->fssim_band_mean[b]);
+        else
+            fprintf(f, ", >= %g deg %.4f", rnd_ecc_band_lower_deg[b], s->fssim_band_mean[b]);
+    }
+    fprintf(f, "\n    %-32s %10.2f %%\n", "pixels off by > 32 levels", 100.0 * s->px_over_32_share_mean);
+    fprintf(f, "    %-32s %10.4f\n", "predicted visible error (these)", s->visible_error_reference_mean);
+}
+
 void rpl_summary_print(FILE *f, const struct rpl_summary *s)
 {
     fprintf(f, "\n%s on %s, selector %s, %ld frames (renderer: %s)\n", s->scene, s->display, s->selector,
@@ -438,6 +554,10 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
         fprintf(f, "  %-34s %10ld frames, %ld saccades (%.1f %%)\n", "refinements missing 28 ms", s->refine_miss_frames,
                 s->refine_missed_saccades, 100.0 * s->refine_missed_saccade_fraction);
     }
+    fprintf(f, "  %-34s %10.4f mean, %.4f max\n", "predicted visible error", s->visible_error_mean,
+            s->visible_error_max);
+    if (s->reference_frames > 0)
+        print_image_error(f, s);
     fprintf(f, "  share of finest triangles drawn, by head speed:\n");
     for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
         if (s->band_frames[b] == 0)

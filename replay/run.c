@@ -69,8 +69,8 @@ static int check_options(const struct rpl_options *o, enum rpl_selector *selecto
         return hl_fail(err, "--acuity-scale: %g is outside (0, 1]", o->acuity_scale);
     if (!(o->render_scale > 0.0 && o->render_scale <= 4.0))
         return hl_fail(err, "--render-scale: %g is outside (0, 4]", o->render_scale);
-    if (o->frames < 0 || o->capture_every < 0)
-        return hl_fail(err, "--frames and --capture must be >= 0");
+    if (o->frames < 0 || o->capture_every < 0 || o->reference_every < 0)
+        return hl_fail(err, "--frames, --capture and --reference must be >= 0");
     enum acu_gaze_model model;
     if (o->gaze && strcmp(o->gaze, "auto") != 0 && acu_gaze_model_parse(o->gaze, &model) != 0)
         return hl_fail(err, "--gaze: '%s' is not a gaze model (auto, head, vor, tracked)", o->gaze);
@@ -268,15 +268,21 @@ static void session_close(struct rpl_session *s)
     memset(s, 0, sizeof *s);
 }
 
-static int capture_frame(struct rpl_session *s, uint8_t *rgba, const char *dir, long frame, struct hl_error *err)
+static int write_png(struct rpl_session *s, const uint8_t *rgba, const char *dir, long frame, const char *suffix,
+                     struct hl_error *err)
 {
     int w, h;
     rnd_renderer_size(s->renderer, &w, &h);
+    char path[4096];
+    snprintf(path, sizeof path, "%s/frame_%06ld%s.png", dir, frame, suffix);
+    return rnd_png_write(path, rgba, w, h, err);
+}
+
+static int capture_frame(struct rpl_session *s, uint8_t *rgba, const char *dir, long frame, struct hl_error *err)
+{
     if (rnd_renderer_read_rgba(s->renderer, rgba, err) != 0)
         return -1;
-    char path[4096];
-    snprintf(path, sizeof path, "%s/frame_%06ld.png", dir, frame);
-    return rnd_png_write(path, rgba, w, h, err);
+    return write_png(s, rgba, dir, frame, "", err);
 }
 
 static long frame_count(const struct rpl_options *o, const struct trk_pose_source *src, double rate_hz)
@@ -299,7 +305,8 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     memset(&out, 0, sizeof out);
     struct rpl_accumulator acc;
     memset(&acc, 0, sizeof acc);
-    uint8_t *rgba = NULL;
+    uint8_t *rgba = NULL, *ref_rgba = NULL;
+    struct rnd_image_error_work *image_work = NULL;
     int rc = -1;
 
     /* The inputs (trace, scene, display) are opened before the output folder is made, so bad input
@@ -309,7 +316,7 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
         goto done;
     double rate_hz = o->rate_hz > 0.0 ? o->rate_hz : s.display.refresh_hz;
     long frames = frame_count(o, s.source, rate_hz);
-    if (o->capture_every > 0) {
+    if (o->capture_every > 0 || o->reference_every > 0) {
         int w, h;
         rnd_renderer_size(s.renderer, &w, &h);
         rgba = malloc((size_t)w * (size_t)h * 4);
@@ -317,11 +324,18 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
             hl_fail(err, "out of memory for captures");
             goto done;
         }
+        if (o->reference_every > 0 && ((ref_rgba = malloc((size_t)w * (size_t)h * 4)) == NULL ||
+                                       rnd_image_error_work_create(w, h, &image_work, err) != 0)) {
+            if (!ref_rgba)
+                hl_fail(err, "out of memory for reference frames");
+            goto done;
+        }
     }
     if (rpl_output_open(&out, o->out_dir, s.max_lods, err) != 0)
         goto done;
 
-    if (rpl_accumulator_init(&acc, frames, err) != 0)
+    long references = o->reference_every > 0 ? (frames - 1) / o->reference_every + 1 : 0;
+    if (rpl_accumulator_init(&acc, frames, references, err) != 0)
         goto done;
     struct hl_progress progress;
     hl_progress_begin(&progress, "replay", (uint64_t)frames);
@@ -331,8 +345,16 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
         struct rpl_frame_record rec;
         if (rpl_frame_run(&s, f, t_s, &rec, err) != 0)
             goto done;
-        if (rgba && f % o->capture_every == 0 && capture_frame(&s, rgba, o->out_dir, f, err) != 0)
+        if (o->capture_every > 0 && f % o->capture_every == 0 && capture_frame(&s, rgba, o->out_dir, f, err) != 0)
             goto done;
+        if (o->reference_every > 0 && f % o->reference_every == 0) {
+            if (rpl_frame_reference(&s, &rec, rgba, ref_rgba, image_work, err) != 0)
+                goto done;
+            /* A captured frame gets its reference beside it, for the eye to compare. */
+            if (o->capture_every > 0 && f % o->capture_every == 0 &&
+                write_png(&s, ref_rgba, o->out_dir, f, "_reference", err) != 0)
+                goto done;
+        }
         rpl_output_row(&out, &rec, s.max_lods);
         rpl_accumulate(&acc, &rec);
         hl_progress_update(&progress, (uint64_t)f + 1);
@@ -370,6 +392,8 @@ done:
     rpl_accumulator_free(&acc);
     rpl_output_abort(&out);
     free(rgba);
+    free(ref_rgba);
+    rnd_image_error_work_destroy(image_work);
     session_close(&s);
     return rc;
 }

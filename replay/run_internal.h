@@ -32,6 +32,9 @@ struct rpl_frame_record {
     double acuity_us, select_us, draw_ms, frame_ms;
     int deadline_met;
     struct rpl_select_record sel;
+    double visible_error;     /* rpl_select_visible_error, outside the frame's timing */
+    int has_image_error;      /* a --reference frame: image holds its comparison */
+    struct rnd_image_error image;
 };
 
 struct rpl_session {
@@ -57,6 +60,9 @@ struct rpl_session {
     struct acu_vor_params vor;
     hl_vec3d neck_to_eye_head_m;
     int trace_has_gaze, trace_has_position;
+    /* The last frame's eyes and world gaze, for its full-detail reference (rpl_frame_reference). */
+    struct rnd_eye_view frame_views[2];
+    hl_vec3d frame_gaze_dir;
 };
 
 /* The head's state at time_s for the session's gaze model: eyes from the neck model (or the trace's
@@ -68,6 +74,13 @@ int rpl_frame_head_state(struct rpl_session *s, double time_s, struct trk_pose *
 /* Culls, computes viewing geometry, selects and draws one frame at `time_s`. */
 int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_frame_record *rec,
                   struct hl_error *err);
+
+/* After rpl_frame_run (and any capture of it): reads the frame back into test, draws the same visible
+ * objects at their finest levels from the same eyes into ref, and compares them (render/image_error.h)
+ * with the foveated weights M(E) around the frame's gaze; fills rec->image and has_image_error. Both
+ * buffers hold the renderer's whole image; w fits it. Outside the frame's timing. */
+int rpl_frame_reference(struct rpl_session *s, struct rpl_frame_record *rec, uint8_t *test, uint8_t *ref,
+                        struct rnd_image_error_work *w, struct hl_error *err);
 
 /* Output files: written beside their final name and renamed when complete, so an interrupted run
  * never leaves a CSV or summary that looks finished. */
@@ -102,8 +115,16 @@ struct rpl_accumulator {
     /* Every frame's time and draw time, for percentiles; sized once for the run (capacity). */
     double *frame_ms, *draw_ms;
     long capacity;
+    double visible_error_sum, visible_error_max;
+    /* --reference frames: PSNR, SSIM and foveated SSIM of each (for percentiles), and sums */
+    double *ref_psnr_db, *ref_ssim, *ref_fssim;
+    long ref_n, ref_capacity, ref_identical, ref_psnr_finite;
+    double ref_psnr_sum, ref_ssim_sum, ref_ssim_rgb_sum, ref_fssim_sum, ref_over32_sum, ref_visible_sum;
+    double ref_band_sum[RND_ECC_BANDS];
+    long ref_band_n[RND_ECC_BANDS];
 };
-int rpl_accumulator_init(struct rpl_accumulator *a, long frames, struct hl_error *err);
+/* frames: the run's frame count; references: how many of them are --reference frames (0 for none). */
+int rpl_accumulator_init(struct rpl_accumulator *a, long frames, long references, struct hl_error *err);
 void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r);
 /* Fills the summary; sorts the stored times in place (call once, at the end). */
 void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s);

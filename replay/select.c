@@ -189,6 +189,11 @@ static uint32_t remember_levels(struct rpl_select *s, const struct rpl_view_inpu
     return changes;
 }
 
+static int uses_ceiling(enum rpl_selector selector)
+{
+    return selector == RPL_SELECT_REDDY || selector == RPL_SELECT_FS || selector == RPL_SELECT_MB;
+}
+
 void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
                       uint8_t *lod_out, uint32_t *extra_index, uint8_t *extra_level, size_t *extra_count,
                       struct rpl_select_record *rec)
@@ -198,8 +203,7 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
     rec->budget_ms = s->budget_ms;
     rec->lp_bound = NAN;
     rpl_coverage_compute(scene, in->eyes, 2, in->visible, in->count, s->pixels_px);
-    int needs_ceiling = s->selector == RPL_SELECT_REDDY || s->selector == RPL_SELECT_FS || s->selector == RPL_SELECT_MB;
-    if (needs_ceiling) {
+    if (uses_ceiling(s->selector)) {
         struct lod_select_stats stats = {0};
         lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
                          in->velocity_degps, in->diameter_deg, s->ceiling_level, NULL, &stats);
@@ -269,6 +273,25 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
     }
     rpl_saccade_account(s, scene, in, lod_out, rec);
     rec->lod_changes = remember_levels(s, in, lod_out);
+}
+
+double rpl_select_visible_error(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
+                                const uint8_t *lod)
+{
+    if (!uses_ceiling(s->selector)) { /* the same ceilings reddy, fs and mb would have seen */
+        struct lod_select_stats stats = {0};
+        lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
+                         in->velocity_degps, in->diameter_deg, s->ceiling_level, NULL, &stats);
+        rpl_saccade_lower_ceilings(s, scene, in);
+    }
+    double total_px = 0.0, coarse_px = 0.0;
+    for (size_t k = 0; k < in->count; ++k) {
+        uint8_t ceiling = s->ceiling_level[k];
+        int coarser = lod[k] == LOD_DROP ? ceiling != LOD_DROP : ceiling != LOD_DROP && lod[k] > ceiling;
+        total_px += s->pixels_px[k];
+        coarse_px += coarser ? s->pixels_px[k] : 0.0;
+    }
+    return total_px > 0.0 ? coarse_px / total_px : 0.0;
 }
 
 void rpl_select_measured(struct rpl_select *s, const struct rpl_select_record *rec, double draw_ms, double frame_ms)

@@ -123,6 +123,13 @@ void rpl_select_saccade(struct rpl_select *s, const struct trk_pose *pose, doubl
 void rpl_saccade_lower_ceilings(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in);
 void rpl_saccade_account(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
                          const uint8_t *lod, struct rpl_select_record *rec);
+/* After rpl_select_frame, outside the frame's timing: the predicted visible error of the levels lod
+ * (per visible object, LOD_DROP for not drawn): the share of the visible objects' projected pixels
+ * whose object is drawn coarser than its perceptual ceiling, or dropped where the ceiling draws it.
+ * Computes the ceilings for selectors that do not use them (none, static, feedback). In [0, 1]; 0 when
+ * nothing is visible. */
+double rpl_select_visible_error(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
+                                const uint8_t *lod);
 /* After the draw: the measured draw and frame times feed the correction and the feedback controller. */
 void rpl_select_measured(struct rpl_select *s, const struct rpl_select_record *rec, double draw_ms, double frame_ms);
 

@@ -53,6 +53,9 @@ expect_error "replay without --out" "--out" -- "$bin" replay --scene field
 expect_error "replay bad selector" "selector" -- "$bin" replay --selector fastest --out "$tmp/x"
 expect_error "replay bad frames" "--frames" -- "$bin" replay --frames -4 --out "$tmp/x"
 expect_error "replay missing trace" "no-such.csv" -- "$bin" replay --trace "$tmp/no-such.csv" --out "$tmp/x"
+expect_error "replay bad reference" "--reference" -- "$bin" replay --reference -2 --out "$tmp/x"
+expect_error "replay bad velocity term" "--velocity-term: 'maybe'" -- "$bin" replay --velocity-term maybe --out "$tmp/x"
+expect_error "replay bad eccentricity term" "--eccentricity-term: ''" -- "$bin" replay --eccentricity-term '' --out "$tmp/x"
 printf 't_s,qw,qx,qy,qz\n0,1,0,0,0\n0.01,1,0,0,0\n0.02,1,0,' >"$tmp/torn.csv"
 expect_error "replay torn trace" "torn.csv:4" -- "$bin" replay --trace "$tmp/torn.csv" --out "$tmp/torn"
 [ ! -e "$tmp/torn/frames.csv" ] || fail "a failed replay left frames.csv"
@@ -66,6 +69,12 @@ expect_ok "replay own trace" "triangles relative to none" -- \
   --render-scale 0.25 --capture 30 --out "$tmp/turn"
 [ -s "$tmp/turn/frames.csv" ] && [ -s "$tmp/turn/summary.json" ] && [ -s "$tmp/turn/frame_000000.png" ] \
   || fail "replay outputs missing"
+# With --reference beside --capture: the image error in the summary, the reference PNG beside the frame.
+expect_ok "replay --reference" "foveated SSIM" -- \
+  "$bin" replay --trace "$tmp/turn.csv" --scene auditorium --selector static --static-px 2000 \
+  --render-scale 0.25 --capture 30 --reference 30 --out "$tmp/turnref"
+[ -s "$tmp/turnref/frame_000030_reference.png" ] || fail "replay --reference: no reference PNG beside the capture"
+grep -q '"fssim"' "$tmp/turnref/summary.json" || fail "replay --reference: no image error in summary.json"
 
 # Gaze from the trace: the same still head, once looking straight ahead and once with the eyes
 # turned 40° to the side, must draw fewer triangles (the objects ahead are now peripheral).

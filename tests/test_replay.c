@@ -71,6 +71,70 @@ static int run(const char *selector, const char *dir, struct rpl_summary *s)
     return rc;
 }
 
+/* One replay of the built-in clip with --reference 60 (frames 0, 60, … 720: 13 compared). */
+static int run_reference(const char *selector, double static_px, const char *dir, struct rpl_summary *s)
+{
+    struct rpl_options o;
+    rpl_options_defaults(&o);
+    o.selector = selector;
+    o.static_px_per_triangle = static_px;
+    o.out_dir = dir;
+    o.render_scale = 0.25;
+    o.reference_every = 60;
+    o.quiet = 1;
+    struct hl_error err;
+    int rc = rpl_run(&o, s, &err);
+    if (rc != 0)
+        fprintf(stderr, "rpl_run(%s, --reference): %s\n", selector, err.msg);
+    return rc;
+}
+
+/* The psnr_db field (column 28) of frame `frame`'s row: 1 when it holds a value, 0 when empty. */
+static int row_has_psnr(const char *csv, long frame)
+{
+    const char *line = csv;
+    for (long k = -1; k < frame && line; ++k)
+        line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL;
+    for (int commas = 0; line && *line && *line != '\n' && commas < 27; ++line)
+        commas += *line == ',';
+    return line && *line != ',' && *line != '\n';
+}
+
+/* --reference: selector none compared with its own full-detail frame is identical every time (the
+ * reference draws what none draws); a coarse static selector loses image quality and is predicted to;
+ * reddy is predicted to lose nothing visible. */
+static void test_reference(const char *base)
+{
+    char dir[600], path[700];
+    struct rpl_summary none, coarse, reddy;
+    snprintf(dir, sizeof dir, "%s/ref-none", base);
+    CHECK(run_reference("none", 64, dir, &none) == 0);
+    CHECK(none.reference_frames == 13 && none.identical_frames == 13);
+    CHECK(isinf(none.psnr_db_mean) && isinf(none.psnr_db_min));
+    CHECK_NEAR(none.ssim_mean, 1.0, 1e-12);
+    CHECK_NEAR(none.fssim_min, 1.0, 1e-12);
+    CHECK(none.visible_error_max == 0.0);
+
+    snprintf(dir, sizeof dir, "%s/ref-static", base);
+    CHECK(run_reference("static", 4096, dir, &coarse) == 0);
+    printf("static 4096 px/triangle: PSNR %.2f dB (min %.2f), SSIM %.4f, fSSIM %.4f, visible error %.3f\n",
+           coarse.psnr_db_mean, coarse.psnr_db_min, coarse.ssim_mean, coarse.fssim_mean, coarse.visible_error_mean);
+    CHECK(coarse.reference_frames == 13 && coarse.identical_frames < 13);
+    CHECK(isfinite(coarse.psnr_db_min) && coarse.psnr_db_min < 60.0 && coarse.psnr_db_p5 >= coarse.psnr_db_min);
+    CHECK(coarse.ssim_min < 1.0 && coarse.ssim_mean < 1.0 && coarse.fssim_mean < 1.0);
+    CHECK(coarse.visible_error_mean > 0.0 && coarse.visible_error_max <= 1.0);
+    snprintf(path, sizeof path, "%s/frames.csv", dir);
+    size_t csv_size = 0;
+    char *csv = tu_read_file(path, &csv_size);
+    CHECK(csv && row_has_psnr(csv, 0) && row_has_psnr(csv, 60) && !row_has_psnr(csv, 1) && !row_has_psnr(csv, 59));
+    free(csv);
+
+    snprintf(dir, sizeof dir, "%s/ref-reddy", base);
+    CHECK(run_reference("reddy", 64, dir, &reddy) == 0);
+    CHECK(reddy.visible_error_max == 0.0);
+    CHECK(reddy.reference_frames == 13 && reddy.ssim_mean <= 1.0 && reddy.ssim_mean > coarse.ssim_mean);
+}
+
 int main(void)
 {
     /* Keep Mesa's driver loaded until exit so LeakSanitizer can see its globals (PLATFORM.md §4). */
@@ -142,6 +206,8 @@ int main(void)
     }
     free(a);
     free(b);
+
+    test_reference(base);
 
     /* Bad input fails cleanly and leaves no frames.csv posing as complete. */
     struct rpl_options o;

@@ -17,7 +17,7 @@ struct rpl_bench_result {
     char renderer[128];
     double budget_ms;
     double visible_error_mean, visible_error_max;
-    double ref_frames, psnr_db_mean, psnr_db_min, ssim_mean, ssim_min, ssim_rgb_mean, fssim_mean, fssim_min,
+    double ref_frames, identical_frames, psnr_db_mean, psnr_db_min, ssim_mean, ssim_min, ssim_rgb_mean, fssim_mean, fssim_min,
         fssim_p5, px_over_32;
     double fssim_band[4];
     long n; /* frames */
@@ -55,6 +55,8 @@ void rpl_bench_table_row(struct rpl_bench_table *t, const char *const *cells);
 int rpl_bench_table_end(struct rpl_bench_table *t, struct hl_error *err);
 /* A number into a cell: "%.*f", or "—" when not finite. */
 const char *rpl_bench_cell(char *cell, double v, int digits);
+/* PSNR mean in dB; "inf" when every compared frame was identical (PSNR +∞, which the mean leaves out). */
+const char *rpl_bench_psnr_cell(char *cell, const struct rpl_bench_result *r);
 
 /* ---- the tables (bench_tables.c) and plots (bench_plot.c) ------------------------------------------- */
 struct rpl_bench_ctx {
@@ -63,6 +65,7 @@ struct rpl_bench_ctx {
     const char *dir;                  /* out_dir */
     FILE *md, *echo, *det;
     const char *context;
+    const char *renderer; /* the first run's GL renderer */
     int gnuplot; /* 1 when gnuplot is on PATH */
 };
 /* "## heading", the context lines, then text (how to read the table) in report.md, and on echo

@@ -71,6 +71,7 @@ static int load_summary(const char *dir, struct rpl_bench_result *r, struct hl_e
     r->visible_error_max = json_stat(root, "visible_error", "max");
     const cJSON *e = cJSON_GetObjectItemCaseSensitive(root, "image_error"); /* null without --reference */
     r->ref_frames = json_num(e, "frames");
+    r->identical_frames = json_num(e, "identical_frames");
     r->psnr_db_mean = json_stat(e, "psnr_db", "mean");
     r->psnr_db_min = json_stat(e, "psnr_db", "min");
     r->ssim_mean = json_stat(e, "ssim", "mean");

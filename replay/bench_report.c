@@ -3,6 +3,7 @@
  * only, so a serial run, a parallel plan and a merge of several hosts' folders give one report. */
 #define _XOPEN_SOURCE 700 /* fork, execvp, chdir */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,6 +22,15 @@ const char *rpl_bench_cell(char *cell, double v, int digits)
     else
         snprintf(cell, RPL_BENCH_CELL, "—");
     return cell;
+}
+
+const char *rpl_bench_psnr_cell(char *cell, const struct rpl_bench_result *r)
+{
+    if (r && !isfinite(r->psnr_db_mean) && r->ref_frames > 0 && r->identical_frames == r->ref_frames) {
+        snprintf(cell, RPL_BENCH_CELL, "inf");
+        return cell;
+    }
+    return rpl_bench_cell(cell, r ? r->psnr_db_mean : NAN, 2);
 }
 
 static void both(struct rpl_bench_table *t, const char *s)
@@ -121,8 +131,8 @@ FILE *rpl_bench_plot_data(struct rpl_bench_ctx *c, const char *name, struct hl_e
     return f;
 }
 
-/* gnuplot NAME.gp run in DIR/plots (the scripts name their files relatively); its messages go to
- * stderr. 0 when it exited 0. */
+/* gnuplot NAME.gp run in DIR/plots (the scripts name their files relatively); its messages (range
+ * warnings on short runs, mostly) go to DIR/plots/gnuplot.log. 0 when it exited 0. */
 static int run_gnuplot(const char *plots_dir, const char *script)
 {
     pid_t pid = fork();
@@ -131,6 +141,9 @@ static int run_gnuplot(const char *plots_dir, const char *script)
     if (pid == 0) {
         if (chdir(plots_dir) != 0)
             _exit(127);
+        int log = open("gnuplot.log", O_WRONLY | O_CREAT | O_APPEND, 0666);
+        if (log >= 0)
+            dup2(log, STDERR_FILENO), close(log);
         execlp("gnuplot", "gnuplot", script, (char *)NULL);
         _exit(127);
     }
@@ -163,13 +176,13 @@ int rpl_bench_plot(struct rpl_bench_ctx *c, const char *name, const char *title,
         return hl_fail(err, "%s: write failed", gp);
     fprintf(c->md, "\n![%s](plots/%s.png) (`plots/%s`)\n", title, name, script);
     if (c->gnuplot && run_gnuplot(plots, script) != 0)
-        fprintf(c->md, "\n(gnuplot failed on plots/%s; its message was on stderr)\n", script);
+        fprintf(c->md, "\n(gnuplot failed on plots/%s; its message is in plots/gnuplot.log)\n", script);
     return 0;
 }
 
 void rpl_bench_heading(struct rpl_bench_ctx *c, const char *heading, const char *text, int echo)
 {
-    fprintf(c->md, "\n## %s\n\n%s\n%s\n", heading, c->context, text);
+    fprintf(c->md, "\n## %s\n\n%s- renderer: %s\n\n%s\n", heading, c->context, c->renderer, text);
     if (echo && c->echo)
         fprintf(c->echo, "\n## %s\n\n%s\n", heading, text);
 }
@@ -264,6 +277,9 @@ static int write_report(const struct rpl_bench_report_options *o, struct rpl_ben
     snprintf(plots, sizeof plots, "%s/plots", o->out_dir);
     if (make_dir(o->out_dir, err) != 0 || make_dir(plots, err) != 0)
         return -1;
+    char log[4400];
+    snprintf(log, sizeof log, "%s/gnuplot.log", plots);
+    unlink(log); /* this report's messages only */
     snprintf(md_path, sizeof md_path, "%s/report.md", o->out_dir);
     snprintf(md_tmp, sizeof md_tmp, "%s/.report.md.partial", o->out_dir);
     snprintf(det_path, sizeof det_path, "%s/deterministic.txt", o->out_dir);
@@ -277,13 +293,17 @@ static int write_report(const struct rpl_bench_report_options *o, struct rpl_ben
         return hl_fail(err, "%s: cannot create the report's files: %s", o->out_dir, strerror(errno));
     }
     fputs("# Deterministic columns of each table (on rows whose `deterministic` is 1)\n", det);
-    struct rpl_bench_ctx c = {o->plan, results, o->out_dir, md, o->echo, det, o->context, rpl_bench_have_gnuplot()};
     const char *renderer = "unknown";
     for (size_t i = 0; i < o->plan->count; ++i)
         if (results[i].present) {
             renderer = results[i].renderer;
             break;
         }
+    struct rpl_bench_ctx c = {o->plan, results, o->out_dir, md, o->echo, det, o->context, renderer,
+                              rpl_bench_have_gnuplot()};
+    if (o->echo)
+        fprintf(o->echo, "# hmdlod bench report (%s): %s/report.md\n\n%s- renderer: %s\n", rpl_bench_mode_name(o->plan->mode),
+                o->out_dir, o->context, renderer);
     fprintf(md, "# hmdlod bench report (%s)\n\n%s- renderer: %s\n- runs: %zu of %zu (each run's replay command: "
                 "runs.csv)\n",
             rpl_bench_mode_name(o->plan->mode), o->context, renderer, o->plan->count - n_missing, o->plan->count);

@@ -221,7 +221,7 @@ int rpl_bench_tables_t2(struct rpl_bench_ctx *c, struct hl_error *err)
                                  rpl_bench_cell(cell[2], r ? r->fssim_mean : NAN, 4),
                                  rpl_bench_cell(cell[3], r ? r->fssim_p5 : NAN, 4),
                                  rpl_bench_cell(cell[4], r ? r->ssim_mean : NAN, 4),
-                                 rpl_bench_cell(cell[5], r ? r->psnr_db_mean : NAN, 2),
+                                 rpl_bench_psnr_cell(cell[5], r),
                                  rpl_bench_cell(cell[6], r ? r->px_over_32 : NAN, 4),
                                  rpl_bench_cell(cell[7], r ? r->visible_error_mean : NAN, 4),
                                  rpl_bench_cell(cell[8], r ? rpl_bench_mean(r, r->triangles) : NAN, 1),

@@ -111,7 +111,7 @@ int rpl_bench_tables_t5(struct rpl_bench_ctx *c, struct hl_error *err)
                                  rpl_bench_cell(cell[4], r ? rpl_bench_mean(r, r->triangles) : NAN, 1),
                                  rpl_bench_cell(cell[5], r ? r->fssim_mean : NAN, 4),
                                  rpl_bench_cell(cell[6], r ? r->ssim_mean : NAN, 4),
-                                 rpl_bench_cell(cell[7], r ? r->psnr_db_mean : NAN, 2),
+                                 rpl_bench_psnr_cell(cell[7], r),
                                  rpl_bench_cell(cell[8], r ? r->visible_error_mean : NAN, 4),
                                  rpl_bench_cell(cell[9], r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, 3),
                                  rpl_bench_cell(cell[10], r ? 100.0 * rpl_bench_mean_from(r, r->deadline_met, 1) : NAN, 1)};

@@ -146,7 +146,7 @@ static int reading_table(struct rpl_bench_ctx *c, struct hl_error *err)
         const char *cells[9] = {run->reading, rpl_bench_cell(cell[0], r ? 1.0 - reduction(r) : NAN, 4),
                                 rpl_bench_cell(cell[1], r ? r->fssim_mean : NAN, 4),
                                 rpl_bench_cell(cell[2], r ? r->ssim_mean : NAN, 4),
-                                rpl_bench_cell(cell[3], r ? r->psnr_db_mean : NAN, 2),
+                                rpl_bench_psnr_cell(cell[3], r),
                                 rpl_bench_cell(cell[4], r ? r->px_over_32 : NAN, 4),
                                 rpl_bench_cell(cell[5], r ? r->visible_error_mean : NAN, 4),
                                 rpl_bench_cell(cell[6], r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, 3), "1"};

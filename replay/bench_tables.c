@@ -24,30 +24,40 @@ int rpl_bench_tables_t1(struct rpl_bench_ctx *c, struct hl_error *err)
                       "optimizer's time and the frame time relative to the target (the budget, the display period), "
                       "after Funkhouser & Séquin 1993 Table 1. Goals: stddev ≤ 3 % and max ≤ 110 % of the target "
                       "(he reported 8 % and 130 %). mb-lim200: mb with --opt-limit-us 200. Timings leave frame 0 out (the "
-                      "driver compiles its shaders there); the series plot shows it.\n",
+                      "driver compiles its shaders there); the series plot shows it. The first row per scene, static "
+                      "on the still head, does the same work every frame: its stddev is this machine's jitter under "
+                      "constant load, and stddev_vs_jitter divides each row's stddev by it (≤ 1: within the "
+                      "machine's own noise).\n",
                       1);
     static const char *const h[] = {"trace", "scene", "selector", "frames", "optimizer_us_mean", "optimizer_us_max",
-                                    "frame_pct_mean", "frame_pct_max", "frame_pct_stddev", "deadline_met_pct",
-                                    "goals_met", "*triangles_per_eye_mean", "*visible_error_mean", "deterministic"};
+                                    "frame_pct_mean", "frame_pct_max", "frame_pct_stddev", "stddev_vs_jitter",
+                                    "deadline_met_pct", "goals_met", "*triangles_per_eye_mean", "*visible_error_mean",
+                                    "deterministic"};
     struct rpl_bench_table t;
-    if (rpl_bench_table_begin(&t, c->dir, "t1_funkhouser", c->md, c->echo, c->det, h, 14, err) != 0)
+    if (rpl_bench_table_begin(&t, c->dir, "t1_funkhouser", c->md, c->echo, c->det, h, 15, err) != 0)
         return -1;
     for (size_t i = 0; i < c->plan->count; ++i) {
         const struct rpl_bench_run *run = &c->plan->runs[i];
         if (run->table != 1)
             continue;
         const struct rpl_bench_result *r = c->results[i].present ? &c->results[i] : NULL;
-        char cell[14][RPL_BENCH_CELL], sel[32];
+        char jitter_id[96];
+        snprintf(jitter_id, sizeof jitter_id, "t1-%s-still-static", run->scene);
+        const struct rpl_bench_result *still = rpl_bench_find(c, jitter_id);
+        double jitter = still ? rpl_bench_stddev_from(still, still->frame_ms, 1) / still->budget_ms : NAN;
+        char cell[15][RPL_BENCH_CELL], sel[32];
         snprintf(sel, sizeof sel, "%s%s", run->selector, run->opt_limit_us > 0 ? "-lim200" : "");
         double target = r ? r->budget_ms : NAN;
         /* timings from frame 1: frame 0 compiles the driver's shaders (10× a frame on llvmpipe) */
         double sd = r ? rpl_bench_stddev_from(r, r->frame_ms, 1) / target : NAN;
         double mx = r ? rpl_bench_max_from(r, r->frame_ms, 1) / target : NAN;
-        const char *cells[14] = {run->motion, run->scene, sel, r ? rpl_bench_cell(cell[0], (double)r->n, 0) : "—",
+        const char *cells[15] = {!strcmp(run->motion, "still") ? "still (constant load)" : run->motion, run->scene,
+                                 sel, r ? rpl_bench_cell(cell[0], (double)r->n, 0) : "—",
                                  rpl_bench_cell(cell[1], r ? rpl_bench_mean_from(r, r->optimizer_us, 1) : NAN, 1),
                                  rpl_bench_cell(cell[2], r ? rpl_bench_max_from(r, r->optimizer_us, 1) : NAN, 1),
                                  rpl_bench_cell(cell[3], r ? 100.0 * rpl_bench_mean_from(r, r->frame_ms, 1) / target : NAN, 1),
                                  rpl_bench_cell(cell[4], 100.0 * mx, 1), rpl_bench_cell(cell[5], 100.0 * sd, 1),
+                                 rpl_bench_cell(cell[9], sd / jitter, 2),
                                  rpl_bench_cell(cell[6], r ? 100.0 * rpl_bench_mean_from(r, r->deadline_met, 1) : NAN, 1),
                                  !r ? "—" : sd <= GOAL_STDDEV_SHARE && mx <= GOAL_MAX_SHARE ? "yes" : "no",
                                  rpl_bench_cell(cell[7], r ? rpl_bench_mean(r, r->triangles) : NAN, 1),

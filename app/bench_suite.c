@@ -89,8 +89,8 @@ static int run_serial(const struct rpl_bench_plan *plan, const char *dir)
     return 0;
 }
 
-static int report(const struct rpl_bench_plan *plan, const char *const *dirs, int n_dirs, const char *out,
-                  int partial, int full_argc, char **full_argv)
+static int report(const struct rpl_bench_plan *plan, const char *const *dirs, int n_dirs, const char *out, int partial,
+                  int full_argc, char **full_argv)
 {
     char exe[PATH_MAX];
     if (self_path(exe, sizeof exe) != 0)
@@ -174,8 +174,9 @@ int bench_suite(int argc, char **argv, int full_argc, char **full_argv)
     }
     char shared[4096], abs_shared[PATH_MAX], dir[PATH_MAX];
     if (bench_find_shared(shared, sizeof shared) != 0 || !realpath(shared, abs_shared)) {
-        fprintf(stderr, "hmdlod bench: the shared data folder is absent (%s): the suite replays its real traces; "
-                        "set HMDLOD_SHARED\n",
+        fprintf(stderr,
+                "hmdlod bench: the shared data folder is absent (%s): the suite replays its real traces; "
+                "set HMDLOD_SHARED\n",
                 shared);
         return 1;
     }

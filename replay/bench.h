@@ -16,16 +16,16 @@ enum rpl_bench_mode { RPL_BENCH_QUICK = 0, RPL_BENCH_FULL = 1, RPL_BENCH_TINY = 
 /* One run: what the replay is given (no output folder; rpl_bench_run_argv adds it). */
 struct rpl_bench_run {
     char id[96];
-    int table;             /* 1 … 5: the table it serves (6, the cost model, reads every run) */
-    char motion[16];       /* "user1" … "user3" (Corbillon), "still" (the suite's still-head trace) */
+    int table;       /* 1 … 5: the table it serves (6, the cost model, reads every run) */
+    char motion[16]; /* "user1" … "user3" (Corbillon), "still" (the suite's still-head trace) */
     char scene[16], selector[16], display[64];
-    char gaze[8];          /* "" → replay's default (vor for traces without gaze) */
-    char reading[8];       /* "" → narrow */
-    double factor;         /* the sweep value: × the display period (t2, t4), × full cost (t5); 0 none */
-    double budget_ms;      /* 0 → the display's period */
-    double opt_limit_us;   /* 0 → no limit */
-    double static_px;      /* 0 → replay's default */
-    int objects;           /* 0 → the scene's default */
+    char gaze[8];        /* "" → replay's default (vor for traces without gaze) */
+    char reading[8];     /* "" → narrow */
+    double factor;       /* the sweep value: × the display period (t2, t4), × full cost (t5); 0 none */
+    double budget_ms;    /* 0 → the display's period */
+    double opt_limit_us; /* 0 → no limit */
+    double static_px;    /* 0 → replay's default */
+    int objects;         /* 0 → the scene's default */
     int velocity_off, eccentricity_off;
     long frames, reference_every;
     double render_scale;
@@ -83,7 +83,7 @@ struct rpl_bench_report_options {
     int dir_count;
     const char *out_dir;
     const char *context;
-    const char *exe;     /* this hmdlod, for the plan lines in runs.csv */
+    const char *exe; /* this hmdlod, for the plan lines in runs.csv */
     int partial;
     FILE *echo;
 };

@@ -17,13 +17,13 @@ struct rpl_bench_result {
     char renderer[128];
     double budget_ms;
     double visible_error_mean, visible_error_max;
-    double ref_frames, identical_frames, psnr_db_mean, psnr_db_min, ssim_mean, ssim_min, ssim_rgb_mean, fssim_mean, fssim_min,
-        fssim_p5, px_over_32;
+    double ref_frames, identical_frames, psnr_db_mean, psnr_db_min, ssim_mean, ssim_min, ssim_rgb_mean, fssim_mean,
+        fssim_min, fssim_p5, px_over_32;
     double fssim_band[4];
     long n; /* frames */
     /* per frame (n each; NULL where the column is absent) */
-    double *frame_ms, *draw_ms, *predicted_ms, *head_speed, *optimizer_us, *triangles, *finest, *dropped,
-        *iterations, *truncated, *deadline_met, *visible, *visible_error;
+    double *frame_ms, *draw_ms, *predicted_ms, *head_speed, *optimizer_us, *triangles, *finest, *dropped, *iterations,
+        *truncated, *deadline_met, *visible, *visible_error;
 };
 
 int rpl_bench_result_load(const char *run_dir, struct rpl_bench_result *r, struct hl_error *err);
@@ -48,8 +48,8 @@ struct rpl_bench_table {
 /* Opens DIR/name.csv (temporary name), writes the heading's table header in md (and echo), and
  * appends the deterministic columns (those marked '*' at the start of their name; the mark is
  * dropped in the CSV) to the list det (DIR/deterministic.txt). */
-int rpl_bench_table_begin(struct rpl_bench_table *t, const char *dir, const char *name, FILE *md, FILE *echo,
-                          FILE *det, const char *const *headers, int cols, struct hl_error *err);
+int rpl_bench_table_begin(struct rpl_bench_table *t, const char *dir, const char *name, FILE *md, FILE *echo, FILE *det,
+                          const char *const *headers, int cols, struct hl_error *err);
 /* A row of cols cells; "—" (missing) goes into the CSV as an empty field. */
 void rpl_bench_table_row(struct rpl_bench_table *t, const char *const *cells);
 int rpl_bench_table_end(struct rpl_bench_table *t, struct hl_error *err);
@@ -66,7 +66,7 @@ struct rpl_bench_ctx {
     FILE *md, *echo, *det;
     const char *context;
     const char *renderer; /* the first run's GL renderer */
-    int gnuplot; /* 1 when gnuplot is on PATH */
+    int gnuplot;          /* 1 when gnuplot is on PATH */
 };
 /* "## heading", the context lines, then text (how to read the table) in report.md, and on echo
  * when `echo` is set. */

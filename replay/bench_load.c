@@ -93,12 +93,24 @@ struct column {
     const char *name;
     size_t offset;
 };
-#define COL(name) {#name, offsetof(struct rpl_bench_result, name)}
+#define COL(name)                                                                                                      \
+    {                                                                                                                  \
+#name, offsetof(struct rpl_bench_result, name)                                                                 \
+    }
 static const struct column columns[] = {
-    COL(frame_ms),    COL(draw_ms),      COL(predicted_ms), {"head_speed_degps", offsetof(struct rpl_bench_result, head_speed)},
-    COL(optimizer_us), {"triangles_per_eye", offsetof(struct rpl_bench_result, triangles)},
-    {"triangles_finest", offsetof(struct rpl_bench_result, finest)}, COL(dropped), COL(iterations), COL(truncated),
-    COL(deadline_met), COL(visible),     COL(visible_error),
+    COL(frame_ms),
+    COL(draw_ms),
+    COL(predicted_ms),
+    {"head_speed_degps", offsetof(struct rpl_bench_result, head_speed)},
+    COL(optimizer_us),
+    {"triangles_per_eye", offsetof(struct rpl_bench_result, triangles)},
+    {"triangles_finest", offsetof(struct rpl_bench_result, finest)},
+    COL(dropped),
+    COL(iterations),
+    COL(truncated),
+    COL(deadline_met),
+    COL(visible),
+    COL(visible_error),
 };
 enum { N_COLUMNS = sizeof columns / sizeof columns[0] };
 

@@ -37,11 +37,21 @@ struct mode_cfg {
 };
 
 static const struct mode_cfg mode_cfgs[3] = {
-    [RPL_BENCH_QUICK] = {90, 60, 0.5, 1, 2, 2, {0.5, 1.0}, 3, {32, 256, 2048}, 2, 2, {100, 1000}, 4,
-                         {"vive", "quest3", "varjo-aero", "i-glasses"}, 15, 2, {0.5, 1.0}, 3, {0.5, 1.0, 2.0}},
-    [RPL_BENCH_FULL] = {600, 300, 1.0, 3, 2, 4, {0.5, 0.75, 1.0, 1.5}, 5, {16, 64, 256, 1024, 4096}, 2, 3,
-                        {10, 100, 1000}, 0, {0}, 20, 3, {0.5, 1.0, 2.0}, 3, {0.5, 1.0, 2.0}},
-    [RPL_BENCH_TINY] = {20, 20, 0.25, 1, 1, 1, {1.0}, 1, {64}, 1, 1, {10}, 1, {"vive"}, 5, 1, {1.0}, 1, {1.0}},
+    [RPL_BENCH_QUICK] = {.frames = 90, .t3_frames = 60, .render_scale = 0.5, .users = 1, .n_t1_scenes = 2,
+                         .n_budgets = 2, .budgets = {0.5, 1.0}, .n_static = 3, .static_px = {32, 256, 2048},
+                         .n_gazes = 2, .n_objects = 2, .objects = {100, 1000}, .n_displays = 4,
+                         .displays = {"vive", "quest3", "varjo-aero", "i-glasses"}, .reference_every = 15,
+                         .n_t4 = 2, .t4_budgets = {0.5, 1.0}, .n_t5 = 3, .t5_factors = {0.5, 1.0, 2.0}},
+    [RPL_BENCH_FULL] = {.frames = 600, .t3_frames = 300, .render_scale = 1.0, .users = 3, .n_t1_scenes = 2,
+                        .n_budgets = 4, .budgets = {0.5, 0.75, 1.0, 1.5}, .n_static = 5,
+                        .static_px = {16, 64, 256, 1024, 4096}, .n_gazes = 2, .n_objects = 3,
+                        .objects = {10, 100, 1000}, .n_displays = 0 /* every built-in display */,
+                        .reference_every = 20, .n_t4 = 3, .t4_budgets = {0.5, 1.0, 2.0}, .n_t5 = 3,
+                        .t5_factors = {0.5, 1.0, 2.0}},
+    [RPL_BENCH_TINY] = {.frames = 20, .t3_frames = 20, .render_scale = 0.25, .users = 1, .n_t1_scenes = 1,
+                        .n_budgets = 1, .budgets = {1.0}, .n_static = 1, .static_px = {64}, .n_gazes = 1,
+                        .n_objects = 1, .objects = {10}, .n_displays = 1, .displays = {"vive"},
+                        .reference_every = 5, .n_t4 = 1, .t4_budgets = {1.0}, .n_t5 = 1, .t5_factors = {1.0}},
 };
 
 static const char *const t1_scenes[] = {"auditorium", "field"};
@@ -161,8 +171,8 @@ static void plan_t3(struct builder *b)
 {
     static const char *const variants[][3] = {
         /* id part, motion, gaze ("" for none/size: the gaze changes nothing they use) */
-        {"still-none", "still", ""},  {"real-none", "user1", ""},     {"still-size", "still", ""},
-        {"real-size", "user1", ""},   {"still-full", "still", "vor"}, {"real-full-head", "user1", "head"},
+        {"still-none", "still", ""},       {"real-none", "user1", ""},     {"still-size", "still", ""},
+        {"real-size", "user1", ""},        {"still-full", "still", "vor"}, {"real-full-head", "user1", "head"},
         {"real-full-vor", "user1", "vor"},
     };
     for (int o = 0; o < b->cfg->n_objects; ++o)
@@ -243,7 +253,8 @@ int rpl_bench_plan_make(enum rpl_bench_mode mode, const char *only, const char *
 {
     memset(plan, 0, sizeof *plan);
     if (!(domes_full_ms > 0.0 && isfinite(domes_full_ms)))
-        return hl_fail(err, "bench plan: the full-detail cost of domes (%g ms) is not a positive number", domes_full_ms);
+        return hl_fail(err, "bench plan: the full-detail cost of domes (%g ms) is not a positive number",
+                       domes_full_ms);
     plan->mode = mode;
     plan->domes_full_ms = domes_full_ms;
     snprintf(plan->only, sizeof plan->only, "%s", only ? only : "");

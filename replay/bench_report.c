@@ -40,8 +40,8 @@ static void both(struct rpl_bench_table *t, const char *s)
         fputs(s, t->echo);
 }
 
-int rpl_bench_table_begin(struct rpl_bench_table *t, const char *dir, const char *name, FILE *md, FILE *echo,
-                          FILE *det, const char *const *headers, int cols, struct hl_error *err)
+int rpl_bench_table_begin(struct rpl_bench_table *t, const char *dir, const char *name, FILE *md, FILE *echo, FILE *det,
+                          const char *const *headers, int cols, struct hl_error *err)
 {
     memset(t, 0, sizeof *t);
     t->md = md, t->echo = echo, t->cols = cols;
@@ -270,8 +270,8 @@ static int make_dir(const char *path, struct hl_error *err)
     return 0;
 }
 
-static int write_report(const struct rpl_bench_report_options *o, struct rpl_bench_result *results,
-                        size_t n_missing, const char *missing, struct hl_error *err)
+static int write_report(const struct rpl_bench_report_options *o, struct rpl_bench_result *results, size_t n_missing,
+                        const char *missing, struct hl_error *err)
 {
     char plots[4300], md_path[4300], md_tmp[4400], det_path[4300], det_tmp[4400];
     snprintf(plots, sizeof plots, "%s/plots", o->out_dir);
@@ -299,13 +299,14 @@ static int write_report(const struct rpl_bench_report_options *o, struct rpl_ben
             renderer = results[i].renderer;
             break;
         }
-    struct rpl_bench_ctx c = {o->plan, results, o->out_dir, md, o->echo, det, o->context, renderer,
-                              rpl_bench_have_gnuplot()};
+    struct rpl_bench_ctx c = {
+        o->plan, results, o->out_dir, md, o->echo, det, o->context, renderer, rpl_bench_have_gnuplot()};
     if (o->echo)
-        fprintf(o->echo, "# hmdlod bench report (%s): %s/report.md\n\n%s- renderer: %s\n", rpl_bench_mode_name(o->plan->mode),
-                o->out_dir, o->context, renderer);
-    fprintf(md, "# hmdlod bench report (%s)\n\n%s- renderer: %s\n- runs: %zu of %zu (each run's replay command: "
-                "runs.csv)\n",
+        fprintf(o->echo, "# hmdlod bench report (%s): %s/report.md\n\n%s- renderer: %s\n",
+                rpl_bench_mode_name(o->plan->mode), o->out_dir, o->context, renderer);
+    fprintf(md,
+            "# hmdlod bench report (%s)\n\n%s- renderer: %s\n- runs: %zu of %zu (each run's replay command: "
+            "runs.csv)\n",
             rpl_bench_mode_name(o->plan->mode), o->context, renderer, o->plan->count - n_missing, o->plan->count);
     if (!c.gnuplot)
         fputs("\n**gnuplot is not on PATH: the plots' scripts are in plots/*.gp, but no PNG was made** (install "
@@ -344,11 +345,12 @@ int rpl_bench_report(const struct rpl_bench_report_options *o, struct hl_error *
     char missing[1024];
     int rc = load_all(o, results, &n_missing, missing, sizeof missing, err);
     if (rc == 0 && n_missing == o->plan->count)
-        rc = hl_fail(err, "%s: no runs found (no %s/runs/ID/summary.json for any of the plan's %zu runs)",
-                     o->dirs[0], o->dirs[0], o->plan->count);
+        rc = hl_fail(err, "%s: no runs found (no %s/runs/ID/summary.json for any of the plan's %zu runs)", o->dirs[0],
+                     o->dirs[0], o->plan->count);
     else if (rc == 0 && n_missing && !o->partial)
-        rc = hl_fail(err, "%zu of %zu runs missing (%s%s): run the rest of the plan, merge the other hosts' "
-                          "folders too, or pass --partial",
+        rc = hl_fail(err,
+                     "%zu of %zu runs missing (%s%s): run the rest of the plan, merge the other hosts' "
+                     "folders too, or pass --partial",
                      n_missing, o->plan->count, missing, n_missing > 8 ? ", …" : "");
     if (rc == 0)
         rc = write_report(o, results, n_missing, missing, err);

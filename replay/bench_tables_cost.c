@@ -18,9 +18,9 @@ int rpl_bench_tables_t4(struct rpl_bench_ctx *c, struct hl_error *err)
                       "not measured.\n",
                       0);
     int bands = RPL_SPEED_BAND_COUNT;
-    static const char *const h[] = {"budget_x_period", "limit_us", "optimizer_us_mean", "optimizer_us_max",
-                                    "iterations_mean", "truncated_pct", "frame_ms_mean", "us_0_10_degps",
-                                    "us_10_30_degps", "us_30_60_degps", "us_60_120_degps", "us_120plus_degps"};
+    static const char *const h[] = {"budget_x_period", "limit_us",       "optimizer_us_mean", "optimizer_us_max",
+                                    "iterations_mean", "truncated_pct",  "frame_ms_mean",     "us_0_10_degps",
+                                    "us_10_30_degps",  "us_30_60_degps", "us_60_120_degps",   "us_120plus_degps"};
     struct rpl_bench_table t;
     if (rpl_bench_table_begin(&t, c->dir, "t4_nirenstein", c->md, NULL, c->det, h, 7 + bands, err) != 0)
         return -1;
@@ -45,7 +45,8 @@ int rpl_bench_tables_t4(struct rpl_bench_ctx *c, struct hl_error *err)
         }
         char cell[7 + RPL_SPEED_BAND_COUNT][RPL_BENCH_CELL];
         const char *cells[7 + RPL_SPEED_BAND_COUNT] = {
-            rpl_bench_cell(cell[0], run->factor, 2), rpl_bench_cell(cell[1], run->opt_limit_us, 0),
+            rpl_bench_cell(cell[0], run->factor, 2),
+            rpl_bench_cell(cell[1], run->opt_limit_us, 0),
             rpl_bench_cell(cell[2], r ? rpl_bench_mean_from(r, r->optimizer_us, 1) : NAN, 1),
             rpl_bench_cell(cell[3], r ? rpl_bench_max_from(r, r->optimizer_us, 1) : NAN, 1),
             rpl_bench_cell(cell[4], r ? rpl_bench_mean(r, r->iterations) : NAN, 1),
@@ -70,11 +71,13 @@ int rpl_bench_tables_t4(struct rpl_bench_ctx *c, struct hl_error *err)
     if (rpl_bench_table_end(&t, err) != 0)
         return -1;
     char body[4096];
-    size_t len = (size_t)snprintf(body, sizeof body, "set xlabel 'head speed band, from deg/s'\nset ylabel "
-                                                     "'optimizer time mean, us'\nset key outside right\nplot ");
+    size_t len = (size_t)snprintf(body, sizeof body,
+                                  "set xlabel 'head speed band, from deg/s'\nset ylabel "
+                                  "'optimizer time mean, us'\nset key outside right\nplot ");
     for (int s = 0; s < n_series && s < 12 && len < sizeof body; ++s)
-        len += (size_t)snprintf(body + len, sizeof body - len, "%s't4_turn.dat' index %d using 1:2 with linespoints "
-                                                               "title '%s'",
+        len += (size_t)snprintf(body + len, sizeof body - len,
+                                "%s't4_turn.dat' index %d using 1:2 with linespoints "
+                                "title '%s'",
                                 s ? ", " : "", s, labels[s]);
     if (len < sizeof body)
         snprintf(body + len, sizeof body - len, "\n");
@@ -92,9 +95,9 @@ int rpl_bench_tables_t5(struct rpl_bench_ctx *c, struct hl_error *err)
              "%.3f ms. Objects dropped per frame, image error (--reference) and predicted visible error.\n",
              c->plan->domes_full_ms);
     rpl_bench_heading(c, "Table 5: Mason–Blake's comparison on domes", text, 1);
-    static const char *const h[] = {"selector", "x_full_cost", "budget_ms", "dropped_mean", "visible_mean",
-                                    "triangles_per_eye_mean", "fssim_mean", "ssim_mean", "psnr_db_mean",
-                                    "visible_error_mean", "frame_ms_mean", "deadline_met_pct"};
+    static const char *const h[] = {
+        "selector",   "x_full_cost", "budget_ms",    "dropped_mean",       "visible_mean",  "triangles_per_eye_mean",
+        "fssim_mean", "ssim_mean",   "psnr_db_mean", "visible_error_mean", "frame_ms_mean", "deadline_met_pct"};
     struct rpl_bench_table t;
     if (rpl_bench_table_begin(&t, c->dir, "t5_mason_blake", c->md, c->echo, c->det, h, 12, err) != 0)
         return -1;
@@ -104,17 +107,19 @@ int rpl_bench_tables_t5(struct rpl_bench_ctx *c, struct hl_error *err)
             continue;
         const struct rpl_bench_result *r = c->results[i].present ? &c->results[i] : NULL;
         char cell[11][RPL_BENCH_CELL];
-        const char *cells[12] = {run->selector, rpl_bench_cell(cell[0], run->factor, 2),
-                                 rpl_bench_cell(cell[1], run->budget_ms, 3),
-                                 rpl_bench_cell(cell[2], r ? rpl_bench_mean(r, r->dropped) : NAN, 1),
-                                 rpl_bench_cell(cell[3], r ? rpl_bench_mean(r, r->visible) : NAN, 1),
-                                 rpl_bench_cell(cell[4], r ? rpl_bench_mean(r, r->triangles) : NAN, 1),
-                                 rpl_bench_cell(cell[5], r ? r->fssim_mean : NAN, 4),
-                                 rpl_bench_cell(cell[6], r ? r->ssim_mean : NAN, 4),
-                                 rpl_bench_psnr_cell(cell[7], r),
-                                 rpl_bench_cell(cell[8], r ? r->visible_error_mean : NAN, 4),
-                                 rpl_bench_cell(cell[9], r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, 3),
-                                 rpl_bench_cell(cell[10], r ? 100.0 * rpl_bench_mean_from(r, r->deadline_met, 1) : NAN, 1)};
+        const char *cells[12] = {
+            run->selector,
+            rpl_bench_cell(cell[0], run->factor, 2),
+            rpl_bench_cell(cell[1], run->budget_ms, 3),
+            rpl_bench_cell(cell[2], r ? rpl_bench_mean(r, r->dropped) : NAN, 1),
+            rpl_bench_cell(cell[3], r ? rpl_bench_mean(r, r->visible) : NAN, 1),
+            rpl_bench_cell(cell[4], r ? rpl_bench_mean(r, r->triangles) : NAN, 1),
+            rpl_bench_cell(cell[5], r ? r->fssim_mean : NAN, 4),
+            rpl_bench_cell(cell[6], r ? r->ssim_mean : NAN, 4),
+            rpl_bench_psnr_cell(cell[7], r),
+            rpl_bench_cell(cell[8], r ? r->visible_error_mean : NAN, 4),
+            rpl_bench_cell(cell[9], r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, 3),
+            rpl_bench_cell(cell[10], r ? 100.0 * rpl_bench_mean_from(r, r->deadline_met, 1) : NAN, 1)};
         rpl_bench_table_row(&t, cells);
     }
     return rpl_bench_table_end(&t, err);
@@ -148,8 +153,8 @@ int rpl_bench_tables_t6(struct rpl_bench_ctx *c, struct hl_error *err)
                       "share of frames predicted more than 5 % too cheap (what breaks a budget). Frame 0 of each run "
                       "(driver warm-up) is left out.\n",
                       0);
-    static const char *const h[] = {"scene", "measured", "frames", "abs_rel_error_median", "abs_rel_error_p95",
-                                    "under_predicted_5pct_share"};
+    static const char *const h[] = {
+        "scene", "measured", "frames", "abs_rel_error_median", "abs_rel_error_p95", "under_predicted_5pct_share"};
     struct rpl_bench_table t;
     if (rpl_bench_table_begin(&t, c->dir, "t6_cost_model", c->md, NULL, c->det, h, 6, err) != 0)
         return -1;
@@ -190,8 +195,11 @@ int rpl_bench_tables_t6(struct rpl_bench_ctx *c, struct hl_error *err)
             double med, p95, under;
             error_stats(rel, n, &med, &p95, &under);
             char cell[4][RPL_BENCH_CELL];
-            const char *cells[6] = {scenes[sc], m ? "draw_ms" : "frame_ms", rpl_bench_cell(cell[0], (double)n, 0),
-                                    rpl_bench_cell(cell[1], med, 3), rpl_bench_cell(cell[2], p95, 3),
+            const char *cells[6] = {scenes[sc],
+                                    m ? "draw_ms" : "frame_ms",
+                                    rpl_bench_cell(cell[0], (double)n, 0),
+                                    rpl_bench_cell(cell[1], med, 3),
+                                    rpl_bench_cell(cell[2], p95, 3),
                                     rpl_bench_cell(cell[3], under, 3)};
             rpl_bench_table_row(&t, cells);
         }

@@ -32,8 +32,9 @@ enum { N_VARIANTS = 5 };
 
 static int speedup_table(struct rpl_bench_ctx *c, struct hl_error *err)
 {
-    static const char *const h[] = {"objects", "motion", "terms", "none_frame_ms", "reddy_frame_ms", "speedup",
-                                    "*triangle_ratio", "*visible_error_mean", "goal_met", "deterministic"};
+    static const char *const h[] = {"objects",        "motion",       "terms",           "none_frame_ms",
+                                    "reddy_frame_ms", "speedup",      "*triangle_ratio", "*visible_error_mean",
+                                    "goal_met",       "deterministic"};
     struct rpl_bench_table t;
     if (rpl_bench_table_begin(&t, c->dir, "t3_reddy_speedup", c->md, c->echo, c->det, h, 10, err) != 0)
         return -1;
@@ -59,17 +60,24 @@ static int speedup_table(struct rpl_bench_ctx *c, struct hl_error *err)
             snprintf(id_r, sizeof id_r, "t3-o%d-%s", run->objects, variants[v][0]);
             snprintf(id_n, sizeof id_n, "t3-o%d-%s", run->objects, variants[v][1]);
             const struct rpl_bench_result *r = rpl_bench_find(c, id_r), *n = rpl_bench_find(c, id_n);
-            double fr = r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, fn = n ? rpl_bench_mean_from(n, n->frame_ms, 1) : NAN;
+            double fr = r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN,
+                   fn = n ? rpl_bench_mean_from(n, n->frame_ms, 1) : NAN;
             double tr = r ? rpl_bench_mean(r, r->triangles) : NAN, tn = n ? rpl_bench_mean(n, n->triangles) : NAN;
             double speedup = fn / fr, vis = r ? r->visible_error_mean : NAN;
             char cell[7][RPL_BENCH_CELL];
             const char *goal = "";
             if (run->objects == 1000 && strstr(variants[v][0], "full"))
                 goal = !isfinite(speedup) ? "—" : speedup >= GOAL_SPEEDUP && vis == 0.0 ? "yes" : "no";
-            const char *cells[10] = {rpl_bench_cell(cell[0], run->objects, 0), variants[v][2], variants[v][3],
-                                     rpl_bench_cell(cell[1], fn, 3), rpl_bench_cell(cell[2], fr, 3),
-                                     rpl_bench_cell(cell[3], speedup, 2), rpl_bench_cell(cell[4], tn / tr, 2),
-                                     rpl_bench_cell(cell[5], vis, 4), goal, "1"};
+            const char *cells[10] = {rpl_bench_cell(cell[0], run->objects, 0),
+                                     variants[v][2],
+                                     variants[v][3],
+                                     rpl_bench_cell(cell[1], fn, 3),
+                                     rpl_bench_cell(cell[2], fr, 3),
+                                     rpl_bench_cell(cell[3], speedup, 2),
+                                     rpl_bench_cell(cell[4], tn / tr, 2),
+                                     rpl_bench_cell(cell[5], vis, 4),
+                                     goal,
+                                     "1"};
             rpl_bench_table_row(&t, cells);
             fprintf(f, " %.4f", speedup);
             has_data |= isfinite(speedup);
@@ -97,9 +105,15 @@ static int display_table(struct rpl_bench_ctx *c, struct hl_error *err)
                       "with both − reduction without it) / reduction with both (the shares need not add to 1: "
                       "size alone, and the terms together, do the rest).\n",
                       0);
-    static const char *const h[] = {"display", "xi_cpd", "*reduction_both", "*reduction_no_velocity",
-                                    "*reduction_no_eccentricity", "*owed_to_velocity", "*owed_to_eccentricity",
-                                    "frame_ms_mean", "deterministic"};
+    static const char *const h[] = {"display",
+                                    "xi_cpd",
+                                    "*reduction_both",
+                                    "*reduction_no_velocity",
+                                    "*reduction_no_eccentricity",
+                                    "*owed_to_velocity",
+                                    "*owed_to_eccentricity",
+                                    "frame_ms_mean",
+                                    "deterministic"};
     struct rpl_bench_table t;
     if (rpl_bench_table_begin(&t, c->dir, "t3b_displays", c->md, NULL, c->det, h, 9, err) != 0)
         return -1;
@@ -116,11 +130,15 @@ static int display_table(struct rpl_bench_ctx *c, struct hl_error *err)
         double rb = reduction(full), rv = reduction(nv), re = reduction(ne);
         const struct hmd_profile *p = hmd_builtin_find(run->display);
         char cell[7][RPL_BENCH_CELL];
-        const char *cells[9] = {run->display, rpl_bench_cell(cell[0], p ? hmd_compute_xi(p).used_cpd : NAN, 2),
-                                rpl_bench_cell(cell[1], rb, 4), rpl_bench_cell(cell[2], rv, 4),
-                                rpl_bench_cell(cell[3], re, 4), rpl_bench_cell(cell[4], rb > 0 ? (rb - rv) / rb : NAN, 3),
+        const char *cells[9] = {run->display,
+                                rpl_bench_cell(cell[0], p ? hmd_compute_xi(p).used_cpd : NAN, 2),
+                                rpl_bench_cell(cell[1], rb, 4),
+                                rpl_bench_cell(cell[2], rv, 4),
+                                rpl_bench_cell(cell[3], re, 4),
+                                rpl_bench_cell(cell[4], rb > 0 ? (rb - rv) / rb : NAN, 3),
                                 rpl_bench_cell(cell[5], rb > 0 ? (rb - re) / rb : NAN, 3),
-                                rpl_bench_cell(cell[6], full ? rpl_bench_mean_from(full, full->frame_ms, 1) : NAN, 3), "1"};
+                                rpl_bench_cell(cell[6], full ? rpl_bench_mean_from(full, full->frame_ms, 1) : NAN, 3),
+                                "1"};
         rpl_bench_table_row(&t, cells);
     }
     return rpl_bench_table_end(&t, err);
@@ -132,8 +150,9 @@ static int reading_table(struct rpl_bench_ctx *c, struct hl_error *err)
                       "reddy on field (user1) with --frequency-reading narrow (the thickest lost feature) and long "
                       "(the longest lost chord; docs/analysis.md), with --reference.\n",
                       0);
-    static const char *const h[] = {"reading", "*triangle_share", "*fssim_mean", "*ssim_mean", "*psnr_db_mean",
-                                    "*px_over_32", "*visible_error_mean", "frame_ms_mean", "deterministic"};
+    static const char *const h[] = {"reading",       "*triangle_share", "*fssim_mean",         "*ssim_mean",
+                                    "*psnr_db_mean", "*px_over_32",     "*visible_error_mean", "frame_ms_mean",
+                                    "deterministic"};
     struct rpl_bench_table t;
     if (rpl_bench_table_begin(&t, c->dir, "t3c_readings", c->md, NULL, c->det, h, 9, err) != 0)
         return -1;
@@ -143,13 +162,15 @@ static int reading_table(struct rpl_bench_ctx *c, struct hl_error *err)
             continue;
         const struct rpl_bench_result *r = c->results[i].present ? &c->results[i] : NULL;
         char cell[7][RPL_BENCH_CELL];
-        const char *cells[9] = {run->reading, rpl_bench_cell(cell[0], r ? 1.0 - reduction(r) : NAN, 4),
+        const char *cells[9] = {run->reading,
+                                rpl_bench_cell(cell[0], r ? 1.0 - reduction(r) : NAN, 4),
                                 rpl_bench_cell(cell[1], r ? r->fssim_mean : NAN, 4),
                                 rpl_bench_cell(cell[2], r ? r->ssim_mean : NAN, 4),
                                 rpl_bench_psnr_cell(cell[3], r),
                                 rpl_bench_cell(cell[4], r ? r->px_over_32 : NAN, 4),
                                 rpl_bench_cell(cell[5], r ? r->visible_error_mean : NAN, 4),
-                                rpl_bench_cell(cell[6], r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, 3), "1"};
+                                rpl_bench_cell(cell[6], r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, 3),
+                                "1"};
         rpl_bench_table_row(&t, cells);
     }
     return rpl_bench_table_end(&t, err);

@@ -30,7 +30,7 @@ void bench_suite_usage(FILE *f)
           "  --only GLOB    only the runs whose id matches GLOB (ids: DIR/runs.csv, e.g. 't1-field-*')\n"
           "  --out DIR      the suite's folder: DIR/runs/ID hold the replays (for --merge: the report's\n"
           "                 folder, default the first DIR)\n"
-          "  --plan FILE    write the plan instead of running it: run it with\n"
+          "  --plan FILE    write the plan instead of running it (without --out: DIR is FILE.d); run it with\n"
           "                 parallel --will-cite -j2 < FILE, or as a Slurm array (scripts/slurm-bench.sh),\n"
           "                 then hmdlod bench --merge DIR\n"
           "  --merge DIR... build the report from DIR/runs (several DIRs: the union, e.g. from several hosts)\n"
@@ -167,6 +167,11 @@ int bench_suite(int argc, char **argv, int full_argc, char **full_argv)
     if (partial) {
         fprintf(stderr, "hmdlod bench: --partial goes with --merge\n");
         return 1;
+    }
+    char plan_out[PATH_MAX];
+    if (!out && plan_file) { /* a plan alone: its folder beside it, FILE.d */
+        snprintf(plan_out, sizeof plan_out, "%s.d", plan_file);
+        out = plan_out;
     }
     if (!out) {
         fprintf(stderr, "hmdlod bench: --out DIR is required (hmdlod bench --help)\n");

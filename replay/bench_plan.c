@@ -16,7 +16,7 @@
 /* What each mode sweeps. quick: under 5 minutes on the 2-core llvmpipe machine (render scale 0.5,
  * one second of each trace); full: the issue's sweep (~30–60 min there); tiny: seconds, for tests. */
 struct mode_cfg {
-    long frames, t3_frames;
+    long frames, t3_frames, t3d_frames; /* t3d: the per-display runs, many in full */
     double render_scale;
     int users;
     int n_t1_scenes;
@@ -37,21 +37,65 @@ struct mode_cfg {
 };
 
 static const struct mode_cfg mode_cfgs[3] = {
-    [RPL_BENCH_QUICK] = {.frames = 90, .t3_frames = 60, .render_scale = 0.5, .users = 1, .n_t1_scenes = 2,
-                         .n_budgets = 2, .budgets = {0.5, 1.0}, .n_static = 3, .static_px = {32, 256, 2048},
-                         .n_gazes = 2, .n_objects = 2, .objects = {100, 1000}, .n_displays = 4,
-                         .displays = {"vive", "quest3", "varjo-aero", "i-glasses"}, .reference_every = 15,
-                         .n_t4 = 2, .t4_budgets = {0.5, 1.0}, .n_t5 = 3, .t5_factors = {0.5, 1.0, 2.0}},
-    [RPL_BENCH_FULL] = {.frames = 600, .t3_frames = 300, .render_scale = 1.0, .users = 3, .n_t1_scenes = 2,
-                        .n_budgets = 4, .budgets = {0.5, 0.75, 1.0, 1.5}, .n_static = 5,
-                        .static_px = {16, 64, 256, 1024, 4096}, .n_gazes = 2, .n_objects = 3,
-                        .objects = {10, 100, 1000}, .n_displays = 0 /* every built-in display */,
-                        .reference_every = 20, .n_t4 = 3, .t4_budgets = {0.5, 1.0, 2.0}, .n_t5 = 3,
+    [RPL_BENCH_QUICK] = {.frames = 90,
+                         .t3_frames = 60,
+                         .t3d_frames = 60,
+                         .render_scale = 0.5,
+                         .users = 1,
+                         .n_t1_scenes = 2,
+                         .n_budgets = 2,
+                         .budgets = {0.5, 1.0},
+                         .n_static = 3,
+                         .static_px = {32, 256, 2048},
+                         .n_gazes = 2,
+                         .n_objects = 2,
+                         .objects = {100, 1000},
+                         .n_displays = 4,
+                         .displays = {"vive", "quest3", "varjo-aero", "i-glasses"},
+                         .reference_every = 15,
+                         .n_t4 = 2,
+                         .t4_budgets = {0.5, 1.0},
+                         .n_t5 = 3,
+                         .t5_factors = {0.5, 1.0, 2.0}},
+    [RPL_BENCH_FULL] = {.frames = 600,
+                        .t3_frames = 300,
+                        .t3d_frames = 150,
+                        .render_scale = 1.0,
+                        .users = 3,
+                        .n_t1_scenes = 2,
+                        .n_budgets = 4,
+                        .budgets = {0.5, 0.75, 1.0, 1.5},
+                        .n_static = 5,
+                        .static_px = {16, 64, 256, 1024, 4096},
+                        .n_gazes = 2,
+                        .n_objects = 3,
+                        .objects = {10, 100, 1000},
+                        .n_displays = 0 /* every built-in display */,
+                        .reference_every = 20,
+                        .n_t4 = 3,
+                        .t4_budgets = {0.5, 1.0, 2.0},
+                        .n_t5 = 3,
                         .t5_factors = {0.5, 1.0, 2.0}},
-    [RPL_BENCH_TINY] = {.frames = 20, .t3_frames = 20, .render_scale = 0.25, .users = 1, .n_t1_scenes = 1,
-                        .n_budgets = 1, .budgets = {1.0}, .n_static = 1, .static_px = {64}, .n_gazes = 1,
-                        .n_objects = 1, .objects = {10}, .n_displays = 1, .displays = {"vive"},
-                        .reference_every = 5, .n_t4 = 1, .t4_budgets = {1.0}, .n_t5 = 1, .t5_factors = {1.0}},
+    [RPL_BENCH_TINY] = {.frames = 20,
+                        .t3_frames = 20,
+                        .t3d_frames = 20,
+                        .render_scale = 0.25,
+                        .users = 1,
+                        .n_t1_scenes = 1,
+                        .n_budgets = 1,
+                        .budgets = {1.0},
+                        .n_static = 1,
+                        .static_px = {64},
+                        .n_gazes = 1,
+                        .n_objects = 1,
+                        .objects = {10},
+                        .n_displays = 1,
+                        .displays = {"vive"},
+                        .reference_every = 5,
+                        .n_t4 = 1,
+                        .t4_budgets = {1.0},
+                        .n_t5 = 1,
+                        .t5_factors = {1.0}},
 };
 
 static const char *const t1_scenes[] = {"auditorium", "field"};
@@ -199,7 +243,7 @@ static void plan_t3(struct builder *b)
             snprintf(r->display, sizeof r->display, "%s", name);
             r->velocity_off = t == 1;
             r->eccentricity_off = t == 2;
-            r->frames = b->cfg->t3_frames;
+            r->frames = b->cfg->t3d_frames;
             snprintf(r->id, sizeof r->id, "t3d-%s-%s", name, terms[t]);
         }
     }

@@ -95,6 +95,10 @@ print(f"{compared} deterministic cells compared, {bad} differ")
 sys.exit(1 if bad or compared < 20 else 0)
 EOF
 
+# --plan without --out: the folder is FILE.d
+"$bin" bench --tiny --only 't5-*' --plan "$tmp/p5.txt" 2>"$tmp/err" && [ -f "$tmp/p5.txt.d/suite.txt" ] &&
+  grep -q -- "--out $tmp/p5.txt.d/runs/t5-" "$tmp/p5.txt" || fail "--plan without --out: $(cat "$tmp/err")"
+
 # a partial merge: one run folder gone
 cp -r "$tmp/par" "$tmp/partial"
 gone=$(ls "$tmp/partial/runs" | head -1)

@@ -99,6 +99,13 @@ EOF
 "$bin" bench --tiny --only 't5-*' --plan "$tmp/p5.txt" 2>"$tmp/err" && [ -f "$tmp/p5.txt.d/suite.txt" ] &&
   grep -q -- "--out $tmp/p5.txt.d/runs/t5-" "$tmp/p5.txt" || fail "--plan without --out: $(cat "$tmp/err")"
 
+# without gnuplot on PATH: the tables still come out and the report says why there are no images
+PATH=/nonexistent "$bin" bench --merge "$tmp/par" --out "$tmp/nognuplot" >/dev/null 2>"$tmp/err" ||
+  fail "--merge without gnuplot: exit $?: $(cat "$tmp/err")"
+grep -q "gnuplot is not on PATH" "$tmp/nognuplot/report.md" && [ -s "$tmp/nognuplot/t1_funkhouser.csv" ] &&
+  [ -s "$tmp/nognuplot/plots/t6_cost.gp" ] && ! ls "$tmp/nognuplot/plots/"*.png >/dev/null 2>&1 ||
+  fail "--merge without gnuplot: the report does not say so, or the tables or scripts are missing"
+
 # a partial merge: one run folder gone
 cp -r "$tmp/par" "$tmp/partial"
 gone=$(ls "$tmp/partial/runs" | head -1)

@@ -194,17 +194,10 @@ done:
     return rc;
 }
 
-static int compare_double(const void *x, const void *y)
-{
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
-
 static double percentile(double *v, long n, double p) /* nearest rank; sorts v */
 {
-    qsort(v, (size_t)n, sizeof *v, compare_double);
-    long rank = (long)ceil(p * (double)n);
-    return v[rank < 1 ? 0 : rank > n ? n - 1 : rank - 1];
+    hl_sort_doubles(v, (size_t)n);
+    return hl_percentile_sorted(v, (size_t)n, p);
 }
 
 struct size_result {

@@ -14,15 +14,9 @@
 enum { BENCH_LEVELS = 4 }; /* decimated levels below the full mesh: 50, 25, 10, 2 % */
 static const double bench_ratios[BENCH_LEVELS] = {0.5, 0.25, 0.1, 0.02};
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
 static double median(double *v, int n)
 {
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    hl_sort_doubles(v, (size_t)n);
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 

@@ -13,19 +13,13 @@ const double bopt_turn_bin_deg[BOPT_TURN_BINS + 1] = {0, 1, 5, 20, 60, 180};
 
 /* ---- small statistics ---------------------------------------------------------------------------- */
 
-static int compare_double(const void *x, const void *y)
-{
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
-/* Nearest rank on a sorted copy (v is sorted in place). */
+/* Nearest rank (v is sorted in place). */
 double bopt_percentile(double *v, long n, double p)
 {
     if (n <= 0)
         return NAN;
-    qsort(v, (size_t)n, sizeof *v, compare_double);
-    long rank = (long)ceil(p * (double)n);
-    return v[rank < 1 ? 0 : rank > n ? n - 1 : rank - 1];
+    hl_sort_doubles(v, (size_t)n);
+    return hl_percentile_sorted(v, (size_t)n, p);
 }
 static double minimum(const double *v, long n)
 {

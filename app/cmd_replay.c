@@ -14,6 +14,7 @@ static const char replay_usage[] =
     "                     [--cost-correction on|ratio|affine|off] [--gaze MODEL] [--vor-gain G]\n"
     "                     [--vor-latency-ms T] [--fixation-m D] [--saccade-onset-degps V]\n"
     "                     [--reference EVERY] [--velocity-term on|off] [--eccentricity-term on|off]\n"
+    "                     [--mb-simplify K]\n"
     "  Replays a head-motion trace on a virtual clock through a scene, rendering both eyes headless.\n"
     "  --trace FILE       hmdlod CSV (t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]), a Corbillon MMSys'18\n"
     "                     quaternion file, a Nasrabadi MMSys'19 CSV or an EDVAM eye-tracker log (gaze and\n"
@@ -62,6 +63,9 @@ static const char replay_usage[] =
     "  --velocity-term on|off      off: every object is taken as still on the retina (Reddy's size +\n"
     "                     eccentricity only); default on\n"
     "  --eccentricity-term on|off  off: every object is taken as at the gaze centre; default on\n"
+    "  --mb-simplify K    mb: apply Nirenstein et al.'s hierarchy simplification K times (default 0):\n"
+    "                     groups at most K deep become leaves choosing their impostor or all their\n"
+    "                     objects at one shared level — a cheaper optimizer, coarser choices\n"
     "  --quiet            no summary table on stdout\n";
 
 /* Parses the options replay and demo share; returns 0, or 1 after printing the message. */
@@ -184,6 +188,10 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
         } else if (!strcmp(opt, "--reference")) {
             if (app_parse_long(opt, val, 0, 100000000, &o->reference_every))
                 return 1;
+        } else if (!strcmp(opt, "--mb-simplify")) {
+            if (app_parse_long(opt, val, 0, 8, &n))
+                return 1;
+            o->mb_simplify = (int)n;
         } else if (!strcmp(opt, "--velocity-term") || !strcmp(opt, "--eccentricity-term")) {
             int off = !strcmp(val, "off");
             if (!off && strcmp(val, "on")) {

@@ -63,6 +63,14 @@ hl_vec3d hl_q_log(hl_quatd q);                  /* unit quaternion → rotation 
 double hl_q_angle_rad(hl_quatd a, hl_quatd b);  /* rotation angle between two orientations, in [0, π] */
 hl_quatd hl_q_slerp(hl_quatd a, hl_quatd b, double t); /* shortest arc; b flipped when a·b < 0 */
 
+/* ---- samples -------------------------------------------------------------------------------------
+ * Sorting and nearest-rank percentiles of measured doubles (frame times, errors), shared so that every
+ * median and p99 in the project means the same thing. NaN must be kept out by the caller. */
+void hl_sort_doubles(double *v, size_t n);                               /* ascending, in place */
+double hl_percentile_sorted(const double *sorted, size_t n, double p);  /* nearest rank: the smallest value
+                                                                          * with at least p·n at or below it;
+                                                                          * 0 for n = 0 */
+
 #define HL_PI 3.14159265358979323846
 #define HL_DEG_PER_RAD (180.0 / HL_PI)
 #define HL_RAD_PER_DEG (HL_PI / 180.0)

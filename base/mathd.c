@@ -1,6 +1,7 @@
 #include "base/base.h"
 
 #include <math.h>
+#include <stdlib.h>
 
 double hl_v3_length(hl_vec3d a) { return hypot(hypot(a.x, a.y), a.z); }
 
@@ -86,4 +87,25 @@ hl_quatd hl_q_slerp(hl_quatd a, hl_quatd b, double t)
     /* a ⊗ exp(t·log(a* ⊗ b)): stable for tiny and large angles alike. */
     hl_vec3d r = hl_q_log(hl_q_mul(hl_q_conj(a), b));
     return hl_q_normalize(hl_q_mul(a, hl_q_exp(hl_v3_scale(r, t))));
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+void hl_sort_doubles(double *v, size_t n)
+{
+    if (n > 1)
+        qsort(v, n, sizeof *v, compare_doubles);
+}
+
+double hl_percentile_sorted(const double *sorted, size_t n, double p)
+{
+    if (n == 0)
+        return 0.0;
+    double rank = ceil(p * (double)n); /* p outside [0, 1] or NaN clamps to the ends */
+    size_t i = rank >= 1.0 ? (rank < (double)n ? (size_t)rank - 1 : n - 1) : 0;
+    return sorted[i];
 }

@@ -47,12 +47,6 @@ void rnd_calibration_free(struct rnd_calibration *c)
     memset(c, 0, sizeof *c);
 }
 
-static int cmp_double(const void *pa, const void *pb)
-{
-    double a = *(const double *)pa, b = *(const double *)pb;
-    return (a > b) - (a < b);
-}
-
 /* Places k instances (0 … k−1) of the scene's one chain on a grid at cost_distance_m straight ahead,
  * each with the tangent-plane radius that makes k discs cover `coverage` of one eye's image, and
  * records each object's both-eye counts at `level` and its bounding sphere (replay estimates its
@@ -260,7 +254,7 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
     for (size_t p = 0; p < points; ++p) {
         double *t = times + p * (size_t)grid->repeats;
         size_t m = (size_t)grid->repeats;
-        qsort(t, m, sizeof *t, cmp_double);
+        hl_sort_doubles(t, m);
         out->frames[p].measured_ms = m % 2 ? t[m / 2] : 0.5 * (t[m / 2 - 1] + t[m / 2]);
     }
     out->seconds = (double)(hl_clock_now_ns() - start_ns) * 1e-9;

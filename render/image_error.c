@@ -17,8 +17,11 @@ enum { WINDOW = 2 * RND_SSIM_RADIUS_PX + 1, MOMENTS = 5 }; /* μx, μy, E[x²], 
 struct rnd_image_error_work {
     int width_px, height_px;
     double kernel[WINDOW];
-    double *x, *y;                 /* one row of each plane, an eye wide */
+    double *row[MOMENTS];          /* one row of x, y, x², y², xy, an eye wide */
     double *ring[WINDOW][MOMENTS]; /* horizontally filtered rows, indexed by row % WINDOW */
+    double *moment[MOMENTS];       /* the window's moments along one output row */
+    double *weight;                /* one output row's foveation weights (or bands) */
+    unsigned char *band;
 };
 
 /* Which quantity a plane is: the luminance (with the map's foveated sums) or one colour channel. */
@@ -37,8 +40,10 @@ void rnd_image_error_work_destroy(struct rnd_image_error_work *w)
 {
     if (!w)
         return;
-    free(w->x);
-    free(w->y);
+    for (int m = 0; m < MOMENTS; ++m)
+        free(w->row[m]), free(w->moment[m]);
+    free(w->weight);
+    free(w->band);
     for (int r = 0; r < WINDOW; ++r)
         for (int m = 0; m < MOMENTS; ++m)
             free(w->ring[r][m]);
@@ -56,7 +61,9 @@ int rnd_image_error_work_create(int width_px, int height_px, struct rnd_image_er
     w->width_px = width_px;
     w->height_px = height_px;
     size_t row = (size_t)width_px * sizeof(double);
-    int ok = (w->x = malloc(row)) != NULL && (w->y = malloc(row)) != NULL;
+    int ok = (w->weight = malloc(row)) != NULL && (w->band = malloc((size_t)width_px)) != NULL;
+    for (int m = 0; m < MOMENTS && ok; ++m)
+        ok = (w->row[m] = malloc(row)) != NULL && (w->moment[m] = malloc(row)) != NULL;
     for (int r = 0; r < WINDOW && ok; ++r)
         for (int m = 0; m < MOMENTS && ok; ++m)
             ok = (w->ring[r][m] = malloc(row)) != NULL;
@@ -84,28 +91,50 @@ static double plane_value(const uint8_t *px, enum plane p)
     return (double)px[p - PLANE_R];
 }
 
-/* Row `row` of one eye's plane, filtered horizontally into the ring (columns [r, eye_w − r) only). */
+/* Row `row` of one eye's plane, filtered horizontally into the ring (columns [r, eye_w − r) only).
+ * The kernel is symmetric: each tap pair is added once, in loops over x the compiler vectorises. */
 static void filter_row(struct rnd_image_error_work *w, const uint8_t *test, const uint8_t *ref, int stride_px,
                        int x0, int eye_w, int row, enum plane p)
 {
     const uint8_t *a = test + ((size_t)row * (size_t)stride_px + (size_t)x0) * 4;
     const uint8_t *b = ref + ((size_t)row * (size_t)stride_px + (size_t)x0) * 4;
+    double *restrict vx = w->row[0], *restrict vy = w->row[1];
     for (int x = 0; x < eye_w; ++x) {
-        w->x[x] = plane_value(a + 4 * x, p);
-        w->y[x] = plane_value(b + 4 * x, p);
+        double u = plane_value(a + 4 * x, p), v = plane_value(b + 4 * x, p);
+        vx[x] = u, vy[x] = v;
+        w->row[2][x] = u * u, w->row[3][x] = v * v, w->row[4][x] = u * v;
     }
-    double **out = w->ring[row % WINDOW];
-    for (int x = RND_SSIM_RADIUS_PX; x < eye_w - RND_SSIM_RADIUS_PX; ++x) {
-        double mx = 0, my = 0, xx = 0, yy = 0, xy = 0;
-        for (int k = 0; k < WINDOW; ++k) {
-            double g = w->kernel[k], u = w->x[x - RND_SSIM_RADIUS_PX + k], v = w->y[x - RND_SSIM_RADIUS_PX + k];
-            mx += g * u;
-            my += g * v;
-            xx += g * u * u;
-            yy += g * v * v;
-            xy += g * u * v;
+    const int r = RND_SSIM_RADIUS_PX;
+    for (int m = 0; m < MOMENTS; ++m) {
+        const double *restrict in = w->row[m];
+        double *restrict out = w->ring[row % WINDOW][m];
+        double g0 = w->kernel[r];
+        for (int x = r; x < eye_w - r; ++x)
+            out[x] = g0 * in[x];
+        for (int j = 1; j <= r; ++j) {
+            double g = w->kernel[r + j];
+            for (int x = r; x < eye_w - r; ++x)
+                out[x] += g * (in[x - j] + in[x + j]);
         }
-        out[0][x] = mx, out[1][x] = my, out[2][x] = xx, out[3][x] = yy, out[4][x] = xy;
+    }
+}
+
+/* The window's moments along output row y from the ring's 11 rows around it (vertical pass). */
+static void filter_column(struct rnd_image_error_work *w, int y, int eye_w)
+{
+    const int r = RND_SSIM_RADIUS_PX;
+    for (int m = 0; m < MOMENTS; ++m) {
+        double *restrict out = w->moment[m];
+        const double *restrict mid = w->ring[y % WINDOW][m];
+        double g0 = w->kernel[r];
+        for (int x = r; x < eye_w - r; ++x)
+            out[x] = g0 * mid[x];
+        for (int j = 1; j <= r; ++j) {
+            const double *restrict up = w->ring[(y - j) % WINDOW][m], *restrict down = w->ring[(y + j) % WINDOW][m];
+            double g = w->kernel[r + j];
+            for (int x = r; x < eye_w - r; ++x)
+                out[x] += g * (up[x] + down[x]);
+        }
     }
 }
 
@@ -128,6 +157,17 @@ static int band_of(double ecc_deg)
     return b;
 }
 
+/* One output row's foveation weights and bands (the eccentricity of each pixel, by atan2). */
+static void row_weights(struct rnd_image_error_work *w, const struct rnd_eye_gaze *gaze, int y, int eye_w, int eye_h,
+                        double (*weight)(double, void *), void *user)
+{
+    for (int x = RND_SSIM_RADIUS_PX; x < eye_w - RND_SSIM_RADIUS_PX; ++x) {
+        double e = pixel_eccentricity_deg(gaze, x, y, eye_w, eye_h);
+        w->weight[x] = weight ? weight(e, user) : 1.0;
+        w->band[x] = (unsigned char)band_of(e);
+    }
+}
+
 /* Wang et al. 2004 eq. 13 over one eye's plane, with the foveated sums when gaze is given. */
 static void plane_ssim(struct rnd_image_error_work *w, const uint8_t *test, const uint8_t *ref, int stride_px, int x0,
                        int eye_w, int eye_h, enum plane p, const struct rnd_eye_gaze *gaze,
@@ -140,26 +180,20 @@ static void plane_ssim(struct rnd_image_error_work *w, const uint8_t *test, cons
         filter_row(w, test, ref, stride_px, x0, eye_w, row, p);
     for (int y = r; y < eye_h - r; ++y) {
         filter_row(w, test, ref, stride_px, x0, eye_w, y + r, p);
+        filter_column(w, y, eye_w);
+        if (gaze)
+            row_weights(w, gaze, y, eye_w, eye_h, weight, user);
+        const double *mx = w->moment[0], *my = w->moment[1], *xx = w->moment[2], *yy = w->moment[3], *xy = w->moment[4];
         for (int x = r; x < eye_w - r; ++x) {
-            double m[MOMENTS] = {0, 0, 0, 0, 0};
-            for (int k = 0; k < WINDOW; ++k) {
-                double g = w->kernel[k];
-                double **in = w->ring[(y - r + k) % WINDOW];
-                for (int q = 0; q < MOMENTS; ++q)
-                    m[q] += g * in[q][x];
-            }
-            double vx = m[2] - m[0] * m[0], vy = m[3] - m[1] * m[1], vxy = m[4] - m[0] * m[1];
-            double ssim = ((2.0 * m[0] * m[1] + c1) * (2.0 * vxy + c2)) /
-                          ((m[0] * m[0] + m[1] * m[1] + c1) * (vx + vy + c2));
+            double vx = xx[x] - mx[x] * mx[x], vy = yy[x] - my[x] * my[x], vxy = xy[x] - mx[x] * my[x];
+            double ssim = ((2.0 * mx[x] * my[x] + c1) * (2.0 * vxy + c2)) /
+                          ((mx[x] * mx[x] + my[x] * my[x] + c1) * (vx + vy + c2));
             s->ssim_sum += ssim;
             if (gaze) {
-                double e = pixel_eccentricity_deg(gaze, x, y, eye_w, eye_h);
-                double wt = weight ? weight(e, user) : 1.0;
-                s->weighted_sum += wt * ssim;
-                s->weight_sum += wt;
-                int b = band_of(e);
-                s->band_sum[b] += ssim;
-                s->band_count[b]++;
+                s->weighted_sum += w->weight[x] * ssim;
+                s->weight_sum += w->weight[x];
+                s->band_sum[w->band[x]] += ssim;
+                s->band_count[w->band[x]]++;
             }
         }
     }

@@ -357,12 +357,6 @@ int rpl_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, c
 
 /* ---- accuracy and split --------------------------------------------------------------------- */
 
-static int cmp_double(const void *pa, const void *pb)
-{
-    double a = *(const double *)pa, b = *(const double *)pb;
-    return (a > b) - (a < b);
-}
-
 /* Linear interpolation between order statistics (the "type 7" quantile of R and NumPy). */
 static double quantile_sorted(const double *v, size_t n, double q)
 {
@@ -387,7 +381,7 @@ struct rpl_cost_accuracy rpl_cost_evaluate(const struct lod_cost_model *m, const
         under += rel < -0.05;
         e[r] = fabs(rel);
     }
-    qsort(e, row_count, sizeof *e, cmp_double);
+    hl_sort_doubles(e, row_count);
     acc.median_rel = quantile_sorted(e, row_count, 0.5);
     acc.p95_rel = quantile_sorted(e, row_count, 0.95);
     acc.under5_share = (double)under / (double)row_count;

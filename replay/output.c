@@ -163,20 +163,6 @@ void rpl_accumulator_free(struct rpl_accumulator *a)
     a->frame_ms = a->draw_ms = a->ref_psnr_db = a->ref_ssim = a->ref_fssim = NULL;
 }
 
-static int compare_double(const void *x, const void *y)
-{
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
-
-/* Nearest-rank percentile of a sorted array: the smallest value with at least p of them at or below. */
-static double percentile(const double *sorted, long n, double p)
-{
-    if (n <= 0)
-        return 0.0;
-    long rank = (long)ceil(p * (double)n);
-    return sorted[rank < 1 ? 0 : rank > n ? n - 1 : rank - 1];
-}
 
 static void accumulate_image_error(struct rpl_accumulator *a, const struct rpl_frame_record *r)
 {
@@ -267,27 +253,27 @@ static void finish_image_error(struct rpl_accumulator *a, struct rpl_summary *s)
     s->visible_error_reference_mean = a->ref_n ? a->ref_visible_sum / n : NAN;
     for (int b = 0; b < RND_ECC_BANDS; ++b)
         s->fssim_band_mean[b] = a->ref_band_n[b] ? a->ref_band_sum[b] / (double)a->ref_band_n[b] : NAN;
-    qsort(a->ref_psnr_db, (size_t)stored, sizeof(double), compare_double);
-    qsort(a->ref_ssim, (size_t)stored, sizeof(double), compare_double);
-    qsort(a->ref_fssim, (size_t)stored, sizeof(double), compare_double);
+    hl_sort_doubles(a->ref_psnr_db, (size_t)stored);
+    hl_sort_doubles(a->ref_ssim, (size_t)stored);
+    hl_sort_doubles(a->ref_fssim, (size_t)stored);
     s->psnr_db_min = stored ? a->ref_psnr_db[0] : NAN;
     s->ssim_min = stored ? a->ref_ssim[0] : NAN;
     s->fssim_min = stored ? a->ref_fssim[0] : NAN;
-    s->psnr_db_p5 = stored ? percentile(a->ref_psnr_db, stored, 0.05) : NAN;
-    s->ssim_p5 = stored ? percentile(a->ref_ssim, stored, 0.05) : NAN;
-    s->fssim_p5 = stored ? percentile(a->ref_fssim, stored, 0.05) : NAN;
+    s->psnr_db_p5 = stored ? hl_percentile_sorted(a->ref_psnr_db, (size_t)stored, 0.05) : NAN;
+    s->ssim_p5 = stored ? hl_percentile_sorted(a->ref_ssim, (size_t)stored, 0.05) : NAN;
+    s->fssim_p5 = stored ? hl_percentile_sorted(a->ref_fssim, (size_t)stored, 0.05) : NAN;
 }
 
 void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
 {
     double n = a->n > 0 ? (double)a->n : 1.0;
     long stored = a->n < a->capacity ? a->n : a->capacity;
-    qsort(a->frame_ms, (size_t)stored, sizeof(double), compare_double);
-    qsort(a->draw_ms, (size_t)stored, sizeof(double), compare_double);
-    s->frame_ms_median = percentile(a->frame_ms, stored, 0.5);
-    s->frame_ms_p95 = percentile(a->frame_ms, stored, 0.95);
-    s->frame_ms_p99 = percentile(a->frame_ms, stored, 0.99);
-    s->draw_ms_median = percentile(a->draw_ms, stored, 0.5);
+    hl_sort_doubles(a->frame_ms, (size_t)stored);
+    hl_sort_doubles(a->draw_ms, (size_t)stored);
+    s->frame_ms_median = hl_percentile_sorted(a->frame_ms, (size_t)stored, 0.5);
+    s->frame_ms_p95 = hl_percentile_sorted(a->frame_ms, (size_t)stored, 0.95);
+    s->frame_ms_p99 = hl_percentile_sorted(a->frame_ms, (size_t)stored, 0.99);
+    s->draw_ms_median = hl_percentile_sorted(a->draw_ms, (size_t)stored, 0.5);
     s->frames = a->n;
     s->frame_ms_mean = a->frame_mean;
     s->frame_ms_max = a->frame_max;

@@ -133,6 +133,7 @@ struct rpl_options {
      * also drawn at full detail (selector none, same pose and eyes) after being timed, and both images
      * are compared: PSNR, SSIM, foveated SSIM around the frame's gaze. */
     long reference_every;
+    int mb_simplify;         /* mb: Nirenstein et al.'s hierarchy simplification applied 0 (default) … 8 times */
 };
 void rpl_options_defaults(struct rpl_options *o);
 /* 1 when a --scene value names a scene file (docs/scene-format.md): it ends in .json or is an

@@ -90,12 +90,6 @@ int rpl_scene_is_file(const char *scene)
     return (len > 5 && strcmp(scene + len - 5, ".json") == 0) || (len > 0 && stat(scene, &st) == 0 && S_ISREG(st.st_mode));
 }
 
-static int compare_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* The VOR's default fixation distance: the median distance from the first frame's eye to the
  * instances' bounding spheres (0 inside one), clamped to [0.5, 50] m — a viewer fixates what the
  * scene holds, neither the headset's lens nor the horizon. Computed once at load. */
@@ -113,7 +107,7 @@ static int scene_fixation_m(const struct scn_scene *scene, hl_vec3d eye_m, doubl
         double r = hl_v3_length(hl_v3_sub(hl_v3(c[0], c[1], c[2]), eye_m)) - scene->radius_m[i];
         d[i] = r > 0.0 ? r : 0.0;
     }
-    qsort(d, n, sizeof *d, compare_double);
+    hl_sort_doubles(d, n);
     double median = n % 2 ? d[n / 2] : 0.5 * (d[n / 2 - 1] + d[n / 2]);
     free(d);
     *out = fmin(fmax(median, 0.5), 50.0);
@@ -236,6 +230,7 @@ static int session_open(struct rpl_session *s, const struct rpl_options *o, stru
     s->select.opt_limit_us = o->opt_limit_us;
     s->select.static_px = o->static_px_per_triangle;
     s->select.correct = o->cost_correction;
+    s->select.mb_simplify = o->mb_simplify;
     s->select.saccade_onset_degps = o->saccade_onset_degps; /* replay/saccade_step.c */
     s->select.saccade_off = s->gaze != ACU_GAZE_TRACKED; /* head, vor: no eye tracker, no saccades known */
     if (rpl_cost_model_load(o->cost_profile, &s->select.cost, s->cost_label, sizeof s->cost_label, err) != 0 ||

@@ -75,7 +75,7 @@ int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct 
         for (int l = 0; l < s->chain_lod_count[c]; ++l)
             s->chain_triangles[c * LOD_MAX_LEVELS + l] = ch->lods[l].triangle_count;
     }
-    if (s->selector == RPL_SELECT_MB && rpl_mb_create(scene, n, &s->mb, err) != 0)
+    if (s->selector == RPL_SELECT_MB && rpl_mb_create(scene, n, s->mb_simplify, &s->mb, err) != 0)
         return -1;
     lod_benefit_params_default(&s->benefit);
     acu_saccade_params_default(&s->saccade.params);

@@ -66,6 +66,7 @@ struct rpl_select {
     void *scratch;
     double fs_margin_value;    /* last frame's lod_result.margin_value (fs), 0 before the first */
     struct rpl_mb *mb; /* the mb selector's tree and last solution (replay/select_mb.h); NULL otherwise */
+    int mb_simplify;   /* set before rpl_select_init: hierarchy simplifications for mb (select_mb.h) */
     double saccade_onset_degps; /* set before rpl_select_init; ≤ 0 → acu_saccade_params_default's */
     int saccade_off;            /* 1: a gaze model without an eye tracker (head, vor): no saccades known */
     struct rpl_saccade saccade;

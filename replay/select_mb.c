@@ -6,6 +6,7 @@
  * lod_choice_start does. */
 #include "replay/select_mb.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,7 +30,19 @@ struct rpl_mb {
     double *cost_ms, *benefit;
     uint8_t *cand_level;
     void *scratch;
+    /* hierarchy simplification (Nirenstein et al. §5.6): per group COLLAPSED (a leaf of the tree),
+     * UNDER (below one: not in the tree) or 0; per instance its collapsed ancestor or NONE; per frame
+     * the visible objects' nodes (NONE under a collapsed group) and each collapsed node's objects */
+    int simplify;
+    uint8_t *collapse;
+    uint32_t *collapsed_of_instance;
+    uint32_t *node_of_object, *members_first, *members_count, *members;
 };
+
+enum { COLLAPSED = 1, UNDER = 2 };
+/* A collapsed group's impostor among its candidates' levels: coarser than any shared level, finer
+ * than LOD_MB_BELOW and the other states (start_of_level orders by level). */
+enum { IMPOSTOR_LEVEL = 250 };
 
 void rpl_mb_destroy(struct rpl_mb *mb)
 {
@@ -40,12 +53,53 @@ void rpl_mb_destroy(struct rpl_mb *mb)
     free(mb->node_id), free(mb->parent), free(mb->first_child), free(mb->child_count), free(mb->child);
     free(mb->first), free(mb->count), free(mb->state), free(mb->imp_above), free(mb->cost_ms), free(mb->benefit);
     free(mb->cand_level), free(mb->scratch);
+    free(mb->collapse), free(mb->collapsed_of_instance), free(mb->node_of_object), free(mb->members_first);
+    free(mb->members_count), free(mb->members);
     free(mb);
 }
 
-int rpl_mb_create(const struct scn_scene *scene, size_t max_visible, struct rpl_mb **out, struct hl_error *err)
+/* Which groups simplification turns into leaves: those whose subtree is at most `simplify` groups deep
+ * (a group of objects only is 1 deep) and whose parent is deeper; the groups and objects below them
+ * leave the tree. Groups are in parents-first order, so one reverse pass finds the depths. */
+static void mark_collapsed(struct rpl_mb *mb, const struct scn_scene *scene)
+{
+    uint32_t ng = scene->group_count;
+    memset(mb->collapse, 0, ng ? ng : 1);
+    for (uint32_t i = 0; i < scene->instance_count; ++i)
+        mb->collapsed_of_instance[i] = NONE;
+    if (mb->simplify == 0)
+        return;
+    for (uint32_t g = 0; g < ng; ++g)
+        mb->node_of_group[g] = 1; /* borrowed as the depth; reset to NONE below */
+    for (uint32_t g = ng; g-- > 0;) {
+        uint32_t pg = scene->groups[g].parent;
+        if (pg != SCN_NONE && mb->node_of_group[pg] < mb->node_of_group[g] + 1)
+            mb->node_of_group[pg] = mb->node_of_group[g] + 1;
+    }
+    for (uint32_t g = 0; g < ng; ++g) { /* parents first: a parent's mark is known */
+        uint32_t pg = scene->groups[g].parent;
+        if (pg != SCN_NONE && mb->collapse[pg])
+            mb->collapse[g] = UNDER;
+        else if ((int)mb->node_of_group[g] <= mb->simplify)
+            mb->collapse[g] = COLLAPSED;
+    }
+    for (uint32_t i = 0; i < scene->instance_count; ++i) {
+        uint32_t top = NONE;
+        for (uint32_t g = mb->group_of_instance[i]; g != NONE && g != SCN_NONE; g = scene->groups[g].parent)
+            if (mb->collapse[g] == COLLAPSED)
+                top = g;
+        mb->collapsed_of_instance[i] = top;
+    }
+    for (uint32_t g = 0; g < ng; ++g)
+        mb->node_of_group[g] = NONE;
+}
+
+int rpl_mb_create(const struct scn_scene *scene, size_t max_visible, int simplify, struct rpl_mb **out,
+                  struct hl_error *err)
 {
     *out = NULL;
+    if (simplify < 0 || simplify > 8)
+        return hl_fail(err, "--mb-simplify: %d is outside [0, 8]", simplify);
     struct rpl_mb *mb = calloc(1, sizeof *mb);
     if (!mb)
         return hl_fail(err, "scene '%s': out of memory for the mb selector", scene->name);
@@ -66,6 +120,16 @@ int rpl_mb_create(const struct scn_scene *scene, size_t max_visible, struct rpl_
     mb->cost_ms = malloc(cands * sizeof(double)), mb->benefit = malloc(cands * sizeof(double));
     mb->cand_level = malloc(cands);
     mb->scratch = malloc(lod_mb_scratch_bytes(nodes));
+    mb->simplify = simplify;
+    mb->collapse = malloc(ng), mb->collapsed_of_instance = malloc(ni * sizeof(uint32_t));
+    mb->node_of_object = malloc((max_visible + 1) * sizeof(uint32_t));
+    mb->members_first = malloc(ng * sizeof(uint32_t)), mb->members_count = malloc(ng * sizeof(uint32_t));
+    mb->members = malloc((max_visible + 1) * sizeof(uint32_t));
+    if (!mb->collapse || !mb->collapsed_of_instance || !mb->node_of_object || !mb->members_first ||
+        !mb->members_count || !mb->members) {
+        rpl_mb_destroy(mb);
+        return hl_fail(err, "scene '%s': out of memory for the mb selector", scene->name);
+    }
     if (!mb->group_of_instance || !mb->node_of_group || !mb->group_last || !mb->instance_last || !mb->groups_seen ||
         !mb->objects_seen || !mb->frame_groups || !mb->imp_index || !mb->imp_px || !mb->node_id || !mb->parent ||
         !mb->first_child || !mb->child_count || !mb->child || !mb->first || !mb->count || !mb->state ||
@@ -82,6 +146,7 @@ int rpl_mb_create(const struct scn_scene *scene, size_t max_visible, struct rpl_
             mb->group_of_instance[scene->group_instances[gr->first_instance + k]] = g;
         mb->node_of_group[g] = NONE;
     }
+    mark_collapsed(mb, scene);
     memset(mb->group_last, LOD_UNSEEN, ng);
     memset(mb->instance_last, LOD_UNSEEN, ni);
     *out = mb;
@@ -101,8 +166,10 @@ static int group_has_impostor(const struct scn_scene *scene, uint32_t g)
            scene->chains[gr->impostor_chain].lod_count > 0;
 }
 
-/* Nodes, parents and children of this frame's tree; returns the number of group nodes. */
-static uint32_t build_structure(struct rpl_mb *mb, const struct scn_scene *scene, const struct lod_problem *p)
+/* Nodes, parents and children of this frame's tree; returns the number of group nodes and sets
+ * *object_nodes. Groups under a collapsed one and objects under a collapsed group are not nodes. */
+static uint32_t build_structure(struct rpl_mb *mb, const struct scn_scene *scene, const struct lod_problem *p,
+                                uint32_t *object_nodes)
 {
     uint32_t ng = 0;
     for (size_t i = 0; i < p->object_count; ++i) /* the ancestors of visible objects, once each */
@@ -112,26 +179,57 @@ static uint32_t build_structure(struct rpl_mb *mb, const struct scn_scene *scene
             mb->frame_groups[ng++] = g;
         }
     qsort(mb->frame_groups, ng, sizeof *mb->frame_groups, u32_cmp); /* the scene's parents-first order */
-    size_t nodes = ng + p->object_count;
+    uint32_t kept = 0;
+    for (uint32_t k = 0; k < ng; ++k) { /* those under a collapsed group leave the tree */
+        uint32_t g = mb->frame_groups[k];
+        if (mb->collapse[g] == UNDER)
+            mb->node_of_group[g] = NONE;
+        else
+            mb->frame_groups[kept++] = g;
+    }
+    ng = kept;
     for (uint32_t k = 0; k < ng; ++k) {
         uint32_t g = mb->frame_groups[k], pg = scene->groups[g].parent;
         mb->node_of_group[g] = k;
         mb->node_id[k] = scene->instance_count + g; /* stable and apart from the objects' ids */
         mb->parent[k] = pg == SCN_NONE ? LOD_MB_ROOT : mb->node_of_group[pg];
         mb->imp_above[k] = group_has_impostor(scene, g) || (pg != SCN_NONE && mb->imp_above[mb->parent[k]]);
+        mb->members_count[k] = 0;
     }
+    uint32_t no = 0;
     for (size_t i = 0; i < p->object_count; ++i) {
-        uint32_t k = ng + (uint32_t)i, g = mb->group_of_instance[p->object_id[i]];
+        uint32_t top = mb->collapsed_of_instance[p->object_id[i]];
+        if (top != NONE) { /* a member of its collapsed group's node */
+            mb->node_of_object[i] = NONE;
+            mb->members_count[mb->node_of_group[top]]++;
+            continue;
+        }
+        uint32_t k = ng + no++, g = mb->group_of_instance[p->object_id[i]];
+        mb->node_of_object[i] = k;
         mb->node_id[k] = p->object_id[i];
         mb->parent[k] = g == NONE ? LOD_MB_ROOT : mb->node_of_group[g];
         mb->imp_above[k] = g != NONE && mb->imp_above[mb->parent[k]];
     }
+    uint32_t at = 0; /* members contiguous per collapsed node, in object order */
+    for (uint32_t k = 0; k < ng; ++k) {
+        mb->members_first[k] = at;
+        at += mb->members_count[k];
+        mb->members_count[k] = 0;
+    }
+    for (size_t i = 0; i < p->object_count; ++i) {
+        uint32_t top = mb->collapsed_of_instance[p->object_id[i]];
+        if (top != NONE) {
+            uint32_t k = mb->node_of_group[top];
+            mb->members[mb->members_first[k] + mb->members_count[k]++] = (uint32_t)i;
+        }
+    }
+    size_t nodes = ng + no;
     /* children contiguous per parent, in node order */
     memset(mb->child_count, 0, nodes * sizeof *mb->child_count);
     for (size_t k = 0; k < nodes; ++k)
         if (mb->parent[k] != LOD_MB_ROOT)
             mb->child_count[mb->parent[k]]++;
-    uint32_t at = 0;
+    at = 0;
     for (size_t k = 0; k < nodes; ++k) {
         mb->first_child[k] = at;
         at += mb->child_count[k];
@@ -142,7 +240,58 @@ static uint32_t build_structure(struct rpl_mb *mb, const struct scn_scene *scene
         if (q != LOD_MB_ROOT)
             mb->child[mb->first_child[q] + mb->child_count[q]++] = (uint32_t)k;
     }
+    *object_nodes = no;
     return ng;
+}
+
+/* Object i's candidate for a collapsed group's shared level l: the finest drawn level at or coarser
+ * than l that its hull kept, else its coarsest drawn one; −1 when it has none (only LOD_DROP). */
+static int member_candidate(const struct lod_problem *p, size_t i, uint8_t l)
+{
+    int best = -1, coarsest = -1;
+    for (uint32_t c = p->first[i]; c < p->first[i] + p->count[i]; ++c) {
+        uint8_t v = p->level[c];
+        if (v == LOD_DROP)
+            continue;
+        if (v >= l && (best < 0 || v < p->level[best]))
+            best = (int)c;
+        if (coarsest < 0 || v > p->level[coarsest])
+            coarsest = (int)c;
+    }
+    return best >= 0 ? best : coarsest;
+}
+
+/* A collapsed group's candidates from c on: its impostor (when it has one, already at c) and, for each
+ * shared level, the union of its visible objects there (Σ cost, Σ benefit); hull-reduced like an
+ * object's. Returns the candidates written. */
+static uint8_t collapsed_candidates(struct rpl_mb *mb, const struct lod_problem *p, uint32_t k, uint32_t c,
+                                    uint8_t with_impostor)
+{
+    uint8_t levels = 0;
+    for (uint32_t m = 0; m < mb->members_count[k]; ++m) {
+        size_t i = mb->members[mb->members_first[k] + m];
+        for (uint32_t q = p->first[i]; q < p->first[i] + p->count[i]; ++q)
+            if (p->level[q] != LOD_DROP && p->level[q] + 1 > levels)
+                levels = (uint8_t)(p->level[q] + 1);
+    }
+    if (levels > LOD_MAX_LEVELS)
+        levels = LOD_MAX_LEVELS;
+    uint8_t n = with_impostor;
+    for (int l = levels - 1; l >= 0; --l, ++n) {
+        double cost = 0.0, benefit = 0.0;
+        for (uint32_t m = 0; m < mb->members_count[k]; ++m) {
+            size_t i = mb->members[mb->members_first[k] + m];
+            int q = member_candidate(p, i, (uint8_t)l);
+            if (q >= 0)
+                cost += p->cost_ms[q], benefit += p->benefit[q];
+        }
+        mb->cost_ms[c + n] = cost;
+        mb->benefit[c + n] = benefit;
+        mb->cand_level[c + n] = (uint8_t)l;
+    }
+    uint32_t first = c;
+    lod_hull_reduce(1, &first, &n, mb->cost_ms, mb->benefit, mb->cand_level, INFINITY, NULL);
+    return n;
 }
 
 /* Candidate index for last frame's level: the same level or the nearest coarser (lod_choice_start). */
@@ -167,8 +316,9 @@ void rpl_mb_select(struct rpl_mb *mb, const struct scn_scene *scene, const struc
     size_t n = p->object_count < mb->max_visible ? p->object_count : mb->max_visible;
     struct lod_problem pv = *p;
     pv.object_count = n;
-    uint32_t ng = build_structure(mb, scene, &pv);
-    size_t nodes = ng + n;
+    uint32_t object_nodes = 0;
+    uint32_t ng = build_structure(mb, scene, &pv, &object_nodes);
+    size_t nodes = ng + object_nodes;
 
     /* The impostors' projected pixels (of the impostor instance's sphere: what is drawn, and what
      * the frame's predicted cost counts), in one batch. */
@@ -185,24 +335,33 @@ void rpl_mb_select(struct rpl_mb *mb, const struct scn_scene *scene, const struc
         mb->first[k] = c;
         mb->count[k] = 0;
         mb->state[k] = mb->group_last[g];
-        if (!group_has_impostor(scene, g))
-            continue;
-        /* One impostor level, both eyes, 2 draws like an object (replay/select.c); Funkhouser's
-         * benefit at the group's importance, no hysteresis (it has one level). */
-        const struct scn_lod *lod = &scene->chains[gr->impostor_chain].lods[0];
-        double px = mb->imp_px[j++];
-        mb->cost_ms[c] = lod_cost_object_ms(cost, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, px, 2.0);
-        const uint32_t first0 = 0, samples = lod->vertex_count;
-        const uint8_t count1 = 1, level0 = 0, ceiling0 = 0, unseen = LOD_UNSEEN;
-        const double importance = gr->importance;
-        lod_benefit_fill(bp, 1, &first0, &count1, &level0, &samples, &px, &importance, &ceiling0, &unseen,
-                         &mb->benefit[c]);
-        mb->cand_level[c] = 0;
-        mb->count[k] = 1;
-        ++c;
+        uint8_t with_impostor = 0;
+        if (group_has_impostor(scene, g)) {
+            /* One impostor level, both eyes, 2 draws like an object (replay/select.c); Funkhouser's
+             * benefit at the group's importance, no hysteresis (it has one level). */
+            const struct scn_lod *lod = &scene->chains[gr->impostor_chain].lods[0];
+            double px = mb->imp_px[j++];
+            mb->cost_ms[c] = lod_cost_object_ms(cost, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, px, 2.0);
+            const uint32_t first0 = 0, samples = lod->vertex_count;
+            const uint8_t count1 = 1, level0 = 0, ceiling0 = 0, unseen = LOD_UNSEEN;
+            const double importance = gr->importance;
+            lod_benefit_fill(bp, 1, &first0, &count1, &level0, &samples, &px, &importance, &ceiling0, &unseen,
+                             &mb->benefit[c]);
+            mb->cand_level[c] = mb->collapse[g] == COLLAPSED ? IMPOSTOR_LEVEL : 0;
+            with_impostor = 1;
+        }
+        if (mb->collapse[g] == COLLAPSED) { /* a leaf now: last frame's choice kept as a level */
+            mb->count[k] = collapsed_candidates(mb, &pv, k, c, with_impostor);
+            mb->state[k] = start_of_level(&mb->cand_level[c], mb->count[k], mb->group_last[g]);
+        } else {
+            mb->count[k] = with_impostor;
+        }
+        c += mb->count[k];
     }
     for (size_t i = 0; i < n; ++i) {
-        uint32_t k = ng + (uint32_t)i, f = p->first[i];
+        uint32_t k = mb->node_of_object[i], f = p->first[i];
+        if (k == NONE)
+            continue;
         uint8_t cnt = p->count[i];
         /* Under an impostor the null impostor goes: the group's impostor is the coarse choice. The rest
          * of the hull stays a hull (a suffix of a concave chain). */
@@ -229,21 +388,36 @@ void rpl_mb_select(struct rpl_mb *mb, const struct scn_scene *scene, const struc
     for (uint32_t k = 0; k < ng; ++k) {
         uint32_t g = mb->frame_groups[k];
         uint8_t s = mb->state[k];
-        if (s < LOD_MB_BELOW) {
+        uint8_t level = s < LOD_MB_BELOW ? mb->cand_level[mb->first[k] + s] : LOD_DROP;
+        int collapsed = mb->collapse[g] == COLLAPSED;
+        /* A group's one candidate is its impostor; a collapsed group's are its impostor and its objects
+         * at shared levels. */
+        if (s < LOD_MB_BELOW && (!collapsed || level == IMPOSTOR_LEVEL)) {
             extra_index[*extra_count] = scene->groups[g].impostor_instance;
-            extra_level[(*extra_count)++] = mb->cand_level[mb->first[k] + s];
+            extra_level[(*extra_count)++] = 0;
         }
-        mb->group_last[g] = s == LOD_DROPPED ? LOD_UNSEEN : s;
+        if (collapsed) {
+            for (uint32_t m = 0; m < mb->members_count[k]; ++m) {
+                size_t i = mb->members[mb->members_first[k] + m];
+                int q = s < LOD_MB_BELOW && level != IMPOSTOR_LEVEL ? member_candidate(&pv, i, level) : -1;
+                level_out[i] = q >= 0 ? p->level[q] : LOD_DROP;
+            }
+            mb->group_last[g] = s < LOD_MB_BELOW ? level : s == LOD_MB_BELOW ? LOD_MB_BELOW : LOD_UNSEEN;
+        } else {
+            mb->group_last[g] = s == LOD_DROPPED ? LOD_UNSEEN : s;
+        }
         mb->groups_seen[k] = g;
         mb->node_of_group[g] = NONE;
     }
     mb->groups_seen_count = ng;
     for (size_t i = 0; i < n; ++i) {
-        uint32_t k = ng + (uint32_t)i, inst = p->object_id[i];
+        uint32_t k = mb->node_of_object[i], inst = p->object_id[i];
+        mb->objects_seen[i] = inst;
+        if (k == NONE) /* under a collapsed group: its level was set above */
+            continue;
         uint8_t s = mb->state[k];
         level_out[i] = s < LOD_MB_BELOW ? mb->cand_level[mb->first[k] + s] : LOD_DROP;
         mb->instance_last[inst] = s < LOD_MB_BELOW ? level_out[i] : s == LOD_MB_BELOW ? LOD_MB_BELOW : LOD_UNSEEN;
-        mb->objects_seen[i] = inst;
     }
     for (size_t i = n; i < p->object_count; ++i) /* beyond the capacity given at create: not drawn */
         level_out[i] = LOD_DROP;

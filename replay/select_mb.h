@@ -12,8 +12,13 @@
 struct rpl_mb;
 
 /* For scene (its instances, groups and impostor instances must not change afterwards) and up to
- * max_visible visible objects a frame. 0, or −1 with err on out of memory. */
-int rpl_mb_create(const struct scn_scene *scene, size_t max_visible, struct rpl_mb **out, struct hl_error *err);
+ * max_visible visible objects a frame. simplify: Nirenstein et al.'s hierarchy simplification (§5.6)
+ * applied that many times (0 = none): every group whose subtree is at most `simplify` groups deep
+ * becomes a leaf of the tree, its objects removed, with as candidates its impostor and the union of
+ * its visible objects each at one shared level (the nearest its hull keeps) — fewer, coarser choices
+ * for the optimizer to consider. 0, or −1 with err on out of memory or simplify outside [0, 8]. */
+int rpl_mb_create(const struct scn_scene *scene, size_t max_visible, int simplify, struct rpl_mb **out,
+                  struct hl_error *err);
 void rpl_mb_destroy(struct rpl_mb *mb); /* NULL is fine */
 
 /* One frame. p is the flat problem over the visible objects (p->object_id[i] = scene instance,

@@ -151,6 +151,13 @@ expect_ok "bench replay --quick" "\| \*\*none/reddy\*\* \| \| \*\*×[0-9.]+\*\*"
   "$bin" bench replay --quick --frames 20 --render-scale 0.25
 expect_error "bench replay bad --frames" "--frames: 'x' is not a whole number" -- "$bin" bench replay --frames x
 
+# bench tracking --quick: every table has OpenHMD's row, measured (or said not to be, without libopenhmd).
+if [ -f "$shared/data/imu/still_desk_tilt10.csv" ]; then
+  expect_ok "bench tracking --quick OpenHMD row" \
+    "\| OpenHMD [0-9.]+ \(measured\) ᶜ \| 1000 \| [0-9.]+/[0-9.]+ \||OpenHMD: not measured \(libopenhmd-dev absent\)" -- \
+    "$bin" bench tracking --quick --stream still_desk_tilt10 --seconds 2
+fi
+
 # lodgen: a mesh file → .lod; bad meshes and arguments give one message naming file and reason,
 # exit 1, and leave no .lod behind.
 expect_ok "lodgen --help" "usage: hmdlod lodgen" -- "$bin" lodgen --help

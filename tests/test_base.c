@@ -59,8 +59,29 @@ static void test_error(void)
     CHECK(t1 >= t0);
 }
 
+/* Nearest rank: the smallest value with at least p·n of the samples at or below it. */
+static void test_percentiles(void)
+{
+    double v[] = {5, 1, 4, 2, 3, 10, 9, 8, 7, 6};
+    hl_sort_doubles(v, 10);
+    for (int i = 0; i < 10; ++i)
+        CHECK(v[i] == i + 1);
+    CHECK(hl_percentile_sorted(v, 10, 0.5) == 5);   /* 5 of 10 at or below */
+    CHECK(hl_percentile_sorted(v, 10, 0.51) == 6);
+    CHECK(hl_percentile_sorted(v, 10, 0.99) == 10);
+    CHECK(hl_percentile_sorted(v, 10, 0.0) == 1);
+    CHECK(hl_percentile_sorted(v, 10, 1.0) == 10);
+    CHECK(hl_percentile_sorted(v, 10, 7.0) == 10);  /* out of range clamps to the ends */
+    CHECK(hl_percentile_sorted(v, 10, -1.0) == 1);
+    CHECK(hl_percentile_sorted(v, 10, NAN) == 1);
+    CHECK(hl_percentile_sorted(v, 0, 0.5) == 0.0);
+    CHECK(hl_percentile_sorted(v, 1, 0.99) == 1);
+    hl_sort_doubles(v, 0);
+}
+
 int main(void)
 {
+    test_percentiles();
     test_angles();
     test_quaternions();
     test_error();

@@ -647,7 +647,42 @@ static struct lod_problem domes_problem(struct domes_frame *f, const struct scn_
     return (struct lod_problem){f->n, f->visible, f->first, f->count, f->cost, f->benefit, f->level, budget_ms, 0.0};
 }
 
-static void test_domes_mb(void)
+/* The level the simplified tree gives an object for a dome's shared level l (select_mb.c's rule, written
+ * again here): the finest drawn level its hull kept at or coarser than l, else its coarsest drawn one. */
+static uint8_t shared_level_of(const struct lod_problem *p, size_t k, uint8_t l)
+{
+    int best = -1, coarsest = -1;
+    for (uint32_t c = p->first[k]; c < p->first[k] + p->count[k]; ++c) {
+        if (p->level[c] == LOD_DROP)
+            continue;
+        if (p->level[c] >= l && (best < 0 || p->level[c] < best))
+            best = p->level[c];
+        coarsest = p->level[c] > coarsest ? p->level[c] : coarsest;
+    }
+    return (uint8_t)(best >= 0 ? best : coarsest >= 0 ? coarsest : LOD_DROP);
+}
+
+/* simplify 1 (Nirenstein et al. §5.6): each dome is a leaf: its visible struts all at one shared level,
+ * or its impostor. */
+static int dome_uses_one_level(const struct scn_scene *s, const struct lod_problem *p, const uint8_t *level_out,
+                               uint32_t g)
+{
+    for (int l = 0; l < LOD_MAX_LEVELS; ++l) {
+        int all = 1, any = 0;
+        for (size_t k = 0; k < p->object_count; ++k) {
+            uint32_t i = p->object_id[k];
+            if (i < s->groups[g].first_instance || i >= s->groups[g].first_instance + s->groups[g].instance_count)
+                continue;
+            any = 1;
+            all &= level_out[k] == shared_level_of(p, k, (uint8_t)l);
+        }
+        if (any && all)
+            return 1;
+    }
+    return 0;
+}
+
+static void test_domes_mb(int simplify)
 {
     struct scn_scene s;
     struct hl_error err = {{0}};
@@ -661,7 +696,7 @@ static void test_domes_mb(void)
         eyes[e] = (struct acu_eye){hl_v3(e ? 0.032 : -0.032, 0, 0), hl_q_identity(), 1.2, 1.2, 1.0, 1.0, 1080, 1200};
     static struct domes_frame f;
     struct rpl_mb *mb = NULL;
-    CHECK(rpl_mb_create(&s, s.instance_count, &mb, &err) == 0);
+    CHECK(rpl_mb_create(&s, s.instance_count, simplify, &mb, &err) == 0);
     if (!mb) {
         scn_scene_free(&s);
         return;
@@ -697,6 +732,8 @@ static void test_domes_mb(void)
                 int imp_drawn = 0;
                 for (size_t e = 0; e < extra; ++e)
                     imp_drawn |= extra_index[e] == s.groups[g].impostor_instance;
+                if (simplify > 0 && f.level_out[k] != LOD_DROP)
+                    CHECK(dome_uses_one_level(&s, &p, f.level_out, g));
                 if (f.level_out[k] != LOD_DROP) {
                     const struct scn_lod *lod = &s.chains[s.chain_of_instance[i]].lods[f.level_out[k]];
                     cost += lod_cost_object_ms(&m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, f.px[k], 2.0);
@@ -719,9 +756,9 @@ static void test_domes_mb(void)
             if (b == 0)
                 CHECK(extra > 0); /* below the nominal cost the impostors carry the scene */
             if (frame == 7)
-                printf("mb on domes at %.1fx nominal (%.2f ms): %zu of %u domes as impostors, cost %.3f ms, "
-                       "benefit %.0f, %u iterations\n",
-                       share[b], nominal, extra, s.group_count, r.cost_ms, r.benefit, r.iterations);
+                printf("mb (simplified %d times) on domes at %.1fx nominal (%.2f ms): %zu of %u domes as "
+                       "impostors, cost %.3f ms, benefit %.0f, %u iterations\n",
+                       simplify, share[b], nominal, extra, s.group_count, r.cost_ms, r.benefit, r.iterations);
         }
     }
     rpl_mb_destroy(mb);
@@ -737,7 +774,15 @@ int main(void)
     test_domes_counts();
     test_domes_determinism();
     test_domes_impostor_instances();
-    test_domes_mb();
+    test_domes_mb(0);
+    test_domes_mb(1);
+    struct rpl_mb *bad = NULL;
+    struct hl_error err = {{0}};
+    struct scn_scene s;
+    struct scn_scene_params sp = {0};
+    CHECK(scn_scene_build("domes", &sp, &s, &err) == 0);
+    CHECK(rpl_mb_create(&s, s.instance_count, 9, &bad, &err) != 0 && bad == NULL && strstr(err.msg, "--mb-simplify"));
+    scn_scene_free(&s);
     test_impostor(SCN_SIMPLIFIER_OPENMESH);
     test_impostor(SCN_SIMPLIFIER_MESHOPT);
     return tu_finish("domes");

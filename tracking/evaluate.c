@@ -332,69 +332,25 @@ double trk_yaw_error_rad(hl_quatd est, hl_quatd truth)
     return 2.0 * atan2(d.y, d.w);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Value at quantile p of sorted v (nearest rank). */
-static double quantile_sorted(const double *v, size_t n, double p)
-{
-    if (n == 0)
-        return 0.0;
-    size_t i = (size_t)ceil(p * (double)n);
-    return v[i > 0 ? (i <= n ? i - 1 : n - 1) : 0];
-}
 
 /* Accuracy only, the same reports with another fusion configuration (magnetometer ignored, or the
- * hard-iron offset given): tilt RMS, yaw drift slope, yaw RMS/max after yaw_skip_s. */
-struct ev_yaw {
-    double tilt_rms_deg, yaw_drift_deg_per_min, yaw_rms_deg, yaw_max_deg;
-};
+ * hard-iron offset given): tilt RMS, yaw drift slope, yaw RMS/max after yaw_skip_s, into res. */
 static void yaw_pass(enum trk_device_kind kind, const struct trk_fusion_config *cfg,
                      const struct trk_evaluate_options *opt, const struct ev_gen *gen, const struct ev_truth *tr,
-                     hl_quatd warm, struct ev_yaw *res)
+                     hl_quatd warm, struct trk_evaluate_result *res)
 {
-    memset(res, 0, sizeof *res);
     struct trk_stream st;
     ev_init(&st, kind, cfg, warm);
-    double tilt2 = 0, prev = 0, st_ = 0, sy = 0, stt = 0, sty = 0, y2 = 0, ymax = 0;
-    uint64_t n = 0, ny = 0;
+    struct trk_accuracy acc;
+    trk_accuracy_init(&acc, opt->yaw_skip_s);
     for (size_t i = 0; i < gen->count; ++i) {
         const struct ev_record *r = &gen->rec[i];
         if (trk_stream_feed(&st, r->bytes, r->length, r->host_ns, NULL) < 0)
             continue;
-        hl_quatd est = st.fusion.orientation, truth = truth_at(tr, r->t_s);
-        double te = trk_tilt_error_rad(est, truth), y = trk_yaw_error_rad(est, truth);
-        if (n > 0) {
-            while (y - prev > HL_PI)
-                y -= 2.0 * HL_PI;
-            while (y - prev < -HL_PI)
-                y += 2.0 * HL_PI;
-        }
-        prev = y;
-        tilt2 += te * te;
-        st_ += r->t_s;
-        sy += y;
-        stt += r->t_s * r->t_s;
-        sty += r->t_s * y;
-        ++n;
-        if (r->t_s >= opt->yaw_skip_s) {
-            y2 += y * y;
-            ymax = fabs(y) > ymax ? fabs(y) : ymax;
-            ++ny;
-        }
+        trk_accuracy_add(&acc, r->t_s, st.fusion.orientation, truth_at(tr, r->t_s));
     }
-    if (n == 0)
-        return;
-    double N = (double)n, den = stt - st_ * st_ / N;
-    res->tilt_rms_deg = sqrt(tilt2 / N) * HL_DEG_PER_RAD;
-    res->yaw_drift_deg_per_min = den > 0 ? (sty - st_ * sy / N) / den * HL_DEG_PER_RAD * 60.0 : 0.0;
-    if (ny > 0) {
-        res->yaw_rms_deg = sqrt(y2 / (double)ny) * HL_DEG_PER_RAD;
-        res->yaw_max_deg = ymax * HL_DEG_PER_RAD;
-    }
+    memset(res, 0, sizeof *res);
+    trk_accuracy_finish(&acc, res);
 }
 
 int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row *rows, size_t n,
@@ -478,13 +434,8 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
     /* Pass 1: accuracy, and per-report latency (bytes in hand → predicted pose). */
     struct trk_stream st; /* ~1 KB: parser + 9-state filter, plain data */
     ev_init(&st, kind, opt.fusion, warm);
-    double tilt2 = 0, tilt_max = 0;
-    double yaw_prev = 0, sum_t = 0, sum_y = 0, sum_tt = 0, sum_ty = 0, yaw2 = 0, yaw_max = 0;
-    uint64_t yaw_n = 0;
-    double s2[TRK_EVAL_HORIZONS] = {0}, hs2[TRK_EVAL_HORIZONS] = {0}, a2[TRK_EVAL_HORIZONS] = {0},
-           ha2[TRK_EVAL_HORIZONS] = {0};
-    uint64_t m[TRK_EVAL_HORIZONS] = {0};
-    uint64_t evaluated = 0;
+    struct trk_accuracy acc;
+    trk_accuracy_init(&acc, opt.yaw_skip_s);
     double sink = 0;
     for (size_t i = 0; i < gen.count; ++i) {
         const struct ev_record *r = &gen.rec[i];
@@ -498,56 +449,16 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
         if (got < 0)
             continue; /* counted; the estimate did not change */
         hl_quatd est = ev_predict(&st, 0.0), truth = truth_at(&tr, r->t_s);
-        double te = trk_tilt_error_rad(est, truth);
-        tilt2 += te * te;
-        if (te > tilt_max)
-            tilt_max = te;
-        double y = trk_yaw_error_rad(est, truth);
-        if (evaluated > 0) { /* unwrap against the previous instant */
-            while (y - yaw_prev > HL_PI)
-                y -= 2.0 * HL_PI;
-            while (y - yaw_prev < -HL_PI)
-                y += 2.0 * HL_PI;
-        }
-        yaw_prev = y;
-        if (r->t_s >= opt.yaw_skip_s) {
-            yaw2 += y * y;
-            yaw_max = fabs(y) > yaw_max ? fabs(y) : yaw_max;
-            ++yaw_n;
-        }
-        sum_t += r->t_s;
-        sum_y += y;
-        sum_tt += r->t_s * r->t_s;
-        sum_ty += r->t_s * y;
-        ++evaluated;
+        trk_accuracy_add(&acc, r->t_s, est, truth);
         for (int h = 0; h < TRK_EVAL_HORIZONS; ++h) {
             double t_h = r->t_s + trk_eval_horizons_s[h];
             if (t_h > res->duration_s + 1e-9)
                 continue;
-            hl_quatd pred = ev_predict(&st, trk_eval_horizons_s[h]), truth_h = truth_at(&tr, t_h);
-            hl_quatd true_step = hl_q_mul(hl_q_conj(truth), truth_h);
-            double e = hl_q_angle_rad(hl_q_mul(hl_q_conj(est), pred), true_step);
-            double he = hl_q_angle_rad(hl_q_identity(), true_step);
-            double ae = hl_q_angle_rad(pred, truth_h), hae = hl_q_angle_rad(est, truth_h);
-            s2[h] += e * e;
-            hs2[h] += he * he;
-            a2[h] += ae * ae;
-            ha2[h] += hae * hae;
-            ++m[h];
+            trk_accuracy_add_horizon(&acc, h, est, ev_predict(&st, trk_eval_horizons_s[h]), truth,
+                                     truth_at(&tr, t_h));
         }
     }
-    res->evaluated = evaluated;
-    if (evaluated > 0) {
-        double N = (double)evaluated;
-        res->tilt_rms_deg = sqrt(tilt2 / N) * HL_DEG_PER_RAD;
-        res->tilt_max_deg = tilt_max * HL_DEG_PER_RAD;
-        double den = sum_tt - sum_t * sum_t / N;
-        res->yaw_drift_deg_per_min = den > 0 ? (sum_ty - sum_t * sum_y / N) / den * HL_DEG_PER_RAD * 60.0 : 0.0;
-    }
-    if (yaw_n > 0) {
-        res->yaw_rms_deg = sqrt(yaw2 / (double)yaw_n) * HL_DEG_PER_RAD;
-        res->yaw_max_deg = yaw_max * HL_DEG_PER_RAD;
-    }
+    trk_accuracy_finish(&acc, res);
     res->has_mag = gen.has_mag;
     res->mag_updates = st.fusion.stats.mag_updates;
     res->mag_gated = st.fusion.stats.mag_gated_norm + st.fusion.stats.mag_gated_dip +
@@ -568,7 +479,7 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
             cfg = *opt.fusion;
         else
             trk_fusion_config_default(&cfg);
-        struct ev_yaw y;
+        struct trk_evaluate_result y;
         struct trk_fusion_config off = cfg;
         off.use_magnetometer = 0;
         yaw_pass(kind, &off, &opt, &gen, &tr, warm, &y);
@@ -586,15 +497,6 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
             res->cal_yaw_max_deg = y.yaw_max_deg;
         }
     }
-    for (int h = 0; h < TRK_EVAL_HORIZONS; ++h) {
-        if (m[h] == 0)
-            continue;
-        double M = (double)m[h];
-        res->step_rms_deg[h] = sqrt(s2[h] / M) * HL_DEG_PER_RAD;
-        res->hold_step_rms_deg[h] = sqrt(hs2[h] / M) * HL_DEG_PER_RAD;
-        res->abs_rms_deg[h] = sqrt(a2[h] / M) * HL_DEG_PER_RAD;
-        res->hold_abs_rms_deg[h] = sqrt(ha2[h] / M) * HL_DEG_PER_RAD;
-    }
     const struct trk_report_counters *c = ev_counters(&st);
     res->reports_fed = st.reports;
     res->reports_rejected = st.rejected;
@@ -603,9 +505,9 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
     res->lost = c->lost;
     res->duplicates = c->duplicates;
     res->backward = c->backward;
-    qsort(lat_us, gen.count, sizeof *lat_us, cmp_double);
-    res->report_to_pose_us_median = quantile_sorted(lat_us, gen.count, 0.5);
-    res->report_to_pose_us_p99 = quantile_sorted(lat_us, gen.count, 0.99);
+    hl_sort_doubles(lat_us, gen.count);
+    res->report_to_pose_us_median = hl_percentile_sorted(lat_us, gen.count, 0.5);
+    res->report_to_pose_us_p99 = hl_percentile_sorted(lat_us, gen.count, 0.99);
 
     /* Pass 2: parse+fuse throughput over the whole stream, no clock reads inside the loop. lat_us is
      * reused for the per-repeat figures (repeats ≤ its capacity). */
@@ -622,7 +524,7 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
         lat_us[k] = st.fused ? (double)(t1 - t0) / (double)st.fused : 0.0; /* ns per sample */
     }
     if (repeats > 0) {
-        qsort(lat_us, (size_t)repeats, sizeof *lat_us, cmp_double);
+        hl_sort_doubles(lat_us, (size_t)repeats);
         res->parse_fuse_ns_per_sample = lat_us[repeats / 2];
     }
     free(gen.rec);

@@ -20,6 +20,25 @@ double trk_tilt_error_rad(hl_quatd estimate, hl_quatd truth);
 double trk_yaw_error_rad(hl_quatd estimate, hl_quatd truth);
 extern const double trk_eval_horizons_s[TRK_EVAL_HORIZONS];
 
+/* The accuracy metrics, instant by instant (tracking/accuracy.c): trk_evaluate_device accumulates
+ * its figures through these, and so does any other tracker measured beside it (bench tracking's
+ * OpenHMD row), so both are computed by exactly the same code. Plain data; init before use. */
+struct trk_accuracy {
+    double yaw_skip_s;                       /* yaw RMS/max ignore instants before this */
+    uint64_t n, yaw_n;                       /* instants added; of those, after yaw_skip_s */
+    double tilt2, tilt_max, yaw_prev, sum_t, sum_y, sum_tt, sum_ty, yaw2, yaw_max; /* rad, s */
+    double s2[TRK_EVAL_HORIZONS], hs2[TRK_EVAL_HORIZONS], a2[TRK_EVAL_HORIZONS], ha2[TRK_EVAL_HORIZONS];
+    uint64_t m[TRK_EVAL_HORIZONS];           /* instants with horizon h inside the stream */
+};
+void trk_accuracy_init(struct trk_accuracy *acc, double yaw_skip_s);
+/* One instant t_s (s from the stream start): estimate and truth, body-to-world, unit. Tilt, and
+ * the heading error unwrapped against the previous instant for the least-squares drift slope. */
+void trk_accuracy_add(struct trk_accuracy *acc, double t_s, hl_quatd est, hl_quatd truth);
+/* Horizon h of the instant just added: pred = the estimate predicted to t + horizon h (est itself
+ * for a tracker that does not predict), truth_h = the truth there. */
+void trk_accuracy_add_horizon(struct trk_accuracy *acc, int h, hl_quatd est, hl_quatd pred, hl_quatd truth,
+                              hl_quatd truth_h);
+
 struct trk_evaluate_options {
     const struct trk_fusion_config *fusion; /* NULL: defaults */
     uint32_t drop_report_every;      /* simulate bus losses: every k-th report withheld; 0: none */
@@ -78,6 +97,10 @@ struct trk_evaluate_result {
     double parse_fuse_ns_per_sample;  /* median over repeats of (whole-stream feed time) / samples fused */
     double report_to_pose_us_median, report_to_pose_us_p99; /* bytes in hand → predicted pose */
 };
+
+/* Writes res's evaluated, tilt_rms/max, yaw_drift, yaw_rms/max and per-horizon step/hold/abs
+ * figures (degrees) from acc; other fields untouched. */
+void trk_accuracy_finish(const struct trk_accuracy *acc, struct trk_evaluate_result *res);
 
 /* Short name of a device kind ("Rift DK1", …, "OSVR HDK"). */
 const char *trk_evaluate_device_name(enum trk_device_kind kind);

@@ -27,6 +27,7 @@ struct rpl_bench_run {
     double static_px;    /* 0 → replay's default */
     int objects;         /* 0 → the scene's default */
     int velocity_off, eccentricity_off;
+    int mb_simplify;       /* mb: Nirenstein's hierarchy simplification applied this many times */
     long frames, reference_every;
     double render_scale;
 };

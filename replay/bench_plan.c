@@ -260,7 +260,8 @@ static void plan_t3(struct builder *b)
 }
 
 /* Nirenstein et al.: fs's time against the budget, with and without the time limit, on field with
- * the largest object count (frames are binned by head speed when the report is made). */
+ * the largest object count (frames are binned by head speed when the report is made); mb with 0, 1
+ * and 2 hierarchy simplifications. */
 static void plan_t4(struct builder *b)
 {
     for (int k = 0; k < b->cfg->n_t4; ++k)
@@ -274,6 +275,16 @@ static void plan_t4(struct builder *b)
             r->opt_limit_us = lim ? T4_LIMIT_US : 0.0;
             snprintf(r->id, sizeof r->id, "t4-b%g-%s", r->factor, lim ? "lim100" : "nolim");
         }
+    /* Nirenstein et al. 2002 §5.6: mb's tree simplified 0, 1 and 2 times, on domes (whose groups give
+     * it a hierarchy), with its image error. */
+    for (int k = 0; k <= 2; ++k) {
+        struct rpl_bench_run *r = add(b, 4, "domes", "mb");
+        if (!r)
+            return;
+        r->mb_simplify = k;
+        r->reference_every = b->cfg->reference_every;
+        snprintf(r->id, sizeof r->id, "t4s-mb-simplify%d", k);
+    }
 }
 
 /* Mason & Blake: mb (hierarchical) against fs (flat) on domes at fractions of the full cost. */
@@ -415,6 +426,10 @@ int rpl_bench_run_argv(const struct rpl_bench_plan *plan, const struct rpl_bench
     if (run->eccentricity_off) {
         ARG("--eccentricity-term");
         ARG("off");
+    }
+    if (run->mb_simplify > 0) {
+        ARG("--mb-simplify");
+        ARG(num(storage, &used, run->mb_simplify));
     }
     if (run->reference_every > 0) {
         ARG("--reference");

@@ -8,14 +8,15 @@
 #include "replay/bench_internal.h"
 #include "replay/replay.h"
 
+static int t4_simplify(struct rpl_bench_ctx *c, struct hl_error *err);
+
 int rpl_bench_tables_t4(struct rpl_bench_ctx *c, struct hl_error *err)
 {
     rpl_bench_heading(c, "Table 4: Nirenstein's measurements",
                       "fs on field with the largest object count (user1), over budgets (× the display period), "
                       "without a time limit and with --opt-limit-us 100. Optimizer time per frame, by head speed "
                       "(frames binned from frames.csv's head_speed_degps; — where a band has no frames). "
-                      "Hierarchy simplifications (Nirenstein's 0, 1 and 2): no knob exists in hmdlod, so they are "
-                      "not measured.\n",
+                      "Table 4b: hierarchy simplifications.\n",
                       0);
     int bands = RPL_SPEED_BAND_COUNT;
     static const char *const h[] = {"budget_x_period", "limit_us",       "optimizer_us_mean", "optimizer_us_max",
@@ -33,7 +34,7 @@ int rpl_bench_tables_t4(struct rpl_bench_ctx *c, struct hl_error *err)
     char labels[12][48];
     for (size_t i = 0; i < c->plan->count; ++i) {
         const struct rpl_bench_run *run = &c->plan->runs[i];
-        if (run->table != 4)
+        if (run->table != 4 || !strncmp(run->id, "t4s-", 4))
             continue;
         const struct rpl_bench_result *r = c->results[i].present ? &c->results[i] : NULL;
         double sum[RPL_SPEED_BAND_COUNT] = {0}, count[RPL_SPEED_BAND_COUNT] = {0};
@@ -81,8 +82,46 @@ int rpl_bench_tables_t4(struct rpl_bench_ctx *c, struct hl_error *err)
                                 s ? ", " : "", s, labels[s]);
     if (len < sizeof body)
         snprintf(body + len, sizeof body - len, "\n");
-    return rpl_bench_plot(c, "t4_turn", "fs optimizer time against head speed (Nirenstein)", body,
-                          has_data && n_series > 0, err);
+    if (rpl_bench_plot(c, "t4_turn", "fs optimizer time against head speed (Nirenstein)", body,
+                       has_data && n_series > 0, err) != 0)
+        return -1;
+    return t4_simplify(c, err);
+}
+
+/* Nirenstein et al. 2002 §5.6: mb with its tree simplified 0, 1 and 2 times (--mb-simplify). */
+static int t4_simplify(struct rpl_bench_ctx *c, struct hl_error *err)
+{
+    rpl_bench_heading(c, "Table 4b: hierarchy simplifications (Nirenstein)",
+                      "mb on domes (user1, the display period as budget) with its hierarchy simplified 0, 1 and 2 "
+                      "times (--mb-simplify K; docs/optimizer.md): the optimizer considers fewer nodes, so it is "
+                      "cheaper, and spends detail less well; with --reference for the image error. Nirenstein found "
+                      "one application helped and two degraded.\n",
+                      0);
+    static const char *const h[] = {"simplify", "optimizer_us_mean", "optimizer_us_max", "iterations_mean",
+                                    "triangles_per_eye_mean", "fssim_mean", "ssim_mean", "psnr_db_mean",
+                                    "visible_error_mean", "frame_ms_mean"};
+    struct rpl_bench_table t;
+    if (rpl_bench_table_begin(&t, c->dir, "t4b_simplify", c->md, NULL, c->det, h, 10, err) != 0)
+        return -1;
+    for (size_t i = 0; i < c->plan->count; ++i) {
+        const struct rpl_bench_run *run = &c->plan->runs[i];
+        if (strncmp(run->id, "t4s-", 4))
+            continue;
+        const struct rpl_bench_result *r = c->results[i].present ? &c->results[i] : NULL;
+        char cell[10][RPL_BENCH_CELL];
+        const char *cells[10] = {rpl_bench_cell(cell[0], run->mb_simplify, 0),
+                                 rpl_bench_cell(cell[1], r ? rpl_bench_mean_from(r, r->optimizer_us, 1) : NAN, 1),
+                                 rpl_bench_cell(cell[2], r ? rpl_bench_max_from(r, r->optimizer_us, 1) : NAN, 1),
+                                 rpl_bench_cell(cell[3], r ? rpl_bench_mean(r, r->iterations) : NAN, 1),
+                                 rpl_bench_cell(cell[4], r ? rpl_bench_mean(r, r->triangles) : NAN, 1),
+                                 rpl_bench_cell(cell[5], r ? r->fssim_mean : NAN, 4),
+                                 rpl_bench_cell(cell[6], r ? r->ssim_mean : NAN, 4),
+                                 rpl_bench_psnr_cell(cell[7], r),
+                                 rpl_bench_cell(cell[8], r ? r->visible_error_mean : NAN, 4),
+                                 rpl_bench_cell(cell[9], r ? rpl_bench_mean_from(r, r->frame_ms, 1) : NAN, 3)};
+        rpl_bench_table_row(&t, cells);
+    }
+    return rpl_bench_table_end(&t, err);
 }
 
 int rpl_bench_tables_t5(struct rpl_bench_ctx *c, struct hl_error *err)
@@ -125,12 +164,6 @@ int rpl_bench_tables_t5(struct rpl_bench_ctx *c, struct hl_error *err)
     return rpl_bench_table_end(&t, err);
 }
 
-static int compare_double(const void *x, const void *y)
-{
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
-
 /* |relative error| median and p95 (nearest rank) and the share under-predicted by more than 5 %. */
 static void error_stats(double *rel, size_t n, double *median, double *p95, double *under5)
 {
@@ -139,9 +172,9 @@ static void error_stats(double *rel, size_t n, double *median, double *p95, doub
         under += rel[i] < -0.05;
         rel[i] = fabs(rel[i]);
     }
-    qsort(rel, n, sizeof *rel, compare_double);
-    *median = n ? rel[(size_t)ceil(0.5 * (double)n) - 1] : NAN;
-    *p95 = n ? rel[(size_t)ceil(0.95 * (double)n) - 1] : NAN;
+    hl_sort_doubles(rel, n);
+    *median = n ? hl_percentile_sorted(rel, n, 0.5) : NAN;
+    *p95 = n ? hl_percentile_sorted(rel, n, 0.95) : NAN;
     *under5 = n ? (double)under / (double)n : NAN;
 }
 

@@ -190,7 +190,7 @@ static int t2_plot(struct rpl_bench_ctx *c, const char *gaze, struct hl_error *e
     size_t len = (size_t)snprintf(body, sizeof body,
                                   "set terminal pngcairo size 1200,900 noenhanced\n"
                                   "set output 't2_pareto_%s.png'\nset multiplot layout 2,2 title "
-                                  "'Speed against error, gaze %s'\nset xlabel 'frame time mean, ms'\n",
+                                  "'Speed against error, gaze %s'\nunset title\nset xlabel 'frame time mean, ms'\n",
                                   gaze, gaze);
     for (int k = 0; k < 4 && len < sizeof body; ++k) {
         len += (size_t)snprintf(body + len, sizeof body - len, "set ylabel '%s'\n", ylabels[k]);

@@ -5,6 +5,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 /* One sub-bench: argv[0] is its name; full_argc/full_argv start at "bench" (for the context). */
 int bench_tracking(int argc, char **argv, int full_argc, char **full_argv); /* app/bench_tracking.c */
@@ -13,6 +14,9 @@ int bench_lodgen(int argc, char **argv, int full_argc, char **full_argv);   /* a
 int bench_cull(int argc, char **argv, int full_argc, char **full_argv);     /* app/bench_cull.c */
 int bench_optimizer(int argc, char **argv, int full_argc, char **full_argv); /* app/bench_optimizer.c */
 int bench_gaze(int argc, char **argv, int full_argc, char **full_argv);     /* app/bench_gaze.c */
+/* The suite (no sub-bench name): hmdlod bench [--quick] --out DIR, --plan FILE, --merge DIR… (app/bench_suite.c) */
+int bench_suite(int argc, char **argv, int full_argc, char **full_argv);
+void bench_suite_usage(FILE *f);
 
 /* bench cull's generated scene, shared with bench optimizer's scaling table: n objects on a ground
  * grid 2 m apart around the origin, grouped as a quadtree of 4 × 4 (app/bench_cull.c). Allocates
@@ -37,6 +41,8 @@ int bench_copy_finish(const char *results, const char *heading, const char *who,
 /* The context lines: command, machine (CPU, cores), commit, date, and the GL renderer when the
  * bench renders (renderer NULL: no such line). */
 void bench_print_context(int full_argc, char **full_argv, const char *renderer);
+/* The same lines (renderer aside) as a malloc'd string for a report to carry; NULL when out of memory. */
+char *bench_context_text(int full_argc, char **full_argv);
 /* The short commit of the source tree (with " (with uncommitted changes)"), or "unknown". */
 void bench_commit(char *out, size_t size);
 

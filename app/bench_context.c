@@ -188,6 +188,29 @@ void bench_print_context(int argc, char **argv, const char *renderer)
         bench_emit("- renderer: %s\n", renderer);
 }
 
+char *bench_context_text(int argc, char **argv)
+{
+    char cpu[256], commit[192], date[64];
+    cpu_model(cpu, sizeof cpu);
+    commit_id(commit, sizeof commit);
+    time_t now = time(NULL);
+    struct tm tm_utc;
+    gmtime_r(&now, &tm_utc);
+    strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", &tm_utc);
+    char *text = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&text, &len);
+    if (!f)
+        return NULL;
+    fputs("- command: `hmdlod", f);
+    for (int i = 0; i < argc; ++i)
+        fprintf(f, " %s", argv[i]);
+    fprintf(f, "`\n- machine: %s, %ld cores\n- commit: %s\n- date: %s\n", cpu, sysconf(_SC_NPROCESSORS_ONLN), commit,
+            date);
+    fclose(f);
+    return text;
+}
+
 /* ---- the shared folder ------------------------------------------------------------------------ */
 
 static int is_dir(const char *path)

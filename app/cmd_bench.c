@@ -25,21 +25,20 @@ static const struct bench benches[] = {
 
 static void print_bench_usage(FILE *f)
 {
-    fprintf(f, "usage: hmdlod bench <name> [options]   (hmdlod bench <name> --help)\n\nbenches:\n");
+    bench_suite_usage(f);
+    fprintf(f, "\n       hmdlod bench <name> [options]   (hmdlod bench <name> --help)\n\nbenches:\n");
     for (size_t i = 0; i < N_BENCHES; ++i)
         fprintf(f, "  %-9s %s\n", benches[i].name, benches[i].summary);
 }
 
 int cmd_bench(int argc, char **argv)
 {
-    if (argc < 2) {
-        print_bench_usage(stderr);
-        return 1;
-    }
-    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+    if (argc >= 2 && (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help"))) {
         print_bench_usage(stdout);
         return 0;
     }
+    if (argc < 2 || argv[1][0] == '-') /* no sub-bench name, or options first: the suite */
+        return bench_suite(argc, argv, argc, argv);
     for (size_t i = 0; i < N_BENCHES; ++i)
         if (!strcmp(argv[1], benches[i].name))
             return benches[i].run(argc - 1, argv + 1, argc, argv);

@@ -1,0 +1,92 @@
+/* Internal to replay/'s bench suite: a run's results as read back from its folder, the table writer
+ * (Markdown + CSV + optional echo) and the plots. */
+#ifndef HMDLOD_REPLAY_BENCH_INTERNAL_H
+#define HMDLOD_REPLAY_BENCH_INTERNAL_H
+
+#include <stdio.h>
+
+#include "replay/bench.h"
+
+/* fclose f, then rename tmp to path (removing tmp on failure). 0, or −1 with err. */
+int rpl_bench_commit_file(FILE *f, const char *tmp, const char *path, struct hl_error *err);
+
+/* A run read back from DIR/runs/ID: summary.json's error figures and frames.csv's columns. Numbers
+ * absent from the files are NaN (the report prints "—"). */
+struct rpl_bench_result {
+    int present;
+    char renderer[128];
+    double budget_ms;
+    double visible_error_mean, visible_error_max;
+    double ref_frames, identical_frames, psnr_db_mean, psnr_db_min, ssim_mean, ssim_min, ssim_rgb_mean, fssim_mean,
+        fssim_min, fssim_p5, px_over_32;
+    double fssim_band[4];
+    long n; /* frames */
+    /* per frame (n each; NULL where the column is absent) */
+    double *frame_ms, *draw_ms, *predicted_ms, *head_speed, *optimizer_us, *triangles, *finest, *dropped, *iterations,
+        *truncated, *deadline_met, *visible, *visible_error;
+};
+
+int rpl_bench_result_load(const char *run_dir, struct rpl_bench_result *r, struct hl_error *err);
+void rpl_bench_result_free(struct rpl_bench_result *r);
+/* Mean, max and sample standard deviation of a column (NaN for a missing column or no frames). */
+double rpl_bench_mean(const struct rpl_bench_result *r, const double *col);
+double rpl_bench_max(const struct rpl_bench_result *r, const double *col);
+double rpl_bench_stddev(const struct rpl_bench_result *r, const double *col);
+/* The same from frame `first` on (timings leave frame 0 out: the driver compiles its shaders there). */
+double rpl_bench_mean_from(const struct rpl_bench_result *r, const double *col, long first);
+double rpl_bench_max_from(const struct rpl_bench_result *r, const double *col, long first);
+double rpl_bench_stddev_from(const struct rpl_bench_result *r, const double *col, long first);
+
+/* ---- tables: one Markdown table in report.md, the same rows in DIR/NAME.csv ----------------------- */
+enum { RPL_BENCH_MAX_COLS = 20, RPL_BENCH_CELL = 48 };
+struct rpl_bench_table {
+    FILE *md, *csv, *echo; /* echo NULL: not printed */
+    char csv_tmp[4300], csv_path[4300];
+    int cols;
+    int has_deterministic;
+};
+/* Opens DIR/name.csv (temporary name), writes the heading's table header in md (and echo), and
+ * appends the deterministic columns (those marked '*' at the start of their name; the mark is
+ * dropped in the CSV) to the list det (DIR/deterministic.txt). */
+int rpl_bench_table_begin(struct rpl_bench_table *t, const char *dir, const char *name, FILE *md, FILE *echo, FILE *det,
+                          const char *const *headers, int cols, struct hl_error *err);
+/* A row of cols cells; "—" (missing) goes into the CSV as an empty field. */
+void rpl_bench_table_row(struct rpl_bench_table *t, const char *const *cells);
+int rpl_bench_table_end(struct rpl_bench_table *t, struct hl_error *err);
+/* A number into a cell: "%.*f", or "—" when not finite. */
+const char *rpl_bench_cell(char *cell, double v, int digits);
+/* PSNR mean in dB; "inf" when every compared frame was identical (PSNR +∞, which the mean leaves out). */
+const char *rpl_bench_psnr_cell(char *cell, const struct rpl_bench_result *r);
+
+/* ---- the tables (bench_tables.c) and plots (bench_plot.c) ------------------------------------------- */
+struct rpl_bench_ctx {
+    const struct rpl_bench_plan *plan;
+    struct rpl_bench_result *results; /* plan->count, in plan order */
+    const char *dir;                  /* out_dir */
+    FILE *md, *echo, *det;
+    const char *context;
+    const char *renderer; /* the first run's GL renderer */
+    int gnuplot;          /* 1 when gnuplot is on PATH */
+};
+/* "## heading", the context lines, then text (how to read the table) in report.md, and on echo
+ * when `echo` is set. */
+void rpl_bench_heading(struct rpl_bench_ctx *c, const char *heading, const char *text, int echo);
+/* The result of the run with this id, or NULL when it is not in the plan or missing. */
+const struct rpl_bench_result *rpl_bench_find(const struct rpl_bench_ctx *c, const char *id);
+int rpl_bench_tables_t1(struct rpl_bench_ctx *c, struct hl_error *err);
+int rpl_bench_tables_t2(struct rpl_bench_ctx *c, struct hl_error *err);
+int rpl_bench_tables_t3(struct rpl_bench_ctx *c, struct hl_error *err);
+int rpl_bench_tables_t4(struct rpl_bench_ctx *c, struct hl_error *err);
+int rpl_bench_tables_t5(struct rpl_bench_ctx *c, struct hl_error *err);
+int rpl_bench_tables_t6(struct rpl_bench_ctx *c, struct hl_error *err);
+
+/* Writes DIR/plots/NAME.gp from the script body (after the terminal and output lines) and, with
+ * gnuplot present, runs it (output DIR/plots/NAME.png). A data-less plot (has_data 0) gets a
+ * placeholder that says so. Appends the image link to md. 0, or −1 when writing failed. */
+int rpl_bench_plot(struct rpl_bench_ctx *c, const char *name, const char *title, const char *body, int has_data,
+                   struct hl_error *err);
+/* Opens DIR/plots/NAME (a data file) for writing; NULL with err. */
+FILE *rpl_bench_plot_data(struct rpl_bench_ctx *c, const char *name, struct hl_error *err);
+int rpl_bench_have_gnuplot(void);
+
+#endif

@@ -1,0 +1,361 @@
+/* The bench report: every run read back from its folder (DIR/runs/ID), then report.md, one CSV per
+ * table, deterministic.txt, runs.csv (each run's plan line) and the plots. Built from the folders
+ * only, so a serial run, a parallel plan and a merge of several hosts' folders give one report. */
+#define _XOPEN_SOURCE 700 /* fork, execvp, chdir */
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "replay/bench_internal.h"
+
+/* ---- tables ------------------------------------------------------------------------------------ */
+
+const char *rpl_bench_cell(char *cell, double v, int digits)
+{
+    if (isfinite(v))
+        snprintf(cell, RPL_BENCH_CELL, "%.*f", digits, v);
+    else
+        snprintf(cell, RPL_BENCH_CELL, "—");
+    return cell;
+}
+
+const char *rpl_bench_psnr_cell(char *cell, const struct rpl_bench_result *r)
+{
+    if (r && !isfinite(r->psnr_db_mean) && r->ref_frames > 0 && r->identical_frames == r->ref_frames) {
+        snprintf(cell, RPL_BENCH_CELL, "inf");
+        return cell;
+    }
+    return rpl_bench_cell(cell, r ? r->psnr_db_mean : NAN, 2);
+}
+
+static void both(struct rpl_bench_table *t, const char *s)
+{
+    fputs(s, t->md);
+    if (t->echo)
+        fputs(s, t->echo);
+}
+
+int rpl_bench_table_begin(struct rpl_bench_table *t, const char *dir, const char *name, FILE *md, FILE *echo, FILE *det,
+                          const char *const *headers, int cols, struct hl_error *err)
+{
+    memset(t, 0, sizeof *t);
+    t->md = md, t->echo = echo, t->cols = cols;
+    snprintf(t->csv_path, sizeof t->csv_path, "%s/%s.csv", dir, name);
+    snprintf(t->csv_tmp, sizeof t->csv_tmp, "%s/.%s.csv.partial", dir, name);
+    t->csv = fopen(t->csv_tmp, "w");
+    if (!t->csv)
+        return hl_fail(err, "%s: cannot create: %s", t->csv_tmp, strerror(errno));
+    fprintf(det, "%s.csv:", name);
+    int first_det = 1;
+    both(t, "\n|");
+    for (int c = 0; c < cols; ++c) {
+        const char *h = headers[c];
+        int deterministic = h[0] == '*';
+        if (deterministic) {
+            ++h;
+            t->has_deterministic = 1;
+            fprintf(det, "%s%s", first_det ? " " : ",", h);
+            first_det = 0;
+        }
+        fprintf(t->csv, "%s%s", c ? "," : "", h);
+        both(t, " ");
+        both(t, h);
+        both(t, deterministic ? " † |" : " |");
+    }
+    fputc('\n', det);
+    fputc('\n', t->csv);
+    both(t, "\n|");
+    for (int c = 0; c < cols; ++c)
+        both(t, c == 0 ? "---|" : "--:|");
+    both(t, "\n");
+    return 0;
+}
+
+void rpl_bench_table_row(struct rpl_bench_table *t, const char *const *cells)
+{
+    both(t, "|");
+    for (int c = 0; c < t->cols; ++c) {
+        both(t, " ");
+        both(t, cells[c]);
+        both(t, " |");
+        fprintf(t->csv, "%s%s", c ? "," : "", strcmp(cells[c], "—") ? cells[c] : "");
+    }
+    fputc('\n', t->csv);
+    both(t, "\n");
+}
+
+int rpl_bench_table_end(struct rpl_bench_table *t, struct hl_error *err)
+{
+    if (t->has_deterministic)
+        both(t, "\n† deterministic: the same inputs give the same figure on rows whose `deterministic` is 1 "
+                "(selectors none, static, reddy; fs, mb and feedback steer by measured times). `");
+    else
+        both(t, "\nEvery column follows measured times (none is deterministic). `");
+    fputs(strrchr(t->csv_path, '/') + 1, t->md);
+    if (t->echo)
+        fputs(strrchr(t->csv_path, '/') + 1, t->echo);
+    both(t, "` holds the rows.\n");
+    return rpl_bench_commit_file(t->csv, t->csv_tmp, t->csv_path, err);
+}
+
+/* ---- plots ------------------------------------------------------------------------------------- */
+
+int rpl_bench_have_gnuplot(void)
+{
+    const char *path = getenv("PATH");
+    if (!path)
+        return 0;
+    char dir[4096];
+    for (const char *p = path; *p;) {
+        size_t len = strcspn(p, ":");
+        snprintf(dir, sizeof dir, "%.*s/gnuplot", (int)len, p);
+        if (access(dir, X_OK) == 0)
+            return 1;
+        p += len + (p[len] == ':');
+    }
+    return 0;
+}
+
+FILE *rpl_bench_plot_data(struct rpl_bench_ctx *c, const char *name, struct hl_error *err)
+{
+    char path[4400];
+    snprintf(path, sizeof path, "%s/plots/%s", c->dir, name);
+    FILE *f = fopen(path, "w");
+    if (!f)
+        hl_fail(err, "%s: cannot create: %s", path, strerror(errno));
+    return f;
+}
+
+/* gnuplot NAME.gp run in DIR/plots (the scripts name their files relatively); its messages (range
+ * warnings on short runs, mostly) go to DIR/plots/gnuplot.log. 0 when it exited 0. */
+static int run_gnuplot(const char *plots_dir, const char *script)
+{
+    pid_t pid = fork();
+    if (pid < 0)
+        return -1;
+    if (pid == 0) {
+        if (chdir(plots_dir) != 0)
+            _exit(127);
+        int log = open("gnuplot.log", O_WRONLY | O_CREAT | O_APPEND, 0666);
+        if (log >= 0)
+            dup2(log, STDERR_FILENO), close(log);
+        execlp("gnuplot", "gnuplot", script, (char *)NULL);
+        _exit(127);
+    }
+    int status = 0;
+    if (waitpid(pid, &status, 0) < 0)
+        return -1;
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 0 : -1;
+}
+
+int rpl_bench_plot(struct rpl_bench_ctx *c, const char *name, const char *title, const char *body, int has_data,
+                   struct hl_error *err)
+{
+    char gp[4500], plots[4300], script[128];
+    snprintf(plots, sizeof plots, "%s/plots", c->dir);
+    snprintf(script, sizeof script, "%s.gp", name);
+    snprintf(gp, sizeof gp, "%s/%s", plots, script);
+    FILE *f = fopen(gp, "w");
+    if (!f)
+        return hl_fail(err, "%s: cannot create: %s", gp, strerror(errno));
+    fprintf(f, "# %s (hmdlod bench; run in this folder: gnuplot %s)\n", title, script);
+    fprintf(f, "set terminal pngcairo size 900,600 noenhanced\nset output '%s.png'\nset title '%s'\n", name, title);
+    fprintf(f, "set datafile missing 'NaN'\nset grid\n");
+    if (has_data)
+        fputs(body, f);
+    else /* an empty plot would stop gnuplot ("all points undefined") and leave no image */
+        fputs("set label 1 'not measured in these runs' at graph 0.5, graph 0.5 center\n"
+              "plot [0:1][0:1] -1 notitle\n",
+              f);
+    if (fclose(f) != 0)
+        return hl_fail(err, "%s: write failed", gp);
+    fprintf(c->md, "\n![%s](plots/%s.png) (`plots/%s`)\n", title, name, script);
+    if (c->gnuplot && run_gnuplot(plots, script) != 0)
+        fprintf(c->md, "\n(gnuplot failed on plots/%s; its message is in plots/gnuplot.log)\n", script);
+    return 0;
+}
+
+void rpl_bench_heading(struct rpl_bench_ctx *c, const char *heading, const char *text, int echo)
+{
+    fprintf(c->md, "\n## %s\n\n%s- renderer: %s\n\n%s\n", heading, c->context, c->renderer, text);
+    if (echo && c->echo)
+        fprintf(c->echo, "\n## %s\n\n%s\n", heading, text);
+}
+
+/* ---- the report -------------------------------------------------------------------------------- */
+
+const struct rpl_bench_result *rpl_bench_find(const struct rpl_bench_ctx *c, const char *id)
+{
+    for (size_t i = 0; i < c->plan->count; ++i)
+        if (!strcmp(c->plan->runs[i].id, id))
+            return c->results[i].present ? &c->results[i] : NULL;
+    return NULL;
+}
+
+static int exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* Loads every run from the first folder that has it; lists the missing ones in *missing. */
+static int load_all(const struct rpl_bench_report_options *o, struct rpl_bench_result *results, size_t *n_missing,
+                    char *missing, size_t missing_size, struct hl_error *err)
+{
+    *n_missing = 0;
+    missing[0] = '\0';
+    for (size_t i = 0; i < o->plan->count; ++i) {
+        const char *id = o->plan->runs[i].id;
+        int found = 0;
+        for (int d = 0; d < o->dir_count && !found; ++d) {
+            char dir[4400], summary[4500];
+            snprintf(dir, sizeof dir, "%s/runs/%s", o->dirs[d], id);
+            snprintf(summary, sizeof summary, "%s/summary.json", dir);
+            if (!exists(summary))
+                continue;
+            if (rpl_bench_result_load(dir, &results[i], err) != 0)
+                return -1;
+            found = 1;
+        }
+        if (!found) {
+            size_t len = strlen(missing);
+            if (*n_missing < 8)
+                snprintf(missing + len, missing_size - len, "%s%s", *n_missing ? ", " : "", id);
+            ++*n_missing;
+        }
+    }
+    return 0;
+}
+
+static int write_runs_csv(const struct rpl_bench_report_options *o, const struct rpl_bench_result *results,
+                          struct hl_error *err)
+{
+    char path[4300], tmp[4400];
+    snprintf(path, sizeof path, "%s/runs.csv", o->out_dir);
+    snprintf(tmp, sizeof tmp, "%s/.runs.csv.partial", o->out_dir);
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return hl_fail(err, "%s: cannot create: %s", tmp, strerror(errno));
+    fputs("id,table,present,frames,renderer,command\n", f);
+    for (size_t i = 0; i < o->plan->count; ++i) {
+        const struct rpl_bench_run *r = &o->plan->runs[i];
+        fprintf(f, "%s,%d,%d,%ld,\"%s\",\"", r->id, r->table, results[i].present, results[i].n, results[i].renderer);
+        /* the plan line, CSV-quoted (a double quote doubled) */
+        char *line = NULL;
+        size_t len = 0;
+        FILE *m = open_memstream(&line, &len);
+        if (m) {
+            rpl_bench_run_line(o->plan, r, o->exe, o->plan->out_dir, m);
+            fclose(m);
+            for (const char *p = line; p && *p; ++p)
+                fputs(*p == '"' ? "\"\"" : (char[2]){*p, 0}, f);
+            free(line);
+        }
+        fputs("\"\n", f);
+    }
+    return rpl_bench_commit_file(f, tmp, path, err);
+}
+
+static int make_dir(const char *path, struct hl_error *err)
+{
+    if (mkdir(path, 0777) != 0 && errno != EEXIST)
+        return hl_fail(err, "%s: cannot create the folder: %s", path, strerror(errno));
+    if (access(path, W_OK) != 0)
+        return hl_fail(err, "%s: not a writable folder", path);
+    return 0;
+}
+
+static int write_report(const struct rpl_bench_report_options *o, struct rpl_bench_result *results, size_t n_missing,
+                        const char *missing, struct hl_error *err)
+{
+    char plots[4300], md_path[4300], md_tmp[4400], det_path[4300], det_tmp[4400];
+    snprintf(plots, sizeof plots, "%s/plots", o->out_dir);
+    if (make_dir(o->out_dir, err) != 0 || make_dir(plots, err) != 0)
+        return -1;
+    char log[4400];
+    snprintf(log, sizeof log, "%s/gnuplot.log", plots);
+    unlink(log); /* this report's messages only */
+    snprintf(md_path, sizeof md_path, "%s/report.md", o->out_dir);
+    snprintf(md_tmp, sizeof md_tmp, "%s/.report.md.partial", o->out_dir);
+    snprintf(det_path, sizeof det_path, "%s/deterministic.txt", o->out_dir);
+    snprintf(det_tmp, sizeof det_tmp, "%s/.deterministic.txt.partial", o->out_dir);
+    FILE *md = fopen(md_tmp, "w"), *det = fopen(det_tmp, "w");
+    if (!md || !det) {
+        if (md)
+            fclose(md), unlink(md_tmp);
+        if (det)
+            fclose(det), unlink(det_tmp);
+        return hl_fail(err, "%s: cannot create the report's files: %s", o->out_dir, strerror(errno));
+    }
+    fputs("# Deterministic columns of each table (on rows whose `deterministic` is 1)\n", det);
+    const char *renderer = "unknown";
+    for (size_t i = 0; i < o->plan->count; ++i)
+        if (results[i].present) {
+            renderer = results[i].renderer;
+            break;
+        }
+    struct rpl_bench_ctx c = {
+        o->plan, results, o->out_dir, md, o->echo, det, o->context, renderer, rpl_bench_have_gnuplot()};
+    if (o->echo)
+        fprintf(o->echo, "# hmdlod bench report (%s): %s/report.md\n\n%s- renderer: %s\n",
+                rpl_bench_mode_name(o->plan->mode), o->out_dir, o->context, renderer);
+    fprintf(md,
+            "# hmdlod bench report (%s)\n\n%s- renderer: %s\n- runs: %zu of %zu (each run's replay command: "
+            "runs.csv)\n",
+            rpl_bench_mode_name(o->plan->mode), o->context, renderer, o->plan->count - n_missing, o->plan->count);
+    if (!c.gnuplot)
+        fputs("\n**gnuplot is not on PATH: the plots' scripts are in plots/*.gp, but no PNG was made** (install "
+              "gnuplot-nox, then run `gnuplot NAME.gp` in plots/).\n",
+              md);
+    if (n_missing)
+        fprintf(md, "\n**Partial report.** %zu run(s) missing: %s%s; their cells read —.\n", n_missing, missing,
+                n_missing > 8 ? ", …" : "");
+    int rc = 0;
+    int (*const tables[])(struct rpl_bench_ctx *, struct hl_error *) = {
+        rpl_bench_tables_t1, rpl_bench_tables_t2, rpl_bench_tables_t3,
+        rpl_bench_tables_t4, rpl_bench_tables_t5, rpl_bench_tables_t6,
+    };
+    for (int k = 0; k < 6 && rc == 0; ++k)
+        rc = tables[k](&c, err);
+    if (rc != 0) {
+        fclose(md), unlink(md_tmp);
+        fclose(det), unlink(det_tmp);
+        return -1;
+    }
+    if (rpl_bench_commit_file(det, det_tmp, det_path, err) != 0) {
+        fclose(md), unlink(md_tmp);
+        return -1;
+    }
+    if (rpl_bench_commit_file(md, md_tmp, md_path, err) != 0)
+        return -1;
+    return write_runs_csv(o, results, err);
+}
+
+int rpl_bench_report(const struct rpl_bench_report_options *o, struct hl_error *err)
+{
+    struct rpl_bench_result *results = calloc(o->plan->count ? o->plan->count : 1, sizeof *results);
+    if (!results)
+        return hl_fail(err, "bench report: out of memory");
+    size_t n_missing = 0;
+    char missing[1024];
+    int rc = load_all(o, results, &n_missing, missing, sizeof missing, err);
+    if (rc == 0 && n_missing == o->plan->count)
+        rc = hl_fail(err, "%s: no runs found (no %s/runs/ID/summary.json for any of the plan's %zu runs)", o->dirs[0],
+                     o->dirs[0], o->plan->count);
+    else if (rc == 0 && n_missing && !o->partial)
+        rc = hl_fail(err,
+                     "%zu of %zu runs missing (%s%s): run the rest of the plan, merge the other hosts' "
+                     "folders too, or pass --partial",
+                     n_missing, o->plan->count, missing, n_missing > 8 ? ", …" : "");
+    if (rc == 0)
+        rc = write_report(o, results, n_missing, missing, err);
+    for (size_t i = 0; i < o->plan->count; ++i)
+        rpl_bench_result_free(&results[i]);
+    free(results);
+    return rc;
+}

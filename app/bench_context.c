@@ -170,24 +170,6 @@ static void commit_id(char *out, size_t size)
     snprintf(out, size, "unknown");
 }
 
-void bench_print_context(int argc, char **argv, const char *renderer)
-{
-    char cpu[256], commit[192], date[64];
-    cpu_model(cpu, sizeof cpu);
-    commit_id(commit, sizeof commit);
-    time_t now = time(NULL);
-    struct tm tm_utc;
-    gmtime_r(&now, &tm_utc);
-    strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", &tm_utc);
-    bench_emit("- command: `hmdlod");
-    for (int i = 0; i < argc; ++i)
-        bench_emit(" %s", argv[i]);
-    bench_emit("`\n- machine: %s, %ld cores\n- commit: %s\n- date: %s\n", cpu, sysconf(_SC_NPROCESSORS_ONLN),
-               commit, date);
-    if (renderer)
-        bench_emit("- renderer: %s\n", renderer);
-}
-
 char *bench_context_text(int argc, char **argv)
 {
     char cpu[256], commit[192], date[64];
@@ -209,6 +191,15 @@ char *bench_context_text(int argc, char **argv)
             date);
     fclose(f);
     return text;
+}
+
+void bench_print_context(int argc, char **argv, const char *renderer)
+{
+    char *text = bench_context_text(argc, argv);
+    bench_emit("%s", text ? text : "- context: out of memory\n");
+    free(text);
+    if (renderer)
+        bench_emit("- renderer: %s\n", renderer);
 }
 
 /* ---- the shared folder ------------------------------------------------------------------------ */

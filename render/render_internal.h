@@ -15,6 +15,11 @@ struct rnd_egl {
 int rnd_egl_create(struct rnd_egl *e, struct hl_error *err);
 int rnd_egl_make_current(const struct rnd_egl *e); /* no-op when already current */
 void rnd_egl_destroy(struct rnd_egl *e);
+/* Switching between a headless EGL context and a window's (egl_context.c, window.c): the owner of
+ * the current context, and each side's way to let go of its own before the other makes current. */
+extern const void *rnd_current_owner;
+void rnd_egl_release_current(void);
+void rnd_window_release_current(void);
 
 /* ---- single-view draws for the offline analysis (renderer.c, used by analyze.c) ----------------
  * rect_px = x, y (from the bottom-left, GL convention), width, height inside the FBO. */

@@ -203,7 +203,9 @@ int rnd_window_create(const struct rnd_window_params *p, struct rnd_window **out
     glfwSetKeyCallback(w->glfw, rnd_on_key);
     glfwSetCursorPosCallback(w->glfw, rnd_on_cursor);
     glfwSetMouseButtonCallback(w->glfw, rnd_on_button);
+    rnd_egl_release_current();
     glfwMakeContextCurrent(w->glfw);
+    rnd_current_owner = w;
     *out = w;
     return 0;
 fail:
@@ -218,6 +220,8 @@ void rnd_window_destroy(struct rnd_window *w)
         return;
     if (w->glfw)
         glfwDestroyWindow(w->glfw);
+    if (rnd_current_owner == w)
+        rnd_current_owner = NULL;
     free(w);
     rnd_glfw_release();
 }
@@ -226,9 +230,18 @@ int rnd_window_make_current(struct rnd_window *w)
 {
     if (!w || !w->glfw)
         return -1;
-    if (glfwGetCurrentContext() != w->glfw)
-        glfwMakeContextCurrent(w->glfw);
+    if (rnd_current_owner == w && glfwGetCurrentContext() == w->glfw)
+        return 0;
+    rnd_egl_release_current();
+    glfwMakeContextCurrent(w->glfw);
+    rnd_current_owner = w;
     return 0;
+}
+
+void rnd_window_release_current(void)
+{
+    if (rnd_glfw_users > 0 && glfwGetCurrentContext())
+        glfwMakeContextCurrent(NULL);
 }
 
 void rnd_window_size(const struct rnd_window *w, int *width_px, int *height_px)

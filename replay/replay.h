@@ -11,6 +11,7 @@
 #include "tracking/tracking.h"
 #include "replay/assets.h"
 #include "replay/cost.h"
+#include "replay/live.h"
 
 /* ---- traces --------------------------------------------------------------------------------- */
 enum rpl_trace_format {

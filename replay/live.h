@@ -1,0 +1,42 @@
+/* replay/live.h: the live session — the frame loop on the wall clock, in a window (a desk or a
+ * headset's output), poses from a tracker or from the mouse and keys, the distortion pass, pacing
+ * at the display's refresh. Part of the replay/replay.h umbrella. docs/live.md. */
+#ifndef HMDLOD_REPLAY_LIVE_H
+#define HMDLOD_REPLAY_LIVE_H
+
+#include <stdio.h>
+
+struct rpl_options;
+
+struct rpl_live_options {
+    const struct rpl_options *session; /* scene, display, selector, budget, gaze …; out_dir unused */
+    const char *device;       /* "none" (desk), "auto" (a tracker if one is found, else desk) or a hidraw path */
+    int monitor;              /* −1: a window on the desktop; else fullscreen on that monitor */
+    long frames;              /* 0: until Esc, the window's close button or SIGINT */
+    const char *capture_path; /* PNG of the distorted output at the end (and on key C); NULL: none */
+    const char *record_path;  /* head trace CSV (t_s,qw,qx,qy,qz) of the session; NULL: none */
+    double yaw_degps;         /* desk: scripted yaw rate added to the mouse (deterministic motion) */
+    double rate_hz;           /* 0: the display profile's refresh */
+    int quiet_status;         /* no status line on the terminal */
+};
+void rpl_live_options_defaults(struct rpl_live_options *o);
+
+struct rpl_live_summary {
+    long frames, missed_frames;  /* missed: refresh slots that passed without a new frame */
+    double rate_hz, period_ms, budget_ms;
+    int self_paced;              /* 1: paced on the monotonic clock (swap interval did not throttle) */
+    double present_median_ms, present_p99_ms, present_stddev_ms, present_max_ms; /* intervals */
+    double frame_mean_ms, frame_p99_ms, distortion_mean_ms, distortion_p99_ms;
+    double triangles_mean, optimizer_us_mean;
+    long deadlines_met;
+    int window_w, window_h, has_lens;
+    long tracker_losses, tracker_resumes;
+    char source[96], display[64], scene[64], selector[32], renderer[128], pacing[160];
+    char capture[512];          /* path written, or empty */
+};
+
+/* Runs a live session until its frames are done or the user stops it; fills *summary. 0 or −1 with err. */
+int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *summary, struct hl_error *err);
+void rpl_live_summary_print(FILE *f, const struct rpl_live_summary *s);
+
+#endif

@@ -13,6 +13,7 @@ int bench_lodgen(int argc, char **argv, int full_argc, char **full_argv);   /* a
 int bench_cull(int argc, char **argv, int full_argc, char **full_argv);     /* app/bench_cull.c */
 int bench_optimizer(int argc, char **argv, int full_argc, char **full_argv); /* app/bench_optimizer.c */
 int bench_gaze(int argc, char **argv, int full_argc, char **full_argv);     /* app/bench_gaze.c */
+int bench_live(int argc, char **argv, int full_argc, char **full_argv);     /* app/bench_live.c */
 
 /* bench cull's generated scene, shared with bench optimizer's scaling table: n objects on a ground
  * grid 2 m apart around the origin, grouped as a quadtree of 4 × 4 (app/bench_cull.c). Allocates

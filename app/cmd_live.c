@@ -10,8 +10,9 @@
 static const char live_usage[] =
     "usage: hmdlod live --display NAME|FILE --device auto|PATH|none --scene NAME|FILE [--monitor NAME|INDEX]\n"
     "                   [--windowed] [--selector NAME] [--budget-ms T] [--frames N] [--capture FILE]\n"
-    "                   [--record FILE] [--yaw-degps V] [--rate HZ] [--render-scale F] [--gaze MODEL]\n"
-    "                   [--quiet]\n"
+    "                   [--record FILE] [--yaw-degps V] [--rate HZ] [--render-scale F] [--window-size WxH]\n"
+    "                   [--gaze MODEL]"
+    " [--quiet]\n"
     "       hmdlod live --list-monitors\n"
     "  A live session: both eyes drawn by the same frame function as replay, then the lens distortion\n"
     "  pass (the profile's PanoTools coefficients with chromatic aberration; undistorted when it has\n"
@@ -30,6 +31,7 @@ static const char live_usage[] =
     "  --yaw-degps V      desk: a scripted yaw of V deg/s added to the mouse (default 0; deterministic)\n"
     "  --rate HZ          frame rate (default: the display profile's refresh)\n"
     "  --render-scale F   per-eye resolution factor in (0, 4] (default 1)\n"
+    "  --window-size WxH  windowed size (default: both eyes at the display's pixels, fit to the monitor)\n"
     "  --gaze MODEL       auto (vor), head or vor\n"
     "  --quiet            no status line on the terminal (the summary is still printed)\n"
     "  Keys: Esc or Q quits, + and - change the budget by 1 ms, V toggles the velocity term, G switches\n"
@@ -160,6 +162,13 @@ int cmd_live(int argc, char **argv)
                 return 1;
             if (!(o.rate_hz >= 1.0 && o.rate_hz <= 1000.0)) {
                 fprintf(stderr, "hmdlod: --rate: %s Hz is outside [1, 1000]\n", val);
+                return 1;
+            }
+        } else if (!strcmp(opt, "--window-size")) {
+            char extra = 0;
+            if (sscanf(val, "%dx%d%c", &o.window_w_px, &o.window_h_px, &extra) != 2 || o.window_w_px < 2 ||
+                o.window_h_px < 1 || o.window_w_px > 16384 || o.window_h_px > 16384) {
+                fprintf(stderr, "hmdlod: --window-size: '%s' is not WIDTHxHEIGHT in pixels (2..16384 each)\n", val);
                 return 1;
             }
         } else if (!strcmp(opt, "--render-scale")) {

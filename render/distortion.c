@@ -19,7 +19,7 @@ struct rnd_distortion {
     struct rnd_renderer *renderer;
     int out_w, out_h, offscreen, has_lens;
     GLuint program, vao, vbo, ibo;
-    GLint u_eye, u_source;
+    GLint u_eye, u_source, u_lens;
     GLuint fbo, tex; /* offscreen output */
     GLsizei index_count, vertices_per_eye;
 };
@@ -45,13 +45,16 @@ static const char rnd_dist_fs[] =
     "in vec2 v_uv_r, v_uv_g, v_uv_b;\n"
     "uniform sampler2D u_source; /* both eyes side by side */\n"
     "uniform float u_eye;        /* 0 left, 1 right */\n"
+    "uniform int u_lens;         /* 0: one sample per pixel (the three uvs are equal) */\n"
     "out vec4 o_color;\n"
-    "float channel(vec2 e, int c) {\n"
-    "    if (any(lessThan(e, vec2(0.0))) || any(greaterThan(e, vec2(1.0)))) return 0.0;\n"
-    "    return texture(u_source, vec2((u_eye + e.x) * 0.5, e.y))[c];\n"
-    "}\n"
+    "float inside(vec2 e) { vec2 s = step(vec2(0.0), e) * step(e, vec2(1.0)); return s.x * s.y; }\n"
+    "vec2 fbo(vec2 e) { return vec2((u_eye + e.x) * 0.5, e.y); }\n"
     "void main() {\n"
-    "    o_color = vec4(channel(v_uv_r, 0), channel(v_uv_g, 1), channel(v_uv_b, 2), 1.0);\n"
+    "    if (u_lens == 0) { o_color = vec4(texture(u_source, fbo(v_uv_g)).rgb * inside(v_uv_g), 1.0); return; }\n"
+    "    float r = texture(u_source, fbo(v_uv_r)).r * inside(v_uv_r);\n"
+    "    float g = texture(u_source, fbo(v_uv_g)).g * inside(v_uv_g);\n"
+    "    float b = texture(u_source, fbo(v_uv_b)).b * inside(v_uv_b);\n"
+    "    o_color = vec4(r, g, b, 1.0);\n"
     "}\n";
 
 void rnd_distortion_source_uv(const struct hmd_profile *p, int eye, int channel, double out_w_eye_px,
@@ -108,6 +111,7 @@ static int rnd_dist_program(struct rnd_distortion *d, struct hl_error *err)
         return hl_fail(err, "distortion: shader program does not link");
     d->u_eye = glGetUniformLocation(d->program, "u_eye");
     d->u_source = glGetUniformLocation(d->program, "u_source");
+    d->u_lens = glGetUniformLocation(d->program, "u_lens");
     return 0;
 }
 
@@ -253,6 +257,7 @@ int rnd_distortion_draw(struct rnd_distortion *d, int finish, struct hl_error *e
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, rnd_renderer_color_texture(d->renderer));
     glUniform1i(d->u_source, 0);
+    glUniform1i(d->u_lens, d->has_lens);
     glBindVertexArray(d->vao);
     for (int eye = 0; eye < 2; ++eye) {
         glUniform1f(d->u_eye, (float)eye);

@@ -359,7 +359,10 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     double rate_hz = o->rate_hz > 0.0 ? o->rate_hz : display.refresh_hz;
 
     struct rnd_window_params wp = {"hmdlod live", 0, 0, o->monitor};
-    window_size(&display, &wp.width_px, &wp.height_px);
+    if (o->window_w_px > 0 && o->window_h_px > 0)
+        wp.width_px = o->window_w_px & ~1, wp.height_px = o->window_h_px;
+    else
+        window_size(&display, &wp.width_px, &wp.height_px);
     if (rnd_window_create(&wp, &st.window, err) != 0)
         return -1;
     int eye_w = (int)lround(display.eye_width_px * so->render_scale);

@@ -18,6 +18,7 @@ struct rpl_live_options {
     double yaw_degps;         /* desk: scripted yaw rate added to the mouse (deterministic motion) */
     double rate_hz;           /* 0: the display profile's refresh */
     int quiet_status;         /* no status line on the terminal */
+    int window_w_px, window_h_px; /* windowed size; 0: the display's two eyes, scaled to fit the monitor */
 };
 void rpl_live_options_defaults(struct rpl_live_options *o);
 

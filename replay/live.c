@@ -191,7 +191,7 @@ struct live_state {
     struct rnd_distortion *distortion;
     struct live_record record;
     struct live_series present_ms, frame_ms, distortion_ms;
-    int is_desk, tracker_lost, want_capture;
+    int is_desk, tracker_lost, tracker_seen_ok, want_capture;
     long captures;
     double triangles_sum, optimizer_sum;
 };
@@ -242,12 +242,16 @@ static void check_health(struct live_state *st, struct rpl_live_summary *sum, ch
     enum trk_health h = st->s.source->health(st->s.source, why, why_size);
     if (h != TRK_HEALTH_OK && !st->tracker_lost) {
         st->tracker_lost = 1;
-        sum->tracker_losses++;
-        fprintf(stderr, "hmdlod: tracker lost (%s): holding the last pose\n", why[0] ? why : "no reports");
-    } else if (h == TRK_HEALTH_OK && st->tracker_lost) {
+        if (st->tracker_seen_ok)
+            sum->tracker_losses++;
+        fprintf(stderr, "hmdlod: tracker %s (%s): holding the last pose\n", st->tracker_seen_ok ? "lost" : "not streaming yet",
+                why[0] ? why : "no reports");
+    } else if (h == TRK_HEALTH_OK && (st->tracker_lost || !st->tracker_seen_ok)) {
+        if (st->tracker_seen_ok)
+            sum->tracker_resumes++;
+        fprintf(stderr, "hmdlod: tracker %s\n", st->tracker_seen_ok ? "back: tracking resumed" : "streaming");
         st->tracker_lost = 0;
-        sum->tracker_resumes++;
-        fprintf(stderr, "hmdlod: tracker back: tracking resumed\n");
+        st->tracker_seen_ok = 1;
     }
 }
 

@@ -34,8 +34,9 @@ static const char live_usage[] =
     "  --window-size WxH  windowed size (default: both eyes at the display's pixels, fit to the monitor)\n"
     "  --gaze MODEL       auto (vor), head or vor\n"
     "  --quiet            no status line on the terminal (the summary is still printed)\n"
-    "  Keys: Esc or Q quits, + and - change the budget by 1 ms, V toggles the velocity term, G switches\n"
-    "  the gaze model (vor, head), C captures a PNG; desk: drag with the left button or the arrows look.\n";
+    "  Keys: Esc or Q quits, S switches the selector, + and - change the budget by 1 ms, V and E toggle\n"
+    "  the velocity and eccentricity terms, G switches the gaze model (vor, head), C captures a PNG, R\n"
+    "  starts or stops recording the head trace; desk: drag with the left button or the arrows look.\n";
 
 static int list_monitors(void)
 {

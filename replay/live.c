@@ -77,6 +77,7 @@ struct live_record {
     char path[4096], tmp[4096];
     double t0_s;
     long rows;
+    int paused; /* key R: rows are not written while paused */
 };
 static int record_open(struct live_record *r, const char *path, struct hl_error *err)
 {
@@ -95,7 +96,7 @@ static int record_open(struct live_record *r, const char *path, struct hl_error 
 }
 static void record_row(struct live_record *r, const struct trk_pose *p)
 {
-    if (!r->f)
+    if (!r->f || r->paused)
         return;
     if (r->t0_s < 0)
         r->t0_s = p->time_s;
@@ -191,13 +192,28 @@ struct live_state {
     struct rnd_distortion *distortion;
     struct live_record record;
     struct live_series present_ms, frame_ms, distortion_ms;
-    int is_desk, tracker_lost, tracker_seen_ok, want_capture;
+    int is_desk, tracker_lost, tracker_seen_ok, want_capture, started_mb;
     long captures;
     double triangles_sum, optimizer_sum;
 };
 
-/* Keys (docs/live.md): Esc quits; + and − change the budget by 1 ms; V toggles the velocity term;
- * G switches the gaze model between vor and head; C captures a PNG; arrows look (desk). */
+/* S: the next selector (mb only when the session started with it: it needs the groups' state). */
+static void next_selector(struct rpl_session *s, int started_mb)
+{
+    static const enum rpl_selector order[] = {RPL_SELECT_NONE, RPL_SELECT_REDDY, RPL_SELECT_STATIC,
+                                              RPL_SELECT_FEEDBACK, RPL_SELECT_FS, RPL_SELECT_MB};
+    static const char *const names[] = {"none", "reddy", "static", "feedback", "fs", "mb"};
+    int n = started_mb ? 6 : 5, k = 0;
+    while (k < n && order[k] != s->select.selector)
+        ++k;
+    k = (k + 1) % n;
+    s->select.selector = s->selector = order[k];
+    fprintf(stderr, "hmdlod: selector %s\n", names[k]);
+}
+
+/* Keys (docs/live.md): Esc or Q quits; S switches the selector; + and − change the budget by 1 ms;
+ * V and E toggle the velocity and eccentricity terms; G switches the gaze model between vor and
+ * head; C captures a PNG; R starts or stops recording the head trace; arrows look (desk). */
 static int handle_keys(struct live_state *st, double dt_s)
 {
     int key;
@@ -212,6 +228,20 @@ static int handle_keys(struct live_state *st, double dt_s)
         } else if (key == 'V') {
             s->limits.use_velocity = !s->limits.use_velocity;
             fprintf(stderr, "hmdlod: velocity term %s\n", s->limits.use_velocity ? "on" : "off");
+        } else if (key == 'E') {
+            s->limits.use_eccentricity = !s->limits.use_eccentricity;
+            fprintf(stderr, "hmdlod: eccentricity term %s\n", s->limits.use_eccentricity ? "on" : "off");
+        } else if (key == 'S') {
+            next_selector(s, st->started_mb);
+        } else if (key == 'R') {
+            struct hl_error rerr;
+            if (!st->record.f && record_open(&st->record, "hmdlod-live-head.csv", &rerr) != 0)
+                fprintf(stderr, "hmdlod: %s\n", rerr.msg);
+            else if (st->record.f) {
+                st->record.paused = !st->record.paused;
+                fprintf(stderr, "hmdlod: head trace %s (%s)\n", st->record.paused ? "paused" : "recording",
+                        st->record.path);
+            }
         } else if (key == 'G') {
             s->gaze = s->gaze == ACU_GAZE_VOR ? ACU_GAZE_HEAD : ACU_GAZE_VOR;
             fprintf(stderr, "hmdlod: gaze model %s\n", acu_gaze_model_name(s->gaze));
@@ -387,6 +417,7 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
         goto done;
     snprintf(sum->scene, sizeof sum->scene, "%s", so->scene);
     snprintf(sum->selector, sizeof sum->selector, "%s", so->selector);
+    st.started_mb = st.s.selector == RPL_SELECT_MB;
 
     struct sigaction sa, old_int, old_term;
     memset(&sa, 0, sizeof sa);

@@ -12,7 +12,7 @@ struct desk_source {
     struct trk_pose_source base; /* first, so a base pointer is a desk_source pointer */
     double t0_s, yaw_rate_radps;
     double look_yaw_rad, look_pitch_rad;   /* from the mouse and keys */
-    hl_vec3d look_velocity_radps;          /* of the last look step (world), for the acuity model */
+    double look_yaw_radps, look_pitch_radps; /* of the last look step, for the acuity model */
 };
 
 static int ds_start(struct trk_pose_source *src, struct hl_error *err)
@@ -33,7 +33,10 @@ static int ds_pose_at(struct trk_pose_source *src, double time_s, struct trk_pos
     double pitch = fmax(-1.4, fmin(1.4, d->look_pitch_rad));
     hl_quatd qy = hl_q_from_axis_angle(hl_v3(0, 1, 0), yaw), qp = hl_q_from_axis_angle(hl_v3(1, 0, 0), pitch);
     out->orientation = hl_q_mul(qy, qp);
-    out->angular_velocity_radps = hl_v3_add(hl_v3(0, d->yaw_rate_radps, 0), d->look_velocity_radps);
+    /* World frame: yaw about +Y, pitch about the yawed head's +X (pitch's own axis). */
+    hl_vec3d pitch_axis = hl_q_rotate(qy, hl_v3(1, 0, 0));
+    out->angular_velocity_radps = hl_v3_add(hl_v3(0, d->yaw_rate_radps + d->look_yaw_radps, 0),
+                                            hl_v3_scale(pitch_axis, d->look_pitch_radps));
     return 0;
 }
 
@@ -74,5 +77,6 @@ void rpl_desk_source_look(struct trk_pose_source *src, double dyaw_rad, double d
     struct desk_source *d = (struct desk_source *)src;
     d->look_yaw_rad += dyaw_rad;
     d->look_pitch_rad = fmax(-1.4, fmin(1.4, d->look_pitch_rad + dpitch_rad));
-    d->look_velocity_radps = dt_s > 0.0 ? hl_v3(dpitch_rad / dt_s, dyaw_rad / dt_s, 0) : hl_v3(0, 0, 0);
+    d->look_yaw_radps = dt_s > 0.0 ? dyaw_rad / dt_s : 0.0;
+    d->look_pitch_radps = dt_s > 0.0 ? dpitch_rad / dt_s : 0.0;
 }

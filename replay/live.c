@@ -217,6 +217,7 @@ static void next_selector(struct rpl_session *s, int started_mb)
 static int handle_keys(struct live_state *st, double dt_s)
 {
     int key;
+    double look_yaw = 0.0, look_pitch = 0.0; /* this frame's turn from keys and mouse, applied once */
     while (rnd_window_next_key(st->window, &key)) {
         struct rpl_session *s = &st->s;
         if (key == RND_KEY_ESCAPE || key == 'Q')
@@ -249,15 +250,15 @@ static int handle_keys(struct live_state *st, double dt_s)
             st->want_capture = 1;
         } else if (st->is_desk && key >= RND_KEY_UP && key <= RND_KEY_RIGHT) {
             double step = 5.0 * HL_RAD_PER_DEG;
-            rpl_desk_source_look(s->source, key == RND_KEY_LEFT ? step : key == RND_KEY_RIGHT ? -step : 0.0,
-                                 key == RND_KEY_UP ? step : key == RND_KEY_DOWN ? -step : 0.0, dt_s);
+            look_yaw += key == RND_KEY_LEFT ? step : key == RND_KEY_RIGHT ? -step : 0.0;
+            look_pitch += key == RND_KEY_UP ? step : key == RND_KEY_DOWN ? -step : 0.0;
         }
     }
     if (st->is_desk) {
         double dx, dy;
         rnd_window_mouse_delta(st->window, &dx, &dy);
-        if (dx != 0.0 || dy != 0.0)
-            rpl_desk_source_look(st->s.source, -dx * 0.003, -dy * 0.003, dt_s); /* 0.17°/px */
+        /* 0.17°/px; called every frame so that the look's angular velocity drops to 0 when it stops */
+        rpl_desk_source_look(st->s.source, look_yaw - dx * 0.003, look_pitch - dy * 0.003, dt_s);
     }
     return 0;
 }

@@ -11,7 +11,7 @@ static const char live_usage[] =
     "usage: hmdlod live --display NAME|FILE --device auto|PATH|none --scene NAME|FILE [--monitor NAME|INDEX]\n"
     "                   [--windowed] [--selector NAME] [--budget-ms T] [--frames N] [--capture FILE]\n"
     "                   [--record FILE] [--yaw-degps V] [--rate HZ] [--render-scale F] [--window-size WxH]\n"
-    "                   [--gaze MODEL]"
+    "                   [--objects N] [--gaze MODEL]"
     " [--quiet]\n"
     "       hmdlod live --list-monitors\n"
     "  A live session: both eyes drawn by the same frame function as replay, then the lens distortion\n"
@@ -31,6 +31,7 @@ static const char live_usage[] =
     "  --yaw-degps V      desk: a scripted yaw of V deg/s added to the mouse (default 0; deterministic)\n"
     "  --rate HZ          frame rate (default: the display profile's refresh)\n"
     "  --render-scale F   per-eye resolution factor in (0, 4] (default 1)\n"
+    "  --objects N        objects in the field scene (default 100) or domes in domes (default 10)\n"
     "  --window-size WxH  windowed size (default: both eyes at the display's pixels, fit to the monitor)\n"
     "  --gaze MODEL       auto (vor), head or vor\n"
     "  --quiet            no status line on the terminal (the summary is still printed)\n"
@@ -172,6 +173,11 @@ int cmd_live(int argc, char **argv)
                 fprintf(stderr, "hmdlod: --window-size: '%s' is not WIDTHxHEIGHT in pixels (2..16384 each)\n", val);
                 return 1;
             }
+        } else if (!strcmp(opt, "--objects")) {
+            long n = 0;
+            if (app_parse_long(opt, val, 1, 100000, &n))
+                return 1;
+            so.object_count = (int)n;
         } else if (!strcmp(opt, "--render-scale")) {
             if (app_parse_double(opt, val, &so.render_scale))
                 return 1;

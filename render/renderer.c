@@ -4,6 +4,7 @@
 
 #include <GL/gl.h>
 #include <GL/glext.h>
+#include <cglm/cglm.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -251,24 +252,22 @@ int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct scn_scene *sc
     return 0;
 }
 
-/* Column-major 4×4 of the model-to-eye transform, computed in double and only then rounded: the
+/* Column-major 4×4 of the model-to-eye transform. The eye-relative part is done in double — the
  * translation is the instance position minus the eye position, so an object 1e6 m from the origin
- * but 2 m from the eye keeps millimetre precision (float world matrices would lose ~6 cm there). */
+ * but 2 m from the eye keeps millimetre precision (float world matrices would lose ~6 cm there) —
+ * and only then does GL-side float math take over, through cglm (DESIGN.md: cglm's versor is x y z w). */
 static void rnd_model_view(const struct scn_instance *in, const struct rnd_eye_view *v, float out[16])
 {
     hl_quatd to_eye = hl_q_conj(v->orientation);
     hl_quatd q = hl_q_mul(to_eye, in->rotation);
-    double w = q.w, x = q.x, y = q.y, z = q.z, s = in->scale;
     hl_vec3d t = hl_q_rotate(to_eye, hl_v3(in->position_m[0] - v->position_m[0], in->position_m[1] - v->position_m[1],
                                            in->position_m[2] - v->position_m[2]));
-    double m[16] = {
-        s * (1 - 2 * (y * y + z * z)), s * 2 * (x * y + w * z), s * 2 * (x * z - w * y), 0,
-        s * 2 * (x * y - w * z), s * (1 - 2 * (x * x + z * z)), s * 2 * (y * z + w * x), 0,
-        s * 2 * (x * z + w * y), s * 2 * (y * z - w * x), s * (1 - 2 * (x * x + y * y)), 0,
-        t.x, t.y, t.z, 1,
-    };
-    for (int i = 0; i < 16; ++i)
-        out[i] = (float)m[i];
+    versor qf = {(float)q.x, (float)q.y, (float)q.z, (float)q.w};
+    mat4 m;
+    glm_quat_mat4(qf, m);
+    glm_scale_uni(m, (float)in->scale);
+    m[3][0] = (float)t.x, m[3][1] = (float)t.y, m[3][2] = (float)t.z;
+    memcpy(out, m, sizeof m);
 }
 
 /* Draws the listed instances with one view into the current viewport; returns the triangles drawn

@@ -22,9 +22,10 @@ struct rnd_distortion {
     GLint u_eye, u_source, u_lens;
     GLuint fbo, tex; /* offscreen output */
     GLsizei index_count, vertices_per_eye;
+    int cells; /* per side of an eye's mesh */
 };
 
-enum { RND_DIST_N = RND_DISTORTION_CELLS, RND_DIST_FLOATS = 8 }; /* per vertex: position, uv r, g, b */
+enum { RND_DIST_FLOATS = 8 }; /* per vertex: position, uv r, g, b */
 
 static const char rnd_dist_vs[] =
     "#version 450 core\n"
@@ -56,6 +57,14 @@ static const char rnd_dist_fs[] =
     "    float b = texture(u_source, fbo(v_uv_b)).b * inside(v_uv_b);\n"
     "    o_color = vec4(r, g, b, 1.0);\n"
     "}\n";
+
+int rnd_distortion_cells(int out_w_px)
+{
+    /* One vertex per 16 output pixels is finer than the lens model varies (the PanoTools
+     * polynomial is smooth), and on llvmpipe each triangle costs set-up time whatever its size. */
+    int cells = (out_w_px / 2 + 15) / 16;
+    return cells < 8 ? 8 : cells > RND_DISTORTION_CELLS ? RND_DISTORTION_CELLS : cells;
+}
 
 void rnd_distortion_source_uv(const struct hmd_profile *p, int eye, int channel, double out_w_eye_px,
                               double out_h_eye_px, const double out_uv[2], double src_uv[2])
@@ -120,8 +129,8 @@ static int rnd_dist_program(struct rnd_distortion *d, struct hl_error *err)
  * then rounded: GL-facing data only is float). Two triangles per cell. */
 static int rnd_dist_mesh(struct rnd_distortion *d, const struct hmd_profile *p, struct hl_error *err)
 {
-    const int n1 = RND_DIST_N + 1;
-    size_t verts = (size_t)n1 * n1, floats = 2 * verts * RND_DIST_FLOATS, indices = (size_t)RND_DIST_N * RND_DIST_N * 6;
+    const int N = d->cells, n1 = N + 1;
+    size_t verts = (size_t)n1 * n1, floats = 2 * verts * RND_DIST_FLOATS, indices = (size_t)N * N * 6;
     float *v = malloc(floats * sizeof *v);
     uint32_t *ix = malloc(indices * sizeof *ix);
     if (!v || !ix) {
@@ -136,7 +145,7 @@ static int rnd_dist_mesh(struct rnd_distortion *d, const struct hmd_profile *p, 
         vec2 ndc_scale = {1.0f, 2.0f}, ndc_offset = {eye == 0 ? -1.0f : 0.0f, -1.0f};
         for (int j = 0; j < n1; ++j)
             for (int i = 0; i < n1; ++i) {
-                double uv[2] = {(double)i / RND_DIST_N, (double)j / RND_DIST_N};
+                double uv[2] = {(double)i / N, (double)j / N};
                 vec2 pos = {(float)uv[0], (float)uv[1]};
                 glm_vec2_mul(pos, ndc_scale, pos);
                 glm_vec2_add(pos, ndc_offset, pos);
@@ -151,8 +160,8 @@ static int rnd_dist_mesh(struct rnd_distortion *d, const struct hmd_profile *p, 
             }
     }
     uint32_t *q = ix;
-    for (int j = 0; j < RND_DIST_N; ++j)
-        for (int i = 0; i < RND_DIST_N; ++i) {
+    for (int j = 0; j < N; ++j)
+        for (int i = 0; i < N; ++i) {
             uint32_t a = (uint32_t)(j * n1 + i), b = a + 1, c = a + (uint32_t)n1, e = c + 1;
             *q++ = a, *q++ = b, *q++ = e, *q++ = a, *q++ = e, *q++ = c; /* CCW seen from the viewer */
         }
@@ -206,6 +215,7 @@ int rnd_distortion_create(struct rnd_renderer *r, const struct hmd_profile *p, i
         return hl_fail(err, "distortion: out of memory");
     d->renderer = r;
     d->out_w = out_w_px, d->out_h = out_h_px, d->offscreen = offscreen;
+    d->cells = rnd_distortion_cells(out_w_px);
     const double *k = p->distortion_k;
     d->has_lens = k[0] != 0.0 || k[1] != 0.0 || k[2] != 0.0 || k[3] != 0.0 || p->aberration[0] != 1.0 ||
                   p->aberration[1] != 1.0 || p->aberration[2] != 1.0;

@@ -274,8 +274,14 @@ int rnd_window_should_close(const struct rnd_window *w) { return !w || !w->glfw 
 
 void rnd_window_swap(struct rnd_window *w)
 {
-    if (w && w->glfw)
-        glfwSwapBuffers(w->glfw);
+    if (!w || !w->glfw)
+        return;
+    glfwSwapBuffers(w->glfw);
+    /* A round trip to the X server, so that the swap's return means the server has the image:
+     * without it (Mesa's software GLX posts the image and returns) the wait would surface in the
+     * next frame's first GL call on the window, and the present time would be early. */
+    int fw, fh;
+    glfwGetFramebufferSize(w->glfw, &fw, &fh);
 }
 
 void rnd_window_set_swap_interval(struct rnd_window *w, int interval)

@@ -54,13 +54,15 @@ int rnd_renderer_create_in_window(struct rnd_window *window, int eye_width_px, i
 int rnd_renderer_make_current(const struct rnd_renderer *r);
 
 /* ---- distortion pass ------------------------------------------------------------------------- */
-/* Per eye, a mesh of RND_DISTORTION_CELLS² cells over the eye's half of the output; each vertex has
+/* Per eye, a mesh of up to RND_DISTORTION_CELLS² cells (one per 16 output pixels, at least 8², so 64²
+ * at the Vive's 1080 pixels per eye: rnd_distortion_cells) over the eye's half of the output; each vertex has
  * one source position per colour channel (chromatic aberration), as Monado and OpenHMD build it.
  * PanoTools model (DEVICES.md §1b): r is the output point's distance from the lens centre with 1 =
  * half the eye's width; the source point is r·(d + c·r + b·r² + a·r³) out along the same direction,
  * times the channel's aberration scale. The lens centre is where the eye's optical axis meets the
  * image (its frustum's tangents). k all zero: no distortion (source = output), aberration kept. */
 enum { RND_DISTORTION_CELLS = 64 };
+int rnd_distortion_cells(int out_w_px); /* cells per side of an eye's mesh for a 2-eye output this wide */
 struct rnd_distortion;
 /* out_w×out_h: the output (both eyes side by side). offscreen: draw into its own texture (tests,
  * bench) instead of the current context's window. The renderer's context must be current. */

@@ -191,7 +191,7 @@ struct live_state {
     struct rnd_window *window;
     struct rnd_distortion *distortion;
     struct live_record record;
-    struct live_series present_ms, frame_ms, distortion_ms;
+    struct live_series present_ms, frame_ms, distortion_ms, to_present_ms;
     int is_desk, tracker_lost, tracker_seen_ok, want_capture, started_mb;
     long captures;
     double triangles_sum, optimizer_sum;
@@ -315,6 +315,7 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
         if (handle_keys(st, 1.0 / rate_hz) || rnd_window_should_close(st->window) || live_interrupted)
             break;
         check_health(st, sum, why, sizeof why);
+        int64_t start_ns = hl_clock_now_ns();
         double display_s = (double)rpl_pacer_due_ns(&pacer) * 1e-9;
         struct rpl_frame_record rec;
         if (rpl_frame_run(s, f, display_s, &rec, err) != 0)
@@ -333,12 +334,16 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
         }
         rpl_pacer_wait(&pacer);
         rnd_window_swap(st->window);
-        double interval_ms = rpl_pacer_presented(&pacer, hl_clock_now_ns());
+        int64_t present_ns = hl_clock_now_ns();
+        double interval_ms = rpl_pacer_presented(&pacer, present_ns);
+        /* Frame-to-present: from the frame's start (its pose asked for) to the swap's return; the
+         * display adds its scan-out, which no API here reports. */
+        double to_present_ms = (double)(present_ns - start_ns) * 1e-6;
         struct trk_pose pose;
         if (st->record.f && trk_source_pose_at(s->source, display_s, &pose, err) == 0)
             record_row(&st->record, &pose);
         if ((f > 0 && series_push(&st->present_ms, interval_ms) != 0) || series_push(&st->frame_ms, rec.frame_ms) != 0 ||
-            series_push(&st->distortion_ms, dist_ms) != 0)
+            series_push(&st->distortion_ms, dist_ms) != 0 || series_push(&st->to_present_ms, to_present_ms) != 0)
             return hl_fail(err, "live: out of memory for frame times");
         st->triangles_sum += (double)rec.triangles_per_eye;
         st->optimizer_sum += rec.select_us;
@@ -363,6 +368,7 @@ static void finish_summary(struct live_state *st, double rate_hz, struct rpl_liv
                  &sum->present_max_ms);
     series_stats(&st->frame_ms, &sum->frame_mean_ms, NULL, NULL, &sum->frame_p99_ms, NULL);
     series_stats(&st->distortion_ms, &sum->distortion_mean_ms, NULL, NULL, &sum->distortion_p99_ms, NULL);
+    series_stats(&st->to_present_ms, &sum->to_present_mean_ms, NULL, NULL, &sum->to_present_p99_ms, NULL);
     if (sum->frames > 0) {
         sum->triangles_mean = st->triangles_sum / (double)sum->frames;
         sum->optimizer_us_mean = st->optimizer_sum / (double)sum->frames;
@@ -449,6 +455,7 @@ done:
     free(st.present_ms.v);
     free(st.frame_ms.v);
     free(st.distortion_ms.v);
+    free(st.to_present_ms.v);
     rnd_distortion_destroy(st.distortion);
     rpl_session_close(&st.s); /* the renderer before the window it draws in */
     rnd_window_destroy(st.window);
@@ -468,6 +475,8 @@ void rpl_live_summary_print(FILE *f, const struct rpl_live_summary *s)
             s->present_p99_ms, s->present_stddev_ms, s->present_max_ms);
     fprintf(f, "  frame ms: mean %.3f  p99 %.3f (budget %.3f); distortion pass ms: mean %.3f  p99 %.3f\n",
             s->frame_mean_ms, s->frame_p99_ms, s->budget_ms, s->distortion_mean_ms, s->distortion_p99_ms);
+    fprintf(f, "  frame start to present ms: mean %.3f  p99 %.3f (pose predicted to the slot's time)\n",
+            s->to_present_mean_ms, s->to_present_p99_ms);
     fprintf(f, "  triangles per eye: mean %.0f; optimizer us: mean %.1f\n", s->triangles_mean, s->optimizer_us_mean);
     if (s->tracker_losses || s->tracker_resumes)
         fprintf(f, "  tracker: lost %ld times, resumed %ld times\n", s->tracker_losses, s->tracker_resumes);

@@ -28,6 +28,7 @@ struct rpl_live_summary {
     int self_paced;              /* 1: paced on the monotonic clock (swap interval did not throttle) */
     double present_median_ms, present_p99_ms, present_stddev_ms, present_max_ms; /* intervals */
     double frame_mean_ms, frame_p99_ms, distortion_mean_ms, distortion_p99_ms;
+    double to_present_mean_ms, to_present_p99_ms; /* frame start (pose asked for) to the swap's return */
     double triangles_mean, optimizer_us_mean;
     long deadlines_met;
     int window_w, window_h, has_lens;

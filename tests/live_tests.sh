@@ -10,6 +10,19 @@ tmp=$(mktemp -d /tmp/hmdlod-live-XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+here=$(cd "$(dirname "$0")" && pwd)
+# probe FILE POINTS...: tests/png_probe.py's lines (RGB at points, distinct colours per half); empty
+# (and a note) without python3.
+probe() {
+  command -v python3 >/dev/null || { echo "note: no python3: pixel checks of $1 skipped" >&2; return 0; }
+  python3 "$here/png_probe.py" "$@"
+}
+# rendered FILE MIN: both halves (both eyes) hold at least MIN distinct colours: something was drawn.
+rendered() {
+  local out; out=$(probe "$1") || return 1
+  [ -z "$out" ] && return 0
+  awk -v m="$2" '/^half/ { if ($2 < m) bad = 1; n++ } END { exit !(n == 2 && !bad) }' <<<"$out"
+}
 
 # png_size FILE: "W H" from the IHDR chunk, or nothing when FILE is not a PNG.
 png_size() {
@@ -28,6 +41,7 @@ grep -Eq "frames 120, missed [0-9]+" "$tmp/out" || fail "acceptance: not 120 fra
 size=$(png_size "$tmp/live.png") || fail "acceptance: $tmp/live.png is not a PNG"
 window=$(grep -o "window [0-9]* x [0-9]*" "$tmp/out" | awk '{ print $2, $4 }')
 [ "$size" = "$window" ] || fail "acceptance: PNG is '$size', the window '$window'"
+rendered "$tmp/live.png" 50 || fail "acceptance: the PNG does not show two rendered eye views: $(probe "$tmp/live.png")"
 stray=$(ls "$tmp" | grep -v -E '^(out|err|live\.png)$')
 [ -z "$stray" ] || fail "acceptance: files left beside the capture: $stray"
 
@@ -61,6 +75,23 @@ xvfb-run -a "$bin" live --device none --display dk2 --scene auditorium --frames 
   --window-size 480x270 --capture "$tmp/dk2.png" --quiet >"$tmp/out" 2>"$tmp/err" || fail "dk2: $(cat "$tmp/err")"
 grep -q "with the profile's lens and aberration" "$tmp/out" || fail "dk2: lens not used: $(cat "$tmp/out")"
 [ "$(png_size "$tmp/dk2.png")" = "480 270" ] || fail "dk2: capture size"
+rendered "$tmp/dk2.png" 20 || fail "dk2: nothing drawn in an eye"
+out=$(probe "$tmp/dk2.png" 0.005,0.01 0.995,0.99 0.25,0.5 0.75,0.5)
+if [ -n "$out" ]; then
+  awk '$1 ~ /^0\.(005|995)/ && ($2 + $3 + $4) != 0 { bad = 1 }
+       $1 ~ /^0\.(25|75),/ && ($2 + $3 + $4) == 0 { bad = 1 } END { exit bad }' <<<"$out" \
+    || fail "dk2: the corners should be outside the lens (black) and the lens centres drawn: $out"
+fi
+
+# An empty analysis cache: the session runs Reddy's offline analysis in a headless EGL context
+# while the window's context exists, then draws in the window again (render/egl_context.c's owner).
+mkdir -p "$tmp/cache"
+HMDLOD_CACHE_DIR="$tmp/cache" xvfb-run -a "$bin" live --device none --display dk2 --scene field --frames 5 \
+  --render-scale 0.25 --window-size 320x180 --capture "$tmp/fresh.png" --quiet >"$tmp/out" 2>"$tmp/err" \
+  || fail "fresh cache: $(cat "$tmp/err")"
+grep -q "analysed" "$tmp/err" || fail "fresh cache: no analysis ran: $(cat "$tmp/err")"
+[ "$(png_size "$tmp/fresh.png")" = "320 180" ] || fail "fresh cache: capture"
+rendered "$tmp/fresh.png" 20 || fail "fresh cache: the window shows nothing after the headless analysis"
 
 echo "live tests: $failures failed"
 [ $failures -eq 0 ]

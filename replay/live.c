@@ -126,6 +126,18 @@ static void record_abort(struct live_record *r)
     }
 }
 
+/* With a tracker, --record FILE also keeps the raw reports (tracking/recording.h) in FILE with
+ * .csv replaced by .raw (or .raw appended): `hmdlod replay --raw` replays them through the parser
+ * and fusion again. */
+static void raw_path_of(const char *csv, char *out, size_t size)
+{
+    size_t n = strlen(csv);
+    if (n > 4 && strcmp(csv + n - 4, ".csv") == 0)
+        snprintf(out, size, "%.*s.raw", (int)(n - 4), csv);
+    else
+        snprintf(out, size, "%s.raw", csv);
+}
+
 /* The pose source: a tracker (auto: the first found, else the desk), or the desk with --device none. */
 static int open_source(const struct rpl_live_options *o, struct trk_pose_source **src, int *is_desk,
                        struct hl_error *err)
@@ -422,6 +434,11 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     if (rnd_distortion_create(st.s.renderer, &st.s.display, ww, wh, 0, &st.distortion, err) != 0 ||
         record_open(&st.record, o->record_path, err) != 0)
         goto done;
+    if (o->record_path && !st.is_desk) {
+        raw_path_of(o->record_path, sum->raw_record, sizeof sum->raw_record);
+        if (trk_tracker_source_record(st.s.source, sum->raw_record, err) != 0)
+            goto done;
+    }
     snprintf(sum->scene, sizeof sum->scene, "%s", so->scene);
     snprintf(sum->selector, sizeof sum->selector, "%s", so->selector);
     st.started_mb = st.s.selector == RPL_SELECT_MB;
@@ -441,8 +458,14 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     if (live_interrupted)
         fprintf(stderr, "hmdlod: interrupted: finishing the session\n");
     finish_summary(&st, rate_hz, sum);
-    if (record_commit(&st.record, err) != 0)
+    if (record_commit(&st.record, err) != 0 ||
+        (sum->raw_record[0] && trk_tracker_source_record(st.s.source, NULL, err) != 0))
         goto done;
+    if (sum->raw_record[0]) {
+        struct trk_tracker_stats ts;
+        if (trk_tracker_source_stats(st.s.source, &ts) == 0)
+            sum->raw_reports = (long)ts.recorded;
+    }
     if (o->capture_path && sum->frames > 0) {
         /* The FBO still holds the last frame: draw it once more to the back buffer and read that. */
         if (rnd_distortion_draw(st.distortion, 1, err) != 0 || capture_write(st.window, o->capture_path, err) != 0)
@@ -482,4 +505,6 @@ void rpl_live_summary_print(FILE *f, const struct rpl_live_summary *s)
         fprintf(f, "  tracker: lost %ld times, resumed %ld times\n", s->tracker_losses, s->tracker_resumes);
     if (s->capture[0])
         fprintf(f, "  capture: %s\n", s->capture);
+    if (s->raw_record[0])
+        fprintf(f, "  raw recording: %s (%ld reports)\n", s->raw_record, s->raw_reports);
 }

@@ -14,7 +14,8 @@ struct rpl_live_options {
     int monitor;              /* −1: a window on the desktop; else fullscreen on that monitor */
     long frames;              /* 0: until Esc, the window's close button or SIGINT */
     const char *capture_path; /* PNG of the distorted output at the end (and on key C); NULL: none */
-    const char *record_path;  /* head trace CSV (t_s,qw,qx,qy,qz) of the session; NULL: none */
+    const char *record_path;  /* head trace CSV (t_s,qw,qx,qy,qz) of the session; NULL: none. With a
+                               * tracker also its raw reports, .csv replaced by .raw */
     double yaw_degps;         /* desk: scripted yaw rate added to the mouse (deterministic motion) */
     double rate_hz;           /* 0: the display profile's refresh */
     int quiet_status;         /* no status line on the terminal */
@@ -35,6 +36,8 @@ struct rpl_live_summary {
     long tracker_losses, tracker_resumes;
     char source[96], display[64], scene[64], selector[32], renderer[128], pacing[160];
     char capture[512];          /* path written, or empty */
+    char raw_record[512];       /* the tracker's raw recording beside --record's CSV, or empty */
+    long raw_reports;
 };
 
 /* Runs a live session until its frames are done or the user stops it; fills *summary. 0 or −1 with err. */

@@ -201,6 +201,26 @@ int main(void)
     CHECK(s.tracker_resumes == 1);
     CHECK(s.frames >= 30);
     CHECK(strcmp(s.capture, capture) == 0 && access(capture, R_OK) == 0);
+    /* The raw recording beside the CSV: every report the tracker read, across the replug. */
+    char raw[256];
+    snprintf(raw, sizeof raw, "%s/head.raw", dir);
+    CHECK(strcmp(s.raw_record, raw) == 0);
+    struct trk_recording_reader *rd = trk_recording_open(raw, &err);
+    CHECK(rd != NULL);
+    long records = 0;
+    if (rd) {
+        int64_t t_ns;
+        uint8_t buf[TRK_RECORDING_MAX_REPORT];
+        int r;
+        size_t len;
+        while ((r = trk_recording_next(rd, &t_ns, buf, sizeof buf, &len, &err)) == 1)
+            ++records;
+        CHECK(r == 0);
+        trk_recording_reader_close(rd);
+    }
+    printf("raw recording: %ld records (%ld in the summary)\n", records, s.raw_reports);
+    CHECK(records == s.raw_reports && records >= 100);
+    remove(raw);
 
     /* The head trace: rows of the session; yaw turning while streaming, held while unplugged. */
     FILE *f = fopen(record, "r");

@@ -122,6 +122,8 @@ static int pacing_table(long frames)
     bench_emit("| %.3f | %.3f | %.3f | %.3f | %ld | %.3f | %.3f | %.3f | %.3f | %.3f |\n\n", s.present_median_ms,
                s.present_p99_ms, s.present_stddev_ms, s.present_max_ms, s.missed_frames, s.frame_mean_ms, s.frame_p99_ms,
                s.distortion_mean_ms, s.to_present_mean_ms, s.to_present_p99_ms);
+    bench_emit("Between two frames that both made their slots (%ld intervals): median %.3f ms, p99 %.3f ms, "
+               "stddev %.3f ms.\n\n", s.on_time_intervals, s.on_time_median_ms, s.on_time_p99_ms, s.on_time_stddev_ms);
     FILE *load = fopen("/proc/loadavg", "r");
     double l1 = -1;
     if (load) {

@@ -204,6 +204,7 @@ struct live_state {
     struct rnd_distortion *distortion;
     struct live_record record;
     struct live_series present_ms, frame_ms, distortion_ms, to_present_ms;
+    struct live_series on_time_ms; /* intervals ending in a frame that made its slot (and followed one that did) */
     int is_desk, tracker_lost, tracker_seen_ok, want_capture, started_mb;
     long captures;
     double triangles_sum, optimizer_sum;
@@ -321,6 +322,7 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
         rnd_window_set_swap_interval(st->window, 0); /* it did not throttle: nothing to gain, only jitter */
     rpl_pacer_init(&pacer, rate_hz, sum->self_paced, hl_clock_now_ns());
     int64_t last_status_ns = hl_clock_now_ns();
+    int prev_on_time = 1;
     char why[256];
     for (long f = 0; o->frames == 0 || f < o->frames; ++f) {
         rnd_window_poll(st->window);
@@ -344,6 +346,7 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
             fprintf(stderr, "hmdlod: captured %s\n", path);
             st->want_capture = 0;
         }
+        long missed_before = pacer.missed;
         rpl_pacer_wait(&pacer);
         rnd_window_swap(st->window);
         int64_t present_ns = hl_clock_now_ns();
@@ -354,9 +357,12 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
         struct trk_pose pose;
         if (st->record.f && trk_source_pose_at(s->source, display_s, &pose, err) == 0)
             record_row(&st->record, &pose);
-        if ((f > 0 && series_push(&st->present_ms, interval_ms) != 0) || series_push(&st->frame_ms, rec.frame_ms) != 0 ||
+        int on_time = pacer.missed == missed_before;
+        if ((f > 0 && on_time && prev_on_time && series_push(&st->on_time_ms, interval_ms) != 0) ||
+            (f > 0 && series_push(&st->present_ms, interval_ms) != 0) || series_push(&st->frame_ms, rec.frame_ms) != 0 ||
             series_push(&st->distortion_ms, dist_ms) != 0 || series_push(&st->to_present_ms, to_present_ms) != 0)
             return hl_fail(err, "live: out of memory for frame times");
+        prev_on_time = on_time;
         st->triangles_sum += (double)rec.triangles_per_eye;
         st->optimizer_sum += rec.select_us;
         sum->deadlines_met += rec.frame_ms + dist_ms <= s->select.budget_ms;
@@ -380,6 +386,8 @@ static void finish_summary(struct live_state *st, double rate_hz, struct rpl_liv
                  &sum->present_max_ms);
     series_stats(&st->frame_ms, &sum->frame_mean_ms, NULL, NULL, &sum->frame_p99_ms, NULL);
     series_stats(&st->distortion_ms, &sum->distortion_mean_ms, NULL, NULL, &sum->distortion_p99_ms, NULL);
+    series_stats(&st->on_time_ms, NULL, &sum->on_time_stddev_ms, &sum->on_time_median_ms, &sum->on_time_p99_ms, NULL);
+    sum->on_time_intervals = st->on_time_ms.n;
     series_stats(&st->to_present_ms, &sum->to_present_mean_ms, NULL, NULL, &sum->to_present_p99_ms, NULL);
     if (sum->frames > 0) {
         sum->triangles_mean = st->triangles_sum / (double)sum->frames;
@@ -479,6 +487,7 @@ done:
     free(st.frame_ms.v);
     free(st.distortion_ms.v);
     free(st.to_present_ms.v);
+    free(st.on_time_ms.v);
     rnd_distortion_destroy(st.distortion);
     rpl_session_close(&st.s); /* the renderer before the window it draws in */
     rnd_window_destroy(st.window);
@@ -496,6 +505,8 @@ void rpl_live_summary_print(FILE *f, const struct rpl_live_summary *s)
             s->missed_frames, s->deadlines_met);
     fprintf(f, "  present interval ms: median %.3f  p99 %.3f  stddev %.3f  max %.3f\n", s->present_median_ms,
             s->present_p99_ms, s->present_stddev_ms, s->present_max_ms);
+    fprintf(f, "  between frames that made their slots (%ld): median %.3f  p99 %.3f  stddev %.3f\n", s->on_time_intervals,
+            s->on_time_median_ms, s->on_time_p99_ms, s->on_time_stddev_ms);
     fprintf(f, "  frame ms: mean %.3f  p99 %.3f (budget %.3f); distortion pass ms: mean %.3f  p99 %.3f\n",
             s->frame_mean_ms, s->frame_p99_ms, s->budget_ms, s->distortion_mean_ms, s->distortion_p99_ms);
     fprintf(f, "  frame start to present ms: mean %.3f  p99 %.3f (pose predicted to the slot's time)\n",

@@ -28,6 +28,10 @@ struct rpl_live_summary {
     double rate_hz, period_ms, budget_ms;
     int self_paced;              /* 1: paced on the monotonic clock (swap interval did not throttle) */
     double present_median_ms, present_p99_ms, present_stddev_ms, present_max_ms; /* intervals */
+    /* The same over the intervals between two frames that both made their slots: the pacing's own
+     * jitter, without the frames that did not fit (the issue's "when the frame fits its budget"). */
+    double on_time_median_ms, on_time_p99_ms, on_time_stddev_ms;
+    long on_time_intervals;
     double frame_mean_ms, frame_p99_ms, distortion_mean_ms, distortion_p99_ms;
     double to_present_mean_ms, to_present_p99_ms; /* frame start (pose asked for) to the swap's return */
     double triangles_mean, optimizer_us_mean;

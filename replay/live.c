@@ -323,6 +323,7 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
     rpl_pacer_init(&pacer, rate_hz, sum->self_paced, hl_clock_now_ns());
     int64_t last_status_ns = hl_clock_now_ns();
     int prev_on_time = 1;
+    int64_t last_work_ns = 0; /* the previous frame's work (start to ready to swap): the next one's estimate */
     char why[256];
     for (long f = 0; o->frames == 0 || f < o->frames; ++f) {
         rnd_window_poll(st->window);
@@ -330,6 +331,8 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
             break;
         check_health(st, sum, why, sizeof why);
         int64_t start_ns = hl_clock_now_ns();
+        long missed_before = pacer.missed;
+        rpl_pacer_plan(&pacer, last_work_ns);
         double display_s = (double)rpl_pacer_due_ns(&pacer) * 1e-9;
         struct rpl_frame_record rec;
         if (rpl_frame_run(s, f, display_s, &rec, err) != 0)
@@ -346,7 +349,7 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
             fprintf(stderr, "hmdlod: captured %s\n", path);
             st->want_capture = 0;
         }
-        long missed_before = pacer.missed;
+        last_work_ns = hl_clock_now_ns() - start_ns;
         rpl_pacer_wait(&pacer);
         rnd_window_swap(st->window);
         int64_t present_ns = hl_clock_now_ns();

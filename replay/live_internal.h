@@ -21,6 +21,10 @@ struct rpl_pacer {
 };
 void rpl_pacer_init(struct rpl_pacer *p, double rate_hz, int self_paced, int64_t now_ns);
 int64_t rpl_pacer_due_ns(const struct rpl_pacer *p); /* the next frame's display time */
+/* Before a frame (self-paced): when now + expected_work_ns (the last frame's work) is past the due
+ * slot, moves to the first slot the frame can make, counting the skipped ones as missed, so that the
+ * pose is predicted to when the frame will really be shown. */
+void rpl_pacer_plan(struct rpl_pacer *p, int64_t expected_work_ns);
 /* Before the swap: waits (self-paced) until the slot, counts missed slots when late. */
 void rpl_pacer_wait(struct rpl_pacer *p);
 /* After the swap returned at present_ns: the interval since the previous present (0 for the first). */

@@ -23,6 +23,20 @@ void rpl_pacer_init(struct rpl_pacer *p, double rate_hz, int self_paced, int64_t
 
 int64_t rpl_pacer_due_ns(const struct rpl_pacer *p) { return p->t0_ns + p->slot * p->period_ns; }
 
+void rpl_pacer_plan(struct rpl_pacer *p, int64_t expected_work_ns)
+{
+    if (!p->self_paced)
+        return; /* the display decides; rpl_pacer_presented follows it */
+    int64_t due = rpl_pacer_due_ns(p), ready = hl_clock_now_ns() + (expected_work_ns > 0 ? expected_work_ns : 0);
+    if (ready > due) {
+        /* It cannot make its slot: aim at the first one it can (its pose predicted to that), as a
+         * display with vsync would show it; the slots skipped are missed. */
+        long late = (long)((ready - due + p->period_ns - 1) / p->period_ns);
+        p->missed += late;
+        p->slot += late;
+    }
+}
+
 static void sleep_until_ns(int64_t t_ns)
 {
     struct timespec ts = {(time_t)(t_ns / 1000000000), (long)(t_ns % 1000000000)};

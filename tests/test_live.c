@@ -39,6 +39,15 @@ static void test_pacer(void)
     CHECK(p.slot == slot + p.missed);
     rpl_pacer_presented(&p, hl_clock_now_ns());
     CHECK(rpl_pacer_due_ns(&p) > hl_clock_now_ns() - 1000000);
+    /* Planned: a frame expected to take 12 ms from a slot 5 ms away aims two slots later. */
+    rpl_pacer_init(&p, 200.0, 1, hl_clock_now_ns()); /* first slot 5 ms ahead */
+    int64_t first = rpl_pacer_due_ns(&p);
+    rpl_pacer_plan(&p, 12000000);
+    CHECK(p.missed >= 2 && p.missed <= 3); /* 2 unless this thread stalled for milliseconds */
+    CHECK(rpl_pacer_due_ns(&p) == first + p.missed * 5000000);
+    long planned = p.missed;
+    rpl_pacer_plan(&p, 0); /* now it fits: nothing changes */
+    CHECK(p.missed == planned);
     /* Throttled (the swap waits): wait returns at once; a present two periods after the last counts one missed. */
     rpl_pacer_init(&p, 100.0, 0, 0);
     rpl_pacer_presented(&p, 1000000000);

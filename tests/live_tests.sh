@@ -11,6 +11,9 @@ trap 'rm -rf "$tmp"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 here=$(cd "$(dirname "$0")" && pwd)
+# xvfb-run -a takes the first free display number from 99 up, and two started at once (other test
+# programs, other users of the machine) can pick the same one: start the search at a random number.
+xvfb() { xvfb-run -a -n $((200 + RANDOM % 5000)) "$@"; }
 # probe FILE POINTS...: tests/png_probe.py's lines (RGB at points, distinct colours per half); empty
 # (and a note) without python3.
 probe() {
@@ -31,7 +34,7 @@ png_size() {
 }
 
 # The acceptance command.
-xvfb-run -a "$bin" live --device none --display vive --scene auditorium --frames 120 --capture "$tmp/live.png" \
+xvfb "$bin" live --device none --display vive --scene auditorium --frames 120 --capture "$tmp/live.png" \
   >"$tmp/out" 2>"$tmp/err"
 rc=$?
 [ $rc -eq 0 ] || fail "acceptance: exit $rc: $(tail -3 "$tmp/err")"
@@ -47,7 +50,7 @@ stray=$(ls "$tmp" | grep -v -E '^(out|err|live\.png)$')
 
 # Esc/close/SIGINT: a session without --frames stopped by SIGINT prints its summary and leaves a
 # complete head trace (no .partial) that replay reads back.
-xvfb-run -a bash -c '"$0" live --device none --display dk2 --scene field --render-scale 0.25 --window-size 320x180 \
+xvfb bash -c '"$0" live --device none --display dk2 --scene field --render-scale 0.25 --window-size 320x180 \
     --yaw-degps 30 --record "$1/head.csv" --quiet >"$1/int.out" 2>"$1/int.err" & pid=$!; sleep 4; kill -INT $pid; wait $pid' \
   "$bin" "$tmp"
 rc=$?
@@ -64,14 +67,14 @@ awk -F, 'END { exit !($4 > 0.01 || $4 < -0.01) }' "$tmp/head.csv" || fail "SIGIN
   2>"$tmp/re.err" || fail "the recorded head trace does not replay: $(cat "$tmp/re.err")"
 
 # Monitors: Xvfb's one screen, and the note on non-desktop headsets.
-out=$(xvfb-run -a "$bin" live --list-monitors 2>&1) || fail "--list-monitors: $out"
+out=$(xvfb "$bin" live --list-monitors 2>&1) || fail "--list-monitors: $out"
 grep -q "non-desktop" <<<"$out" || fail "--list-monitors: no non-desktop note: $out"
 grep -Eq "^0 +[^ ]+ +[0-9]+x[0-9]+" <<<"$out" || fail "--list-monitors: no monitor 0: $out"
-xvfb-run -a "$bin" live --device none --monitor 5 --frames 2 >/dev/null 2>"$tmp/err"
+xvfb "$bin" live --device none --monitor 5 --frames 2 >/dev/null 2>"$tmp/err"
 [ $? -eq 1 ] && grep -q "there are 1 monitors" "$tmp/err" || fail "--monitor 5: $(cat "$tmp/err")"
 
 # DK2 (PanoTools lens): the window's corners are outside the lens (black), its lens centres are not.
-xvfb-run -a "$bin" live --device none --display dk2 --scene auditorium --frames 3 --render-scale 0.25 \
+xvfb "$bin" live --device none --display dk2 --scene auditorium --frames 3 --render-scale 0.25 \
   --window-size 480x270 --capture "$tmp/dk2.png" --quiet >"$tmp/out" 2>"$tmp/err" || fail "dk2: $(cat "$tmp/err")"
 grep -q "with the profile's lens and aberration" "$tmp/out" || fail "dk2: lens not used: $(cat "$tmp/out")"
 [ "$(png_size "$tmp/dk2.png")" = "480 270" ] || fail "dk2: capture size"
@@ -86,7 +89,7 @@ fi
 # An empty analysis cache: the session runs Reddy's offline analysis in a headless EGL context
 # while the window's context exists, then draws in the window again (render/egl_context.c's owner).
 mkdir -p "$tmp/cache"
-HMDLOD_CACHE_DIR="$tmp/cache" xvfb-run -a "$bin" live --device none --display dk2 --scene field --frames 5 \
+HMDLOD_CACHE_DIR="$tmp/cache" xvfb "$bin" live --device none --display dk2 --scene field --frames 5 \
   --render-scale 0.25 --window-size 320x180 --capture "$tmp/fresh.png" --quiet >"$tmp/out" 2>"$tmp/err" \
   || fail "fresh cache: $(cat "$tmp/err")"
 grep -q "analysed" "$tmp/err" || fail "fresh cache: no analysis ran: $(cat "$tmp/err")"

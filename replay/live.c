@@ -211,17 +211,21 @@ struct live_state {
 };
 
 /* S: the next selector (mb only when the session started with it: it needs the groups' state). */
+static const enum rpl_selector live_selectors[] = {RPL_SELECT_NONE, RPL_SELECT_REDDY, RPL_SELECT_STATIC,
+                                                   RPL_SELECT_FEEDBACK, RPL_SELECT_FS, RPL_SELECT_MB};
+static const char *const live_selector_names[] = {"none", "reddy", "static", "feedback", "fs", "mb"};
+static int selector_index(enum rpl_selector sel)
+{
+    int k = 0;
+    while (k < 5 && live_selectors[k] != sel)
+        ++k;
+    return k;
+}
 static void next_selector(struct rpl_session *s, int started_mb)
 {
-    static const enum rpl_selector order[] = {RPL_SELECT_NONE, RPL_SELECT_REDDY, RPL_SELECT_STATIC,
-                                              RPL_SELECT_FEEDBACK, RPL_SELECT_FS, RPL_SELECT_MB};
-    static const char *const names[] = {"none", "reddy", "static", "feedback", "fs", "mb"};
-    int n = started_mb ? 6 : 5, k = 0;
-    while (k < n && order[k] != s->select.selector)
-        ++k;
-    k = (k + 1) % n;
-    s->select.selector = s->selector = order[k];
-    fprintf(stderr, "hmdlod: selector %s\n", names[k]);
+    int n = started_mb ? 6 : 5, k = (selector_index(s->select.selector) + 1) % n;
+    s->select.selector = s->selector = live_selectors[k];
+    fprintf(stderr, "hmdlod: selector %s\n", live_selector_names[k]);
 }
 
 /* Keys (docs/live.md): Esc or Q quits; S switches the selector; + and − change the budget by 1 ms;
@@ -385,6 +389,11 @@ static void finish_summary(struct live_state *st, double rate_hz, struct rpl_liv
     sum->rate_hz = rate_hz;
     sum->period_ms = 1000.0 / rate_hz;
     sum->budget_ms = st->s.select.budget_ms;
+    /* As the keys left them (S, V, E, G). */
+    snprintf(sum->selector, sizeof sum->selector, "%s", live_selector_names[selector_index(st->s.select.selector)]);
+    snprintf(sum->gaze, sizeof sum->gaze, "%s", acu_gaze_model_name(st->s.gaze));
+    sum->velocity_term = st->s.limits.use_velocity;
+    sum->eccentricity_term = st->s.limits.use_eccentricity;
     series_stats(&st->present_ms, NULL, &sum->present_stddev_ms, &sum->present_median_ms, &sum->present_p99_ms,
                  &sum->present_max_ms);
     series_stats(&st->frame_ms, &sum->frame_mean_ms, NULL, NULL, &sum->frame_p99_ms, NULL);
@@ -503,6 +512,8 @@ void rpl_live_summary_print(FILE *f, const struct rpl_live_summary *s)
             s->selector, s->source);
     fprintf(f, "  window %d x %d, distortion pass %s\n", s->window_w, s->window_h,
             s->has_lens ? "with the profile's lens and aberration" : "undistorted (the profile has no lens coefficients)");
+    fprintf(f, "  model: gaze %s, velocity term %s, eccentricity term %s\n", s->gaze, s->velocity_term ? "on" : "off",
+            s->eccentricity_term ? "on" : "off");
     fprintf(f, "  pacing: %.6g Hz (%.3f ms), %s\n", s->rate_hz, s->period_ms, s->pacing);
     fprintf(f, "  frames %ld, missed %ld (refresh slots without a new frame), within budget %ld\n", s->frames,
             s->missed_frames, s->deadlines_met);

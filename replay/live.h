@@ -39,6 +39,8 @@ struct rpl_live_summary {
     int window_w, window_h, has_lens;
     long tracker_losses, tracker_resumes;
     char source[96], display[64], scene[64], selector[32], renderer[128], pacing[160];
+    char gaze[16];                  /* at the end (keys change it, as they do the selector and terms) */
+    int velocity_term, eccentricity_term;
     char capture[512];          /* path written, or empty */
     char raw_record[512];       /* the tracker's raw recording beside --record's CSV, or empty */
     long raw_reports;

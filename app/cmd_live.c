@@ -11,7 +11,7 @@ static const char live_usage[] =
     "usage: hmdlod live --display NAME|FILE --device auto|PATH|none --scene NAME|FILE [--monitor NAME|INDEX]\n"
     "                   [--windowed] [--selector NAME] [--budget-ms T] [--frames N] [--capture FILE]\n"
     "                   [--record FILE] [--yaw-degps V] [--rate HZ] [--render-scale F] [--window-size WxH]\n"
-    "                   [--objects N] [--gaze MODEL]"
+    "                   [--objects N] [--log FILE] [--gaze MODEL]"
     " [--quiet]\n"
     "       hmdlod live --list-monitors\n"
     "  A live session: both eyes drawn by the same frame function as replay, then the lens distortion\n"
@@ -28,6 +28,9 @@ static const char live_usage[] =
     "  --frames N         stop after N frames (default: run until Esc, the window closes or Ctrl-C)\n"
     "  --capture FILE     write the distorted output of the last frame as a PNG\n"
     "  --record FILE      write the session's head motion as a trace CSV (t_s,qw,qx,qy,qz)\n"
+    "  --log FILE         one CSV row per frame: frame and display time, frame, distortion, present\n"
+    "                     interval and start-to-present ms, missed slots so far, on time, triangles,\n"
+    "                     head speed, tracking (docs/live.md)\n"
     "  --yaw-degps V      desk: a scripted yaw of V deg/s added to the mouse (default 0; deterministic)\n"
     "  --rate HZ          frame rate (default: the display profile's refresh)\n"
     "  --render-scale F   per-eye resolution factor in (0, 4] (default 1)\n"
@@ -143,6 +146,8 @@ int cmd_live(int argc, char **argv)
             o.capture_path = val;
         else if (!strcmp(opt, "--record"))
             o.record_path = val;
+        else if (!strcmp(opt, "--log"))
+            o.log_path = val;
         else if (!strcmp(opt, "--gaze"))
             so.gaze = val;
         else if (!strcmp(opt, "--frames")) {

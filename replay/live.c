@@ -79,7 +79,7 @@ struct live_record {
     long rows;
     int paused; /* key R: rows are not written while paused */
 };
-static int record_open(struct live_record *r, const char *path, struct hl_error *err)
+static int record_open_with(struct live_record *r, const char *path, const char *header, struct hl_error *err)
 {
     memset(r, 0, sizeof *r);
     if (!path)
@@ -90,9 +90,14 @@ static int record_open(struct live_record *r, const char *path, struct hl_error 
     r->f = fopen(r->tmp, "w");
     if (!r->f)
         return hl_fail(err, "--record %s: cannot write %s: %s", path, r->tmp, strerror(errno));
-    fprintf(r->f, "t_s,qw,qx,qy,qz\n"); /* docs/trace-format.md: replayable with hmdlod replay --trace */
+    fputs(header, r->f);
     r->t0_s = -1;
     return 0;
+}
+static int record_open(struct live_record *r, const char *path, struct hl_error *err)
+{
+    /* docs/trace-format.md: replayable with hmdlod replay --trace */
+    return record_open_with(r, path, "t_s,qw,qx,qy,qz\n", err);
 }
 static void record_row(struct live_record *r, const struct trk_pose *p)
 {
@@ -203,6 +208,7 @@ struct live_state {
     struct rnd_window *window;
     struct rnd_distortion *distortion;
     struct live_record record;
+    struct live_record log; /* --log: one row per frame (docs/live.md) */
     struct live_series present_ms, frame_ms, distortion_ms, to_present_ms;
     struct live_series on_time_ms; /* intervals ending in a frame that made its slot (and followed one that did) */
     int is_desk, tracker_lost, tracker_seen_ok, want_capture, started_mb;
@@ -365,6 +371,14 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
         if (st->record.f && trk_source_pose_at(s->source, display_s, &pose, err) == 0)
             record_row(&st->record, &pose);
         int on_time = pacer.missed == missed_before;
+        if (st->log.f) {
+            if (st->log.t0_s < 0)
+                st->log.t0_s = display_s;
+            fprintf(st->log.f, "%ld,%.6f,%.4f,%.4f,%.4f,%.4f,%ld,%d,%llu,%.3f,%d\n", f, display_s - st->log.t0_s,
+                    rec.frame_ms, dist_ms, interval_ms, to_present_ms, pacer.missed, on_time,
+                    (unsigned long long)rec.triangles_per_eye, rec.head_speed_degps, !st->tracker_lost);
+            st->log.rows++;
+        }
         if ((f > 0 && on_time && prev_on_time && series_push(&st->on_time_ms, interval_ms) != 0) ||
             (f > 0 && series_push(&st->present_ms, interval_ms) != 0) || series_push(&st->frame_ms, rec.frame_ms) != 0 ||
             series_push(&st->distortion_ms, dist_ms) != 0 || series_push(&st->to_present_ms, to_present_ms) != 0)
@@ -452,7 +466,10 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     int ww, wh;
     rnd_window_size(st.window, &ww, &wh);
     if (rnd_distortion_create(st.s.renderer, &st.s.display, ww, wh, 0, &st.distortion, err) != 0 ||
-        record_open(&st.record, o->record_path, err) != 0)
+        record_open(&st.record, o->record_path, err) != 0 ||
+        record_open_with(&st.log, o->log_path,
+                         "frame,t_s,frame_ms,distortion_ms,present_interval_ms,start_to_present_ms,missed_total,"
+                         "on_time,triangles_per_eye,head_degps,tracking\n", err) != 0)
         goto done;
     if (o->record_path && !st.is_desk) {
         raw_path_of(o->record_path, sum->raw_record, sizeof sum->raw_record);
@@ -478,7 +495,7 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     if (live_interrupted)
         fprintf(stderr, "hmdlod: interrupted: finishing the session\n");
     finish_summary(&st, rate_hz, sum);
-    if (record_commit(&st.record, err) != 0 ||
+    if (record_commit(&st.record, err) != 0 || record_commit(&st.log, err) != 0 ||
         (sum->raw_record[0] && trk_tracker_source_record(st.s.source, NULL, err) != 0))
         goto done;
     if (sum->raw_record[0]) {
@@ -495,6 +512,7 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     rc = 0;
 done:
     record_abort(&st.record);
+    record_abort(&st.log);
     free(st.present_ms.v);
     free(st.frame_ms.v);
     free(st.distortion_ms.v);

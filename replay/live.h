@@ -16,6 +16,7 @@ struct rpl_live_options {
     const char *capture_path; /* PNG of the distorted output at the end (and on key C); NULL: none */
     const char *record_path;  /* head trace CSV (t_s,qw,qx,qy,qz) of the session; NULL: none. With a
                                * tracker also its raw reports, .csv replaced by .raw */
+    const char *log_path;     /* per-frame CSV (times, present interval, missed slots); NULL: none */
     double yaw_degps;         /* desk: scripted yaw rate added to the mouse (deterministic motion) */
     double rate_hz;           /* 0: the display profile's refresh */
     int quiet_status;         /* no status line on the terminal */

@@ -51,7 +51,7 @@ stray=$(ls "$tmp" | grep -v -E '^(out|err|live\.png)$')
 # Esc/close/SIGINT: a session without --frames stopped by SIGINT prints its summary and leaves a
 # complete head trace (no .partial) that replay reads back.
 xvfb bash -c '"$0" live --device none --display dk2 --scene field --render-scale 0.25 --window-size 320x180 \
-    --yaw-degps 30 --record "$1/head.csv" --quiet >"$1/int.out" 2>"$1/int.err" & pid=$!; sleep 4; kill -INT $pid; wait $pid' \
+    --yaw-degps 30 --record "$1/head.csv" --log "$1/frames.csv" --quiet >"$1/int.out" 2>"$1/int.err" & pid=$!; sleep 4; kill -INT $pid; wait $pid' \
   "$bin" "$tmp"
 rc=$?
 [ $rc -eq 0 ] || fail "SIGINT: exit $rc: $(tail -3 "$tmp/int.err")"
@@ -61,6 +61,9 @@ grep -q "present interval ms" "$tmp/int.out" || fail "SIGINT: no summary: $(cat 
 rows=$(($(wc -l <"$tmp/head.csv") - 1))
 frames=$(grep -o "frames [0-9]*" "$tmp/int.out" | awk '{ print $2 }')
 [ "$rows" -ge 2 ] && [ "$rows" = "$frames" ] || fail "SIGINT: $rows trace rows for $frames frames"
+[ "$(($(wc -l <"$tmp/frames.csv") - 1))" = "$frames" ] && [ ! -e "$tmp/frames.csv.partial" ] \
+  || fail "SIGINT: the per-frame log does not have one complete row per frame"
+head -1 "$tmp/frames.csv" | grep -q "^frame,t_s,frame_ms,distortion_ms,present_interval_ms," || fail "SIGINT: log header"
 # The scripted yaw turns about +Y at 30 deg/s: the last row's quaternion has |qy| > 0.
 awk -F, 'END { exit !($4 > 0.01 || $4 < -0.01) }' "$tmp/head.csv" || fail "SIGINT: the head did not turn"
 "$bin" replay --trace "$tmp/head.csv" --scene field --render-scale 0.25 --selector none --quiet --out "$tmp/re" \

@@ -3,7 +3,6 @@
  * the wall clock at the display's refresh. Each frame's pose is asked of the pose source for that
  * frame's display time (its slot), so a tracker source predicts to it (tracking/hid.h). */
 #include <math.h>
-#include <errno.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,110 +24,10 @@ void rpl_live_options_defaults(struct rpl_live_options *o)
     o->yaw_degps = 0.0;
 }
 
-/* Growing arrays of per-frame times (a session without --frames runs until stopped). */
-struct live_series {
-    double *v;
-    long n, cap;
-};
-static int series_push(struct live_series *s, double x)
+/* The head trace CSV (docs/trace-format.md): replayable with hmdlod replay --trace. */
+static int trace_open(struct rpl_live_record *r, const char *path, struct hl_error *err)
 {
-    if (s->n == s->cap) {
-        long cap = s->cap ? 2 * s->cap : 1024;
-        double *v = realloc(s->v, (size_t)cap * sizeof *v);
-        if (!v)
-            return -1;
-        s->v = v, s->cap = cap;
-    }
-    s->v[s->n++] = x;
-    return 0;
-}
-static int compare_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-/* Mean, stddev (population), median, p99 (nearest rank) and max; sorts in place. */
-static void series_stats(struct live_series *s, double *mean, double *stddev, double *median, double *p99, double *max)
-{
-    double sum = 0, sq = 0;
-    for (long i = 0; i < s->n; ++i)
-        sum += s->v[i];
-    double m = s->n ? sum / (double)s->n : 0;
-    for (long i = 0; i < s->n; ++i)
-        sq += (s->v[i] - m) * (s->v[i] - m);
-    qsort(s->v, (size_t)s->n, sizeof *s->v, compare_double);
-    if (mean)
-        *mean = m;
-    if (stddev)
-        *stddev = s->n ? sqrt(sq / (double)s->n) : 0;
-    if (median)
-        *median = s->n ? (s->n % 2 ? s->v[s->n / 2] : 0.5 * (s->v[s->n / 2 - 1] + s->v[s->n / 2])) : 0;
-    if (p99) {
-        long k = (long)ceil(0.99 * (double)s->n) - 1;
-        *p99 = s->n ? s->v[k < 0 ? 0 : k] : 0;
-    }
-    if (max)
-        *max = s->n ? s->v[s->n - 1] : 0;
-}
-
-/* The head trace of the session, written beside its name and renamed when complete. */
-struct live_record {
-    FILE *f;
-    char path[4096], tmp[4096];
-    double t0_s;
-    long rows;
-    int paused; /* key R: rows are not written while paused */
-};
-static int record_open_with(struct live_record *r, const char *path, const char *header, struct hl_error *err)
-{
-    memset(r, 0, sizeof *r);
-    if (!path)
-        return 0;
-    if (snprintf(r->path, sizeof r->path, "%s", path) >= (int)sizeof r->path ||
-        snprintf(r->tmp, sizeof r->tmp, "%s.partial", path) >= (int)sizeof r->tmp)
-        return hl_fail(err, "--record %s: path too long", path);
-    r->f = fopen(r->tmp, "w");
-    if (!r->f)
-        return hl_fail(err, "--record %s: cannot write %s: %s", path, r->tmp, strerror(errno));
-    fputs(header, r->f);
-    r->t0_s = -1;
-    return 0;
-}
-static int record_open(struct live_record *r, const char *path, struct hl_error *err)
-{
-    /* docs/trace-format.md: replayable with hmdlod replay --trace */
-    return record_open_with(r, path, "t_s,qw,qx,qy,qz\n", err);
-}
-static void record_row(struct live_record *r, const struct trk_pose *p)
-{
-    if (!r->f || r->paused)
-        return;
-    if (r->t0_s < 0)
-        r->t0_s = p->time_s;
-    hl_quatd q = p->orientation;
-    fprintf(r->f, "%.6f,%.9f,%.9f,%.9f,%.9f\n", p->time_s - r->t0_s, q.w, q.x, q.y, q.z);
-    r->rows++;
-}
-static int record_commit(struct live_record *r, struct hl_error *err)
-{
-    if (!r->f)
-        return 0;
-    int bad = ferror(r->f);
-    bad |= fclose(r->f) != 0;
-    r->f = NULL;
-    if (bad || rename(r->tmp, r->path) != 0) {
-        remove(r->tmp);
-        return hl_fail(err, "--record %s: writing failed", r->path);
-    }
-    return 0;
-}
-static void record_abort(struct live_record *r)
-{
-    if (r->f) {
-        fclose(r->f);
-        remove(r->tmp);
-        r->f = NULL;
-    }
+    return rpl_live_record_open(r, path, "t_s,qw,qx,qy,qz\n", err);
 }
 
 /* With a tracker, --record FILE also keeps the raw reports (tracking/recording.h) in FILE with
@@ -207,10 +106,10 @@ struct live_state {
     struct rpl_session s;
     struct rnd_window *window;
     struct rnd_distortion *distortion;
-    struct live_record record;
-    struct live_record log; /* --log: one row per frame (docs/live.md) */
-    struct live_series present_ms, frame_ms, distortion_ms, to_present_ms;
-    struct live_series on_time_ms; /* intervals ending in a frame that made its slot (and followed one that did) */
+    struct rpl_live_record record;
+    struct rpl_live_record log; /* --log: one row per frame (docs/live.md) */
+    struct rpl_live_series present_ms, frame_ms, distortion_ms, to_present_ms;
+    struct rpl_live_series on_time_ms; /* intervals ending in a frame that made its slot (and followed one that did) */
     int is_desk, tracker_lost, tracker_seen_ok, want_capture, started_mb;
     long captures;
     double triangles_sum, optimizer_sum;
@@ -259,7 +158,7 @@ static int handle_keys(struct live_state *st, double dt_s)
             next_selector(s, st->started_mb);
         } else if (key == 'R') {
             struct hl_error rerr;
-            if (!st->record.f && record_open(&st->record, "hmdlod-live-head.csv", &rerr) != 0)
+            if (!st->record.f && trace_open(&st->record, "hmdlod-live-head.csv", &rerr) != 0)
                 fprintf(stderr, "hmdlod: %s\n", rerr.msg);
             else if (st->record.f) {
                 st->record.paused = !st->record.paused;
@@ -369,7 +268,7 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
         double to_present_ms = (double)(present_ns - start_ns) * 1e-6;
         struct trk_pose pose;
         if (st->record.f && trk_source_pose_at(s->source, display_s, &pose, err) == 0)
-            record_row(&st->record, &pose);
+            rpl_live_record_row(&st->record, &pose);
         int on_time = pacer.missed == missed_before;
         if (st->log.f) {
             if (st->log.t0_s < 0)
@@ -379,9 +278,9 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
                     (unsigned long long)rec.triangles_per_eye, rec.head_speed_degps, !st->tracker_lost);
             st->log.rows++;
         }
-        if ((f > 0 && on_time && prev_on_time && series_push(&st->on_time_ms, interval_ms) != 0) ||
-            (f > 0 && series_push(&st->present_ms, interval_ms) != 0) || series_push(&st->frame_ms, rec.frame_ms) != 0 ||
-            series_push(&st->distortion_ms, dist_ms) != 0 || series_push(&st->to_present_ms, to_present_ms) != 0)
+        if ((f > 0 && on_time && prev_on_time && rpl_live_series_push(&st->on_time_ms, interval_ms) != 0) ||
+            (f > 0 && rpl_live_series_push(&st->present_ms, interval_ms) != 0) || rpl_live_series_push(&st->frame_ms, rec.frame_ms) != 0 ||
+            rpl_live_series_push(&st->distortion_ms, dist_ms) != 0 || rpl_live_series_push(&st->to_present_ms, to_present_ms) != 0)
             return hl_fail(err, "live: out of memory for frame times");
         prev_on_time = on_time;
         st->triangles_sum += (double)rec.triangles_per_eye;
@@ -408,13 +307,13 @@ static void finish_summary(struct live_state *st, double rate_hz, struct rpl_liv
     snprintf(sum->gaze, sizeof sum->gaze, "%s", acu_gaze_model_name(st->s.gaze));
     sum->velocity_term = st->s.limits.use_velocity;
     sum->eccentricity_term = st->s.limits.use_eccentricity;
-    series_stats(&st->present_ms, NULL, &sum->present_stddev_ms, &sum->present_median_ms, &sum->present_p99_ms,
+    rpl_live_series_stats(&st->present_ms, NULL, &sum->present_stddev_ms, &sum->present_median_ms, &sum->present_p99_ms,
                  &sum->present_max_ms);
-    series_stats(&st->frame_ms, &sum->frame_mean_ms, NULL, NULL, &sum->frame_p99_ms, NULL);
-    series_stats(&st->distortion_ms, &sum->distortion_mean_ms, NULL, NULL, &sum->distortion_p99_ms, NULL);
-    series_stats(&st->on_time_ms, NULL, &sum->on_time_stddev_ms, &sum->on_time_median_ms, &sum->on_time_p99_ms, NULL);
+    rpl_live_series_stats(&st->frame_ms, &sum->frame_mean_ms, NULL, NULL, &sum->frame_p99_ms, NULL);
+    rpl_live_series_stats(&st->distortion_ms, &sum->distortion_mean_ms, NULL, NULL, &sum->distortion_p99_ms, NULL);
+    rpl_live_series_stats(&st->on_time_ms, NULL, &sum->on_time_stddev_ms, &sum->on_time_median_ms, &sum->on_time_p99_ms, NULL);
     sum->on_time_intervals = st->on_time_ms.n;
-    series_stats(&st->to_present_ms, &sum->to_present_mean_ms, NULL, NULL, &sum->to_present_p99_ms, NULL);
+    rpl_live_series_stats(&st->to_present_ms, &sum->to_present_mean_ms, NULL, NULL, &sum->to_present_p99_ms, NULL);
     if (sum->frames > 0) {
         sum->triangles_mean = st->triangles_sum / (double)sum->frames;
         sum->optimizer_us_mean = st->optimizer_sum / (double)sum->frames;
@@ -466,8 +365,8 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     int ww, wh;
     rnd_window_size(st.window, &ww, &wh);
     if (rnd_distortion_create(st.s.renderer, &st.s.display, ww, wh, 0, &st.distortion, err) != 0 ||
-        record_open(&st.record, o->record_path, err) != 0 ||
-        record_open_with(&st.log, o->log_path,
+        trace_open(&st.record, o->record_path, err) != 0 ||
+        rpl_live_record_open(&st.log, o->log_path,
                          "frame,t_s,frame_ms,distortion_ms,present_interval_ms,start_to_present_ms,missed_total,"
                          "on_time,triangles_per_eye,head_degps,tracking\n", err) != 0)
         goto done;
@@ -495,7 +394,7 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     if (live_interrupted)
         fprintf(stderr, "hmdlod: interrupted: finishing the session\n");
     finish_summary(&st, rate_hz, sum);
-    if (record_commit(&st.record, err) != 0 || record_commit(&st.log, err) != 0 ||
+    if (rpl_live_record_commit(&st.record, err) != 0 || rpl_live_record_commit(&st.log, err) != 0 ||
         (sum->raw_record[0] && trk_tracker_source_record(st.s.source, NULL, err) != 0))
         goto done;
     if (sum->raw_record[0]) {
@@ -511,8 +410,8 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     }
     rc = 0;
 done:
-    record_abort(&st.record);
-    record_abort(&st.log);
+    rpl_live_record_abort(&st.record);
+    rpl_live_record_abort(&st.log);
     free(st.present_ms.v);
     free(st.frame_ms.v);
     free(st.distortion_ms.v);

@@ -30,4 +30,27 @@ void rpl_pacer_wait(struct rpl_pacer *p);
 /* After the swap returned at present_ns: the interval since the previous present (0 for the first). */
 double rpl_pacer_presented(struct rpl_pacer *p, int64_t present_ns);
 
+/* Bookkeeping (live_io.c). A growing series of per-frame values, and its statistics: mean,
+ * population stddev, median, p99 (nearest rank), max (any may be NULL; sorts in place). */
+struct rpl_live_series {
+    double *v;
+    long n, cap;
+};
+int rpl_live_series_push(struct rpl_live_series *s, double x); /* 0, or −1 out of memory */
+void rpl_live_series_stats(struct rpl_live_series *s, double *mean, double *stddev, double *median, double *p99,
+                           double *max);
+/* A CSV written beside its name (".partial") and renamed by commit; abort removes it. path NULL:
+ * nothing is opened (rows are dropped). record_row writes a head-trace row (t from the first). */
+struct rpl_live_record {
+    FILE *f;
+    char path[4096], tmp[4096];
+    double t0_s;
+    long rows;
+    int paused; /* key R: rows are not written while paused */
+};
+int rpl_live_record_open(struct rpl_live_record *r, const char *path, const char *header, struct hl_error *err);
+void rpl_live_record_row(struct rpl_live_record *r, const struct trk_pose *p);
+int rpl_live_record_commit(struct rpl_live_record *r, struct hl_error *err);
+void rpl_live_record_abort(struct rpl_live_record *r);
+
 #endif

@@ -1,6 +1,7 @@
 /* replay/'s live pieces that need no window: the pacer (slots, missed slots when a frame is late,
  * intervals) and the desk pose source (scripted yaw, mouse look, angular velocity in the world). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -90,8 +91,27 @@ static void test_desk_source(void)
     CHECK(rpl_desk_source_create(0.0, NAN, &bad, &err) != 0 && bad == NULL);
 }
 
+/* The summary's statistics: population stddev, median, nearest-rank p99, max. */
+static void test_series(void)
+{
+    struct rpl_live_series s = {0};
+    int pushed = 0;
+    for (int i = 1; i <= 1500; ++i) /* 1500 … 1: past the first capacity (1024), so it grows */
+        pushed += rpl_live_series_push(&s, (double)(1501 - i)) == 0;
+    CHECK(pushed == 1500);
+    double mean, sd, median, p99, max;
+    rpl_live_series_stats(&s, &mean, &sd, &median, &p99, &max);
+    CHECK_NEAR(mean, 750.5, 1e-9);
+    CHECK_NEAR(sd, sqrt((1500.0 * 1500.0 - 1.0) / 12.0), 1e-9); /* uniform 1..n: variance (n²−1)/12 */
+    CHECK_NEAR(median, 750.5, 1e-12);
+    CHECK_NEAR(p99, 1485.0, 1e-12); /* ceil(0.99·1500) = the 1485th smallest */
+    CHECK_NEAR(max, 1500.0, 1e-12);
+    free(s.v);
+}
+
 int main(void)
 {
+    test_series();
     test_pacer();
     test_desk_source();
     return tu_finish("live");

@@ -19,6 +19,7 @@ static const struct bench benches[] = {
     {"lodgen", bench_lodgen, "LOD chain of the bunny: OpenMesh vs meshoptimizer time, triangles, Hausdorff error"},
     {"cull", bench_cull, "culling time, flat vs hierarchical, on 1k/10k/100k-object scenes under real head motion"},
     {"optimizer", bench_optimizer, "fs vs from-scratch greedy per frame (1k/10k/100k objects), turn, budget, limit, scaling"},
+    {"live", bench_live, "live session: distortion pass cost at the Vive's resolution, present intervals at 90 Hz"},
     {"gaze", bench_gaze, "gaze models head/vor/tracked vs none on real traces: triangles, frame time, saccades"},
 };
 #define N_BENCHES (sizeof benches / sizeof benches[0])

@@ -17,7 +17,35 @@ static const char usage[] =
     "  the head IMU or a control interface, and whether hmdlod can open it. When it cannot, the line\n"
     "  says which node, the system's reason and the fix (permissions: install the udev rules with\n"
     "  sudo scripts/install-udev-rules.sh; busy: another process holds it). docs/trackers.md lists\n"
-    "  the supported devices. Exits 0 when the list could be made, with or without devices.\n";
+    "  the supported devices. Then, through libusb, the supported headsets on USB with bus, port path\n"
+    "  and speed, which kernel driver holds each interface and its hidraw node — so a headset with no\n"
+    "  usable hidraw node (no driver bound, another driver, claimed by a program through libusb) is\n"
+    "  still listed, with the fix. Exits 0 when the list could be made, with or without devices.\n";
+
+/* The USB view (tracking/usb.h): printed only when a supported headset is on USB. */
+static void print_usb(void)
+{
+    struct trk_usb_device_desc *usb = calloc(MAX_DEVICES, sizeof *usb);
+    struct hl_error err;
+    int n = usb ? trk_usb_enumerate(usb, MAX_DEVICES, &err) : -1;
+    if (n < 0 && usb)
+        printf("USB (libusb): not listed: %s\n", err.msg);
+    for (int i = 0; i < n; ++i) {
+        const struct trk_usb_device_desc *u = &usb[i];
+        printf("USB %s (bus %d, address %d)  %s  %04x:%04x  %s speed\n", u->port_path, u->bus, u->address,
+               u->info->name, u->vid, u->pid, u->speed);
+        if (u->usb_node_why[0])
+            printf("    usb node: %s\n", u->usb_node_why);
+        for (int k = 0; k < u->interface_count; ++k) {
+            const struct trk_usb_interface *in = &u->interfaces[k];
+            printf("    interface %d%s: driver %s, %s\n", in->number, in->is_imu ? " (head IMU)" : "",
+                   in->driver[0] ? in->driver : "none", in->hidraw[0] ? in->hidraw : "no hidraw node");
+            if (in->fix[0])
+                printf("      fix: %s\n", in->fix);
+        }
+    }
+    free(usb);
+}
 
 int cmd_devices(int argc, char **argv)
 {
@@ -45,6 +73,7 @@ int cmd_devices(int argc, char **argv)
         char names[512];
         printf("no supported head tracker found (looked for: %s)\n", trk_hid_supported_list(names, sizeof names));
         free(list);
+        print_usb();
         return 0;
     }
     int usable = 0;
@@ -67,5 +96,6 @@ int cmd_devices(int argc, char **argv)
     printf("%d supported interface%s found, %d head IMU%s usable\n", n, n == 1 ? "" : "s", usable,
            usable == 1 ? "" : "s");
     free(list);
+    print_usb();
     return 0;
 }

@@ -8,6 +8,7 @@ int cmd_demo(int argc, char **argv);
 int cmd_display(int argc, char **argv);
 int cmd_acuity(int argc, char **argv);
 int cmd_replay(int argc, char **argv);
+int cmd_live(int argc, char **argv);    /* app/cmd_live.c: live session in a window, distortion pass */
 int cmd_bench(int argc, char **argv);   /* app/cmd_bench.c: measurements (bench tracking, …) */
 int cmd_record(int argc, char **argv);  /* app/cmd_record.c: tracker → raw recording */
 int cmd_convert(int argc, char **argv); /* app/cmd_convert.c: raw recording → trace CSV */

@@ -16,6 +16,7 @@ static const struct command commands[] = {
     {"display", cmd_display, "list built-in display profiles, or show one's pixels, FOV, xi and thresholds"},
     {"acuity", cmd_acuity, "evaluate Reddy's acuity model H(v, E) and min(H, xi)"},
     {"replay", cmd_replay, "replay a head-motion trace through a scene, writing per-frame CSV, summary, PNGs"},
+    {"live", cmd_live, "live session: a window or a headset's output, lens distortion, tracker or mouse look"},
     {"bench", cmd_bench, "measure and print figures with their context (bench tracking: tracker accuracy, speed)"},
     {"record", cmd_record, "record a head tracker's raw reports (with host times, CRC) to a raw recording"},
     {"convert", cmd_convert, "convert a raw recording into a head-motion trace CSV (same parser and fusion)"},

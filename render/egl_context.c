@@ -69,6 +69,7 @@ int rnd_egl_create(struct rnd_egl *e, struct hl_error *err)
         hl_fail(err, "renderer: cannot create an OpenGL 4.5 core context (EGL error 0x%x)", (unsigned)eglGetError());
         goto fail;
     }
+    rnd_window_release_current();
     if (!eglMakeCurrent(d, EGL_NO_SURFACE, EGL_NO_SURFACE, c)) {
         hl_fail(err, "renderer: eglMakeCurrent failed (EGL error 0x%x)", (unsigned)eglGetError());
         eglDestroyContext(d, c);
@@ -76,6 +77,7 @@ int rnd_egl_create(struct rnd_egl *e, struct hl_error *err)
     }
     e->display = d;
     e->context = c;
+    rnd_current_owner = e;
     rnd_egl_users++;
     return 0;
 fail:
@@ -84,11 +86,27 @@ fail:
     return -1;
 }
 
+/* Who made its context current last: a struct rnd_egl or a window (render/window.c). A process
+ * with both a headless context (the offline analysis, the cost model) and a window's GLX context
+ * switches between them; each side asks this, because neither EGL nor GLFW knows of the other's. */
+const void *rnd_current_owner;
+
 int rnd_egl_make_current(const struct rnd_egl *e)
 {
-    if (eglGetCurrentContext() == (EGLContext)e->context)
+    if (rnd_current_owner == e && eglGetCurrentContext() == (EGLContext)e->context)
         return 0;
-    return eglMakeCurrent((EGLDisplay)e->display, EGL_NO_SURFACE, EGL_NO_SURFACE, (EGLContext)e->context) ? 0 : -1;
+    rnd_window_release_current();
+    if (!eglMakeCurrent((EGLDisplay)e->display, EGL_NO_SURFACE, EGL_NO_SURFACE, (EGLContext)e->context))
+        return -1;
+    rnd_current_owner = e;
+    return 0;
+}
+
+void rnd_egl_release_current(void)
+{
+    EGLContext c = eglGetCurrentContext();
+    if (c != EGL_NO_CONTEXT)
+        eglMakeCurrent(eglGetCurrentDisplay(), EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
 }
 
 void rnd_egl_destroy(struct rnd_egl *e)
@@ -97,6 +115,8 @@ void rnd_egl_destroy(struct rnd_egl *e)
         return;
     if (eglGetCurrentContext() == (EGLContext)e->context)
         eglMakeCurrent((EGLDisplay)e->display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (rnd_current_owner == e)
+        rnd_current_owner = NULL;
     eglDestroyContext((EGLDisplay)e->display, (EGLContext)e->context);
     if (--rnd_egl_users == 0)
         eglTerminate((EGLDisplay)e->display);

@@ -45,6 +45,9 @@ void rnd_renderer_size(const struct rnd_renderer *r, int *width_px, int *height_
 /* Writes an 8-bit RGBA PNG atomically (temporary file, then rename): no half-written PNG is left. */
 int rnd_png_write(const char *path, const uint8_t *rgba, int width_px, int height_px, struct hl_error *err);
 
+/* ---- live output: window, monitors, distortion pass ------------------------------------------ */
+#include "render/window.h"
+
 /* ---- offline spatial-frequency analysis (Reddy 1998 §3.2–3.3) -------------------------------- */
 #include "render/analyze.h"
 

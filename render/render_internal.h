@@ -15,6 +15,11 @@ struct rnd_egl {
 int rnd_egl_create(struct rnd_egl *e, struct hl_error *err);
 int rnd_egl_make_current(const struct rnd_egl *e); /* no-op when already current */
 void rnd_egl_destroy(struct rnd_egl *e);
+/* Switching between a headless EGL context and a window's (egl_context.c, window.c): the owner of
+ * the current context, and each side's way to let go of its own before the other makes current. */
+extern const void *rnd_current_owner;
+void rnd_egl_release_current(void);
+void rnd_window_release_current(void);
 
 /* ---- single-view draws for the offline analysis (renderer.c, used by analyze.c) ----------------
  * rect_px = x, y (from the bottom-left, GL convention), width, height inside the FBO. */
@@ -24,5 +29,9 @@ int rnd_renderer_draw_rect(struct rnd_renderer *r, const struct scn_scene *scene
                            uint32_t instance, uint8_t lod, const int rect_px[4]);
 /* Reads the rectangle into rgba (width·height·4 bytes), rows top to bottom. */
 int rnd_renderer_read_rect(struct rnd_renderer *r, const int rect_px[4], uint8_t *rgba, struct hl_error *err);
+
+/* ---- shared by the window and the distortion pass -------------------------------------------- */
+void rnd_flip_rows(uint8_t *rgba, int width_px, int height_px); /* bottom-up GL rows to top-down */
+unsigned rnd_renderer_color_texture(const struct rnd_renderer *r); /* the FBO's colour (GL_TEXTURE_2D) */
 
 #endif

@@ -4,13 +4,15 @@
 
 #include <GL/gl.h>
 #include <GL/glext.h>
+#include <cglm/cglm.h>
 #include <stdlib.h>
 #include <string.h>
 
 struct rnd_renderer {
     struct rnd_egl egl;
+    struct rnd_window *window; /* set: drawing in that window's context instead of a headless one */
     int eye_w, eye_h;
-    GLuint fbo, color_rb, depth_rb;
+    GLuint fbo, color_tex, depth_rb; /* colour is a texture: the distortion pass samples it */
     GLuint program, vao, vbo, ibo;
     GLint u_mv, u_proj, u_color, u_light;
     uint32_t scene_vertices, scene_indices; /* what is uploaded, to catch a mismatched scene */
@@ -95,14 +97,19 @@ static int rnd_renderer_build_program(struct rnd_renderer *r, struct hl_error *e
 static int rnd_renderer_build_fbo(struct rnd_renderer *r, struct hl_error *err)
 {
     glGenFramebuffers(1, &r->fbo);
-    glGenRenderbuffers(1, &r->color_rb);
+    glGenTextures(1, &r->color_tex);
     glGenRenderbuffers(1, &r->depth_rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, r->color_rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, 2 * r->eye_w, r->eye_h);
+    glBindTexture(GL_TEXTURE_2D, r->color_tex);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, 2 * r->eye_w, r->eye_h);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
     glBindRenderbuffer(GL_RENDERBUFFER, r->depth_rb);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, 2 * r->eye_w, r->eye_h);
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, r->color_rb);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r->color_tex, 0);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->depth_rb);
     GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE)
@@ -111,7 +118,14 @@ static int rnd_renderer_build_fbo(struct rnd_renderer *r, struct hl_error *err)
     return 0;
 }
 
-int rnd_renderer_create(int eye_width_px, int eye_height_px, struct rnd_renderer **out, struct hl_error *err)
+/* The context this renderer draws in is current (a no-op when it already is). */
+static int rnd_renderer_current(const struct rnd_renderer *r)
+{
+    return r->window ? rnd_window_make_current(r->window) : rnd_egl_make_current(&r->egl);
+}
+
+static int rnd_renderer_make(int eye_width_px, int eye_height_px, struct rnd_window *window,
+                             struct rnd_renderer **out, struct hl_error *err)
 {
     if (!out)
         return hl_fail(err, "renderer: no output");
@@ -123,7 +137,10 @@ int rnd_renderer_create(int eye_width_px, int eye_height_px, struct rnd_renderer
         return hl_fail(err, "renderer: out of memory");
     r->eye_w = eye_width_px;
     r->eye_h = eye_height_px;
-    if (rnd_egl_create(&r->egl, err) != 0) {
+    r->window = window;
+    if (window ? rnd_window_make_current(window) != 0 : rnd_egl_create(&r->egl, err) != 0) {
+        if (window)
+            hl_fail(err, "renderer: cannot make the window's context current");
         free(r);
         return -1;
     }
@@ -150,17 +167,34 @@ fail:
     return -1;
 }
 
+int rnd_renderer_create(int eye_width_px, int eye_height_px, struct rnd_renderer **out, struct hl_error *err)
+{
+    return rnd_renderer_make(eye_width_px, eye_height_px, NULL, out, err);
+}
+
+int rnd_renderer_create_in_window(struct rnd_window *window, int eye_width_px, int eye_height_px,
+                                  struct rnd_renderer **out, struct hl_error *err)
+{
+    if (!window)
+        return hl_fail(err, "renderer: no window");
+    return rnd_renderer_make(eye_width_px, eye_height_px, window, out, err);
+}
+
+unsigned rnd_renderer_color_texture(const struct rnd_renderer *r) { return r ? r->color_tex : 0; }
+
+int rnd_renderer_make_current(const struct rnd_renderer *r) { return r ? rnd_renderer_current(r) : -1; }
+
 void rnd_renderer_destroy(struct rnd_renderer *r)
 {
     if (!r)
         return;
-    if (r->egl.context && rnd_egl_make_current(&r->egl) == 0) {
+    if ((r->window || r->egl.context) && rnd_renderer_current(r) == 0) {
         glDeleteBuffers(1, &r->vbo);
         glDeleteBuffers(1, &r->ibo);
         glDeleteVertexArrays(1, &r->vao);
         glDeleteProgram(r->program);
         glDeleteFramebuffers(1, &r->fbo);
-        glDeleteRenderbuffers(1, &r->color_rb);
+        glDeleteTextures(1, &r->color_tex);
         glDeleteRenderbuffers(1, &r->depth_rb);
     }
     rnd_egl_destroy(&r->egl);
@@ -181,7 +215,7 @@ int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct scn_scene *sc
 {
     if (!r || !scene)
         return hl_fail(err, "renderer: no renderer or scene");
-    if (rnd_egl_make_current(&r->egl) != 0)
+    if (rnd_renderer_current(r) != 0)
         return hl_fail(err, "renderer: cannot make the context current");
     while (glGetError() != GL_NO_ERROR) {
     }
@@ -218,24 +252,22 @@ int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct scn_scene *sc
     return 0;
 }
 
-/* Column-major 4×4 of the model-to-eye transform, computed in double and only then rounded: the
+/* Column-major 4×4 of the model-to-eye transform. The eye-relative part is done in double — the
  * translation is the instance position minus the eye position, so an object 1e6 m from the origin
- * but 2 m from the eye keeps millimetre precision (float world matrices would lose ~6 cm there). */
+ * but 2 m from the eye keeps millimetre precision (float world matrices would lose ~6 cm there) —
+ * and only then does GL-side float math take over, through cglm (DESIGN.md: cglm's versor is x y z w). */
 static void rnd_model_view(const struct scn_instance *in, const struct rnd_eye_view *v, float out[16])
 {
     hl_quatd to_eye = hl_q_conj(v->orientation);
     hl_quatd q = hl_q_mul(to_eye, in->rotation);
-    double w = q.w, x = q.x, y = q.y, z = q.z, s = in->scale;
     hl_vec3d t = hl_q_rotate(to_eye, hl_v3(in->position_m[0] - v->position_m[0], in->position_m[1] - v->position_m[1],
                                            in->position_m[2] - v->position_m[2]));
-    double m[16] = {
-        s * (1 - 2 * (y * y + z * z)), s * 2 * (x * y + w * z), s * 2 * (x * z - w * y), 0,
-        s * 2 * (x * y - w * z), s * (1 - 2 * (x * x + z * z)), s * 2 * (y * z + w * x), 0,
-        s * 2 * (x * z + w * y), s * 2 * (y * z - w * x), s * (1 - 2 * (x * x + y * y)), 0,
-        t.x, t.y, t.z, 1,
-    };
-    for (int i = 0; i < 16; ++i)
-        out[i] = (float)m[i];
+    versor qf = {(float)q.x, (float)q.y, (float)q.z, (float)q.w};
+    mat4 m;
+    glm_quat_mat4(qf, m);
+    glm_scale_uni(m, (float)in->scale);
+    m[3][0] = (float)t.x, m[3][1] = (float)t.y, m[3][2] = (float)t.z;
+    memcpy(out, m, sizeof m);
 }
 
 /* Draws the listed instances with one view into the current viewport; returns the triangles drawn
@@ -294,7 +326,7 @@ int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *sce
         *stats = (struct rnd_draw_stats){{0, 0}, 0};
     if (!views || rnd_check_draw(r, scene, index, lod, count) != 0)
         return -1;
-    if (rnd_egl_make_current(&r->egl) != 0)
+    if (rnd_renderer_current(r) != 0)
         return -1;
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     glViewport(0, 0, 2 * r->eye_w, r->eye_h);
@@ -320,7 +352,7 @@ int rnd_renderer_draw_rect(struct rnd_renderer *r, const struct scn_scene *scene
 {
     if (!r || !view || !rect_px || rect_px[0] < 0 || rect_px[1] < 0 || rect_px[2] < 1 || rect_px[3] < 1 ||
         rect_px[0] + rect_px[2] > 2 * r->eye_w || rect_px[1] + rect_px[3] > r->eye_h ||
-        rnd_check_draw(r, scene, &instance, &lod, 1) != 0 || rnd_egl_make_current(&r->egl) != 0)
+        rnd_check_draw(r, scene, &instance, &lod, 1) != 0 || rnd_renderer_current(r) != 0)
         return -1;
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     glViewport(rect_px[0], rect_px[1], rect_px[2], rect_px[3]);
@@ -344,7 +376,7 @@ int rnd_renderer_read_rect(struct rnd_renderer *r, const int rect_px[4], uint8_t
     if (x < 0 || y < 0 || w < 1 || h < 1 || x + w > 2 * r->eye_w || y + h > r->eye_h)
         return hl_fail(err, "renderer: rectangle %d,%d %d×%d outside the %d×%d framebuffer", x, y, w, h,
                        2 * r->eye_w, r->eye_h);
-    if (rnd_egl_make_current(&r->egl) != 0)
+    if (rnd_renderer_current(r) != 0)
         return hl_fail(err, "renderer: cannot make the context current");
     glBindFramebuffer(GL_READ_FRAMEBUFFER, r->fbo);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
@@ -353,6 +385,12 @@ int rnd_renderer_read_rect(struct rnd_renderer *r, const int rect_px[4], uint8_t
     GLenum e = glGetError();
     if (e != GL_NO_ERROR)
         return hl_fail(err, "renderer: glReadPixels failed: GL error 0x%x", (unsigned)e);
+    rnd_flip_rows(rgba, w, h);
+    return 0;
+}
+
+void rnd_flip_rows(uint8_t *rgba, int w, int h)
+{
     /* GL's row 0 is the bottom; images want the top first. Swap in place: no allocation. */
     size_t stride = (size_t)w * 4;
     for (int row = 0; row < h / 2; ++row) {
@@ -363,7 +401,6 @@ int rnd_renderer_read_rect(struct rnd_renderer *r, const int rect_px[4], uint8_t
             b[i] = t;
         }
     }
-    return 0;
 }
 
 int rnd_renderer_read_rgba(struct rnd_renderer *r, uint8_t *rgba, struct hl_error *err)

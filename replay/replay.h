@@ -12,6 +12,7 @@
 #include "replay/assets.h"
 #include "replay/cost.h"
 #include "replay/bench.h"
+#include "replay/live.h"
 
 /* ---- traces --------------------------------------------------------------------------------- */
 enum rpl_trace_format {

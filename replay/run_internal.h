@@ -65,6 +65,21 @@ struct rpl_session {
     hl_vec3d frame_gaze_dir;
 };
 
+/* Opening and closing a session (replay/session.c). check_options validates the options and parses the
+ * selector and the frequency reading; need_out_dir: 1 when the run writes an output folder (replay).
+ * open: what is given in `made` is adopted (closed by rpl_session_close) instead of being made from
+ * the options: a pose source (a live tracker, synthetic input) instead of the options' trace, a
+ * renderer made in a window's context instead of a headless one. made may be NULL. */
+struct rpl_session_made {
+    struct trk_pose_source *source;
+    struct rnd_renderer *renderer;
+};
+int rpl_session_check_options(const struct rpl_options *o, int need_out_dir, enum rpl_selector *selector,
+                              enum rpl_freq_reading *reading, struct hl_error *err);
+int rpl_session_open(struct rpl_session *s, const struct rpl_options *o, const struct rpl_session_made *made,
+                     struct hl_error *err);
+void rpl_session_close(struct rpl_session *s);
+
 /* The head's state at time_s for the session's gaze model: eyes from the neck model (or the trace's
  * position), the measured gaze, and for the VOR the head latency_s earlier. Also the pose whose
  * position is the cyclopean eye, for the cull and the eye views. */

@@ -313,5 +313,16 @@ for edvam in "${HMDLOD_SOURCE:-.}/tests/data/edvam_small.csv" "$shared/data/trac
   rm -rf "$tmp/edvam"
 done
 
+# Live: --help and bad arguments need no display (tests/live_tests.sh runs sessions under xvfb-run).
+expect_ok "live --help" "usage: hmdlod live" -- "$bin" live --help
+expect_error "live bad device" "--device: 'hidraw3' is not" -- "$bin" live --device hidraw3
+expect_error "live bad frames" "--frames" -- "$bin" live --device none --frames 0
+expect_error "live bad window size" "--window-size: '12' is not" -- "$bin" live --window-size 12
+expect_error "live tracked gaze" "no eye tracker" -- "$bin" live --gaze tracked
+expect_error "live unknown display" "unknown display 'nope'" -- "$bin" live --device none --display nope
+expect_error "live bad selector" "selector" -- "$bin" live --device none --selector fastest
+expect_error "live without a display" "DISPLAY|xvfb-run" -- env -u DISPLAY WAYLAND_DISPLAY= "$bin" live --device none \
+  --frames 2
+
 echo "cli tests: $failures failed"
 [ $failures -eq 0 ]

@@ -121,9 +121,16 @@ struct trk_tracker_stats {
     uint64_t reconnects;       /* successful reopens after a loss (start reports sent, drained) */
     uint64_t keepalives;       /* keep-alive reports sent */
     uint64_t drained;          /* stale reports dropped after (re)opening */
+    uint64_t recorded;         /* reports written to the raw recording (trk_tracker_source_record) */
     int connected;             /* the device is open now */
     char path[TRK_HID_PATH_SIZE]; /* node in use, or last used */
 };
 int trk_tracker_source_stats(struct trk_pose_source *src, struct trk_tracker_stats *out);
+
+/* Raw recording of a started tracker source (tracking/recording.h): from now on every report the
+ * reader thread reads is appended, as read, with its host receive time — across unplug and replug.
+ * path NULL stops and closes (fsync) the recording in progress. 0, or −1 with err (also when an
+ * append had failed: the recording stops at the first failed write). */
+int trk_tracker_source_record(struct trk_pose_source *src, const char *path, struct hl_error *err);
 
 #endif

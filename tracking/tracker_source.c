@@ -59,6 +59,9 @@ struct tracker_source {
     struct trk_pose frozen; /* last pose before the loss, angular velocity zeroed */
     int has_frozen;
     struct trk_tracker_stats stats;
+    struct trk_recording *recording; /* trk_tracker_source_record: every report read, as read */
+    int recording_failed;
+    char recording_error[sizeof(struct hl_error)];
 };
 
 static struct tracker_source *from_base(struct trk_pose_source *src) { return (struct tracker_source *)src; }
@@ -208,6 +211,16 @@ static void streaming_step(struct tracker_source *s, uint8_t *buf, size_t cap)
         struct hl_error ferr;
         s->last_report_ns = host_ns;
         s->stats.reports++;
+        if (s->recording && !s->recording_failed) {
+            /* Before parsing: a raw recording keeps what the device sent, rejected reports too. */
+            struct hl_error rerr;
+            if (trk_recording_append(s->recording, host_ns, buf, (size_t)n, &rerr) != 0) {
+                s->recording_failed = 1;
+                snprintf(s->recording_error, sizeof s->recording_error, "%s", rerr.msg);
+            } else {
+                s->stats.recorded++;
+            }
+        }
         int fused = trk_stream_feed(&s->stream, buf, (size_t)n, host_ns, &ferr);
         if (fused < 0) {
             s->stats.rejected++; /* one bad report is not a lost device; counted for status */
@@ -343,6 +356,10 @@ static void src_destroy(struct trk_pose_source *src)
 {
     struct tracker_source *s = from_base(src);
     src_stop(src);
+    if (s->recording) {
+        struct hl_error err;
+        trk_recording_close(s->recording, 1, &err);
+    }
     trk_hotplug_destroy(&s->hotplug);
     pthread_mutex_destroy(&s->mu);
     free(s);
@@ -393,4 +410,34 @@ int trk_tracker_source_stats(struct trk_pose_source *src, struct trk_tracker_sta
     *out = s->stats;
     pthread_mutex_unlock(&s->mu);
     return 0;
+}
+
+int trk_tracker_source_record(struct trk_pose_source *src, const char *path, struct hl_error *err)
+{
+    if (!src || src->destroy != src_destroy)
+        return hl_fail(err, "raw recording: not a tracker source");
+    struct tracker_source *s = from_base(src);
+    struct trk_recording *rec = NULL;
+    if (path) {
+        if (!s->info)
+            return hl_fail(err, "%s: raw recording: the tracker is not started", path);
+        rec = trk_recording_create(path, s->info->kind, s->info->vid, s->info->pid, s->info->name, err);
+        if (!rec)
+            return -1;
+    }
+    pthread_mutex_lock(&s->mu);
+    struct trk_recording *old = s->recording;
+    int failed = s->recording_failed;
+    char why[sizeof s->recording_error];
+    snprintf(why, sizeof why, "%s", s->recording_error);
+    s->recording = rec;
+    s->recording_failed = 0;
+    s->recording_error[0] = '\0';
+    pthread_mutex_unlock(&s->mu);
+    if (!old)
+        return 0;
+    int rc = trk_recording_close(old, 1, err);
+    if (failed)
+        return hl_fail(err, "raw recording: a write failed: %.400s", why);
+    return rc;
 }

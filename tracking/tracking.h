@@ -24,6 +24,7 @@
 #include "tracking/stream.h"
 #include "tracking/recording.h"
 #include "tracking/hid.h"
+#include "tracking/usb.h"
 #include "tracking/evaluate.h"
 
 #endif

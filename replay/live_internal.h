@@ -1,0 +1,56 @@
+/* Internal to replay/: the pieces of the live session (live.c). */
+#ifndef HMDLOD_REPLAY_LIVE_INTERNAL_H
+#define HMDLOD_REPLAY_LIVE_INTERNAL_H
+
+#include "replay/run_internal.h"
+#include "tracking/tracking.h"
+
+/* The desk pose source (desk_source.c): yaw_rate_degps of scripted yaw from t0_s (monotonic s). */
+int rpl_desk_source_create(double t0_s, double yaw_rate_degps, struct trk_pose_source **out, struct hl_error *err);
+/* Mouse and keys: turn by these angles, which took dt_s (for the angular velocity). */
+void rpl_desk_source_look(struct trk_pose_source *src, double dyaw_rad, double dpitch_rad, double dt_s);
+
+/* Present-interval pacing (live_pace.c): frame k is due at t0 + k·period; self-paced sleeps on the
+ * monotonic clock until then; a frame ready after its slot is presented at once and the slots it
+ * passed count as missed. */
+struct rpl_pacer {
+    int64_t t0_ns, period_ns, last_present_ns;
+    long slot;            /* the slot the next frame is due in */
+    long missed;
+    int self_paced;
+};
+void rpl_pacer_init(struct rpl_pacer *p, double rate_hz, int self_paced, int64_t now_ns);
+int64_t rpl_pacer_due_ns(const struct rpl_pacer *p); /* the next frame's display time */
+/* Before a frame (self-paced): when now + expected_work_ns (the last frame's work) is past the due
+ * slot, moves to the first slot the frame can make, counting the skipped ones as missed, so that the
+ * pose is predicted to when the frame will really be shown. */
+void rpl_pacer_plan(struct rpl_pacer *p, int64_t expected_work_ns);
+/* Before the swap: waits (self-paced) until the slot, counts missed slots when late. */
+void rpl_pacer_wait(struct rpl_pacer *p);
+/* After the swap returned at present_ns: the interval since the previous present (0 for the first). */
+double rpl_pacer_presented(struct rpl_pacer *p, int64_t present_ns);
+
+/* Bookkeeping (live_io.c). A growing series of per-frame values, and its statistics: mean,
+ * population stddev, median, p99 (nearest rank), max (any may be NULL; sorts in place). */
+struct rpl_live_series {
+    double *v;
+    long n, cap;
+};
+int rpl_live_series_push(struct rpl_live_series *s, double x); /* 0, or −1 out of memory */
+void rpl_live_series_stats(struct rpl_live_series *s, double *mean, double *stddev, double *median, double *p99,
+                           double *max);
+/* A CSV written beside its name (".partial") and renamed by commit; abort removes it. path NULL:
+ * nothing is opened (rows are dropped). record_row writes a head-trace row (t from the first). */
+struct rpl_live_record {
+    FILE *f;
+    char path[4096], tmp[4096];
+    double t0_s;
+    long rows;
+    int paused; /* key R: rows are not written while paused */
+};
+int rpl_live_record_open(struct rpl_live_record *r, const char *path, const char *header, struct hl_error *err);
+void rpl_live_record_row(struct rpl_live_record *r, const struct trk_pose *p);
+int rpl_live_record_commit(struct rpl_live_record *r, struct hl_error *err);
+void rpl_live_record_abort(struct rpl_live_record *r);
+
+#endif

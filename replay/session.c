@@ -1,0 +1,229 @@
+/* A session's state, opened once: display, pose source (the options' trace, or one made elsewhere),
+ * scene and its measured tables, selector and cost model, renderer. Shared by replay (run.c) and
+ * the live loop (live.c). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "replay/run_internal.h"
+
+int rpl_session_check_options(const struct rpl_options *o, int need_out_dir, enum rpl_selector *selector,
+                              enum rpl_freq_reading *reading, struct hl_error *err)
+{
+    if (rpl_freq_reading_parse(o->frequency_reading ? o->frequency_reading : "narrow", reading, err) != 0)
+        return -1;
+    if (rpl_selector_parse(o->selector, selector, err) != 0)
+        return -1;
+    if (o->budget_ms < 0.0 || !isfinite(o->budget_ms) || o->budget_ms > 10000.0)
+        return hl_fail(err, "--budget-ms: %g ms is outside (0, 10000]", o->budget_ms);
+    if (o->opt_limit_us < 0.0 || !isfinite(o->opt_limit_us) || o->opt_limit_us > 1e7)
+        return hl_fail(err, "--opt-limit-us: %g us is outside [0, 1e7]", o->opt_limit_us);
+    if (!(o->static_px_per_triangle > 0.0) || !isfinite(o->static_px_per_triangle))
+        return hl_fail(err, "--static-px: %g is not a positive number of pixels", o->static_px_per_triangle);
+    if (need_out_dir && (!o->out_dir || !*o->out_dir))
+        return hl_fail(err, "--out: an output folder is required");
+    if (o->rate_hz < 0.0 || !isfinite(o->rate_hz) || (o->rate_hz > 0.0 && o->rate_hz < 1.0) || o->rate_hz > 10000.0)
+        return hl_fail(err, "--rate: %g Hz is outside [1, 10000]", o->rate_hz);
+    if (!(o->acuity_scale > 0.0 && o->acuity_scale <= 1.0))
+        return hl_fail(err, "--acuity-scale: %g is outside (0, 1]", o->acuity_scale);
+    if (!(o->render_scale > 0.0 && o->render_scale <= 4.0))
+        return hl_fail(err, "--render-scale: %g is outside (0, 4]", o->render_scale);
+    if (o->frames < 0 || o->capture_every < 0 || o->reference_every < 0)
+        return hl_fail(err, "--frames, --capture and --reference must be >= 0");
+    enum acu_gaze_model model;
+    if (o->gaze && strcmp(o->gaze, "auto") != 0 && acu_gaze_model_parse(o->gaze, &model) != 0)
+        return hl_fail(err, "--gaze: '%s' is not a gaze model (auto, head, vor, tracked)", o->gaze);
+    if (!(o->vor_gain <= 1.2) || !isfinite(o->vor_gain))
+        return hl_fail(err, "--vor-gain: %g is outside [0, 1.2]", o->vor_gain);
+    if (!(o->vor_latency_ms <= 100.0) || !isfinite(o->vor_latency_ms))
+        return hl_fail(err, "--vor-latency-ms: %g ms is outside [0, 100]", o->vor_latency_ms);
+    if (!(o->fixation_m <= 1e6) || isnan(o->fixation_m))
+        return hl_fail(err, "--fixation-m: %g m is outside (0, 1e6]", o->fixation_m);
+    return 0;
+}
+
+/* The VOR's default fixation distance: the median distance from the first frame's eye to the
+ * instances' bounding spheres (0 inside one), clamped to [0.5, 50] m — a viewer fixates what the
+ * scene holds, neither the headset's lens nor the horizon. Computed once at load. */
+static int scene_fixation_m(const struct scn_scene *scene, hl_vec3d eye_m, double *out, struct hl_error *err)
+{
+    uint32_t n = scene->instance_count;
+    *out = 50.0;
+    if (n == 0)
+        return 0;
+    double *d = malloc((size_t)n * sizeof *d);
+    if (!d)
+        return hl_fail(err, "out of memory for the fixation distance of %u objects", n);
+    for (uint32_t i = 0; i < n; ++i) {
+        const double *c = &scene->center_m[3 * i];
+        double r = hl_v3_length(hl_v3_sub(hl_v3(c[0], c[1], c[2]), eye_m)) - scene->radius_m[i];
+        d[i] = r > 0.0 ? r : 0.0;
+    }
+    hl_sort_doubles(d, n);
+    double median = n % 2 ? d[n / 2] : 0.5 * (d[n / 2 - 1] + d[n / 2]);
+    free(d);
+    *out = fmin(fmax(median, 0.5), 50.0);
+    return 0;
+}
+
+/* The model: auto is tracked when the trace has gaze, else vor; tracked without gaze is refused
+ * before the scene is built. */
+static int session_gaze_model(struct rpl_session *s, const struct rpl_options *o, struct hl_error *err)
+{
+    if (!o->gaze || strcmp(o->gaze, "auto") == 0)
+        s->gaze = s->trace_has_gaze ? ACU_GAZE_TRACKED : ACU_GAZE_VOR;
+    else if (acu_gaze_model_parse(o->gaze, &s->gaze) != 0)
+        return hl_fail(err, "--gaze: '%s' is not a gaze model (auto, head, vor, tracked)", o->gaze);
+    if (s->gaze == ACU_GAZE_TRACKED && !s->trace_has_gaze)
+        return hl_fail(err, "--gaze tracked: %s has no gaze columns (use --gaze vor or head)",
+                       o->raw_path ? o->raw_path : o->trace_path ? o->trace_path : "the built-in clip");
+    return 0;
+}
+
+/* The VOR's parameters and the eyes' offset; needs the source and the scene. */
+static int session_gaze_params(struct rpl_session *s, const struct rpl_options *o, struct hl_error *err)
+{
+    s->neck_to_eye_head_m = hmd_neck_to_eye_head(&s->display);
+    struct trk_pose start;
+    struct acu_head_state head;
+    if (rpl_frame_head_state(s, s->source->start_time_s, &start, &head, err) != 0)
+        return -1;
+    double fixation_m = o->fixation_m;
+    if (!(fixation_m > 0.0) && scene_fixation_m(&s->scene, head.eye_position_m, &fixation_m, err) != 0)
+        return -1;
+    acu_vor_params_default(&s->vor, fixation_m);
+    if (o->vor_gain >= 0.0)
+        s->vor.gain = o->vor_gain;
+    if (o->vor_latency_ms >= 0.0)
+        s->vor.latency_s = o->vor_latency_ms * 1e-3;
+    return 0;
+}
+
+/* The options' trace (a raw recording, a trace file or the built-in clip) as the session's source. */
+static int session_open_trace(struct rpl_session *s, const struct rpl_options *o, struct hl_error *err)
+{
+    struct rpl_trace trace;
+    int rc = o->raw_path     ? rpl_trace_from_recording(o->raw_path, &trace, err)
+             : o->trace_path ? rpl_trace_load(o->trace_path, &trace, err)
+                             : rpl_trace_builtin_clip(&trace, err);
+    if (rc != 0)
+        return -1;
+    const struct rpl_trace_report *tr = &trace.report;
+    if (o->trace_path && (tr->repeated_timestamps || tr->low_confidence_gaze || tr->placeholder_rows ||
+                          tr->held_orientations || tr->speed_outliers)) {
+        /* What loading had to do to a file is said once, not silently (docs/trace-format.md). */
+        char line[512];
+        rpl_trace_report_format(tr, line, sizeof line);
+        fprintf(stderr, "hmdlod: note: %s: %s\n", o->trace_path, line);
+    }
+    s->trace_has_gaze = trace.gaze_dir != NULL;
+    s->trace_has_position = trace.position_m != NULL;
+    if (rpl_trace_source_create(&trace, &s->source, err) != 0 || session_gaze_model(s, o, err) != 0)
+        return -1;
+    return 0;
+}
+
+int rpl_session_open(struct rpl_session *s, const struct rpl_options *o, const struct rpl_session_made *made,
+                     struct hl_error *err)
+{
+    if (made) { /* adopted now, so that rpl_session_close closes them even when opening fails */
+        s->source = made->source;
+        s->renderer = made->renderer;
+    }
+    if (hmd_profile_load(o->display, &s->display, err) != 0)
+        return -1;
+    s->eyes[0] = hmd_eye_frustum(&s->display, HMD_EYE_LEFT);
+    s->eyes[1] = hmd_eye_frustum(&s->display, HMD_EYE_RIGHT);
+    s->near_m = 0.05;
+    rpl_cull_frustum_init(&s->cull_frustum, &s->display, s->near_m);
+    acu_limits_init(&s->limits, hmd_compute_xi(&s->display).used_cpd, o->acuity_scale);
+    s->limits.use_velocity = !o->velocity_term_off; /* bench gaze: the velocity term's saving */
+    s->limits.use_eccentricity = !o->eccentricity_term_off;
+    s->far_m = 2000.0;
+
+    if (s->source ? session_gaze_model(s, o, err) != 0 : session_open_trace(s, o, err) != 0)
+        return -1;
+
+    if (rpl_scene_is_file(o->scene)) {
+        /* The resolver turns each mesh entry into a lodset: by default replay's, which keeps mesh
+         * files' chains in the cache (replay/asset_resolver.c); a caller may pass its own. */
+        if (scn_scenefile_load(o->scene, o->resolver ? o->resolver : rpl_cached_resolver(), &s->scene, err) != 0)
+            return -1;
+    } else {
+        struct scn_scene_params params = {.object_count = o->object_count, .seed = o->seed};
+        if (scn_scene_build(o->scene, &params, &s->scene, err) != 0)
+            return -1;
+    }
+    if (scn_culler_init(&s->culler, &s->scene, err) != 0 || session_gaze_params(s, o, err) != 0)
+        return -1;
+    /* The measured tables (cached after the first run); selector none and the geometric reading
+     * never read them. */
+    if (s->selector != RPL_SELECT_NONE && s->reading != RPL_READING_GEOMETRIC) {
+        struct rnd_analyze_params ap;
+        rpl_assets_params(&ap);
+        struct rpl_assets_report ar;
+        if (rpl_assets_prepare(&s->scene, &ap, s->reading, &ar, err) != 0)
+            return -1;
+        if (ar.chains_analysed > 0 && !o->quiet)
+            fprintf(stderr, "hmdlod: analysed %u chain%s of %s (%d views, %d px) in %.2f s%s\n", ar.chains_analysed,
+                    ar.chains_analysed == 1 ? "" : "s", o->scene, ap.views, ap.size_px, ar.analysis_s,
+                    ar.cache_unwritable ? "" : "; cached for later runs");
+    }
+    uint32_t n = s->scene.instance_count;
+    s->chains = calloc(s->scene.chain_count, sizeof *s->chains);
+    s->arrays.visible = calloc(n ? n : 1, sizeof *s->arrays.visible);
+    s->arrays.eccentricity_deg = calloc(n ? n : 1, sizeof(double));
+    s->arrays.velocity_degps = calloc(n ? n : 1, sizeof(double));
+    s->arrays.diameter_deg = calloc(n ? n : 1, sizeof(double));
+    s->arrays.lod = calloc(n ? n : 1, 1);
+    s->arrays.draw_index = calloc((size_t)n + s->scene.group_count + 1, sizeof(uint32_t));
+    s->arrays.draw_lod = calloc((size_t)n + s->scene.group_count + 1, 1);
+    if (!s->chains || !s->arrays.visible || !s->arrays.eccentricity_deg || !s->arrays.velocity_degps ||
+        !s->arrays.diameter_deg || !s->arrays.lod || !s->arrays.draw_index || !s->arrays.draw_lod)
+        return hl_fail(err, "scene '%s': out of memory for %u objects", o->scene, n);
+    for (uint32_t c = 0; c < s->scene.chain_count; ++c) {
+        const struct scn_chain *chain = &s->scene.chains[c];
+        s->chains[c].lod_count = chain->lod_count;
+        for (int k = 0; k < chain->lod_count; ++k)
+            s->chains[c].unique_freq_cpdiam[k] = chain->lods[k].unique_freq_cpdiam;
+        if (chain->lod_count > s->max_lods)
+            s->max_lods = chain->lod_count;
+    }
+
+    s->select.selector = s->selector;
+    s->select.budget_ms = o->budget_ms > 0.0 ? o->budget_ms : 1000.0 / s->display.refresh_hz;
+    s->select.opt_limit_us = o->opt_limit_us;
+    s->select.static_px = o->static_px_per_triangle;
+    s->select.correct = o->cost_correction;
+    s->select.mb_simplify = o->mb_simplify;
+    s->select.saccade_onset_degps = o->saccade_onset_degps; /* replay/saccade_step.c */
+    s->select.saccade_off = s->gaze != ACU_GAZE_TRACKED; /* head, vor: no eye tracker, no saccades known */
+    if (rpl_cost_model_load(o->cost_profile, &s->select.cost, s->cost_label, sizeof s->cost_label, err) != 0 ||
+        rpl_select_init(&s->select, &s->scene, err) != 0)
+        return -1;
+
+    int eye_w = (int)lround(s->display.eye_width_px * o->render_scale);
+    int eye_h = (int)lround(s->display.eye_height_px * o->render_scale);
+    if (!s->renderer && rnd_renderer_create(eye_w > 0 ? eye_w : 1, eye_h > 0 ? eye_h : 1, &s->renderer, err) != 0)
+        return -1;
+    return rnd_renderer_upload_scene(s->renderer, &s->scene, err);
+}
+
+void rpl_session_close(struct rpl_session *s)
+{
+    if (s->renderer)
+        rnd_renderer_destroy(s->renderer);
+    trk_source_destroy(s->source);
+    scn_culler_free(&s->culler);
+    scn_scene_free(&s->scene);
+    free(s->chains);
+    free(s->arrays.visible);
+    free(s->arrays.eccentricity_deg);
+    free(s->arrays.velocity_degps);
+    free(s->arrays.diameter_deg);
+    free(s->arrays.lod);
+    free(s->arrays.draw_index);
+    free(s->arrays.draw_lod);
+    rpl_select_free(&s->select);
+    memset(s, 0, sizeof *s);
+}

@@ -1,0 +1,163 @@
+/* The live session's keys, under Xvfb (run as `xvfb-run -a test_live_keys`): a second X connection
+ * finds the session's window by its title and sends it key presses — + + (budget up 2 ms), V and E
+ * (velocity and eccentricity terms off), G (gaze vor → head), S (selector reddy → static), R (head
+ * trace recording paused: --record was given), C (a capture), then Esc — and the summary must show
+ * each effect and the session must have ended before its frame limit. */
+#include <X11/Xlib.h>
+#include <X11/Xutil.h>
+#include <X11/keysym.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "replay/replay.h"
+#include "tests/test_util.h"
+
+static volatile int sender_failed;
+
+static void sleep_ms(int ms)
+{
+    struct timespec ts = {ms / 1000, (long)(ms % 1000) * 1000000L};
+    nanosleep(&ts, NULL);
+}
+
+/* A top-level window whose name starts with "hmdlod live" (the title is the status line). */
+static Window find_window(Display *d, Window w)
+{
+    char *name = NULL;
+    if (XFetchName(d, w, &name) && name) {
+        int match = strncmp(name, "hmdlod live", 11) == 0;
+        XFree(name);
+        if (match)
+            return w;
+    }
+    Window root, parent, *kids = NULL, found = 0;
+    unsigned n = 0;
+    if (XQueryTree(d, w, &root, &parent, &kids, &n)) {
+        for (unsigned i = 0; i < n && !found; ++i)
+            found = find_window(d, kids[i]);
+        if (kids)
+            XFree(kids);
+    }
+    return found;
+}
+
+static void send_key(Display *d, Window w, KeySym sym)
+{
+    XKeyEvent e;
+    memset(&e, 0, sizeof e);
+    e.display = d;
+    e.window = w;
+    e.root = DefaultRootWindow(d);
+    e.subwindow = None;
+    e.time = CurrentTime;
+    e.same_screen = True;
+    e.keycode = XKeysymToKeycode(d, sym);
+    e.type = KeyPress;
+    XSendEvent(d, w, True, KeyPressMask, (XEvent *)&e);
+    e.type = KeyRelease;
+    XSendEvent(d, w, True, KeyReleaseMask, (XEvent *)&e);
+    XFlush(d);
+    sleep_ms(150); /* a few frames: one key per frame's poll is enough, but keep them apart */
+}
+
+static void *sender(void *arg)
+{
+    (void)arg;
+    Display *d = XOpenDisplay(NULL);
+    if (!d) {
+        sender_failed = 1;
+        return NULL;
+    }
+    Window w = 0;
+    for (int i = 0; i < 300 && !w; ++i) { /* up to 30 s: the scene loads first */
+        w = find_window(d, DefaultRootWindow(d));
+        if (!w)
+            sleep_ms(100);
+    }
+    if (!w) {
+        fprintf(stderr, "no window titled 'hmdlod live…' appeared\n");
+        sender_failed = 1;
+        XCloseDisplay(d);
+        return NULL;
+    }
+    sleep_ms(500);
+    static const KeySym keys[] = {XK_plus, XK_equal, XK_v, XK_e, XK_g, XK_s, XK_r, XK_c, XK_Escape};
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i)
+        send_key(d, w, keys[i]);
+    XCloseDisplay(d);
+    return NULL;
+}
+
+int main(void)
+{
+    if (!getenv("DISPLAY")) {
+        printf("skip: run under xvfb-run -a (ctest does)\n");
+        return 77;
+    }
+    char dir[] = "/tmp/hmdlod-live-keys-XXXXXX";
+    if (!mkdtemp(dir) || chdir(dir) != 0) { /* C writes hmdlod-capture-NNNNNN.png here */
+        perror(dir);
+        return 1;
+    }
+    struct rpl_options so;
+    rpl_options_defaults(&so);
+    so.scene = "field";
+    so.object_count = 10;
+    so.display = "vive";
+    so.render_scale = 0.1;
+    struct rpl_live_options o;
+    rpl_live_options_defaults(&o);
+    o.session = &so;
+    o.device = "none";
+    o.frames = 100000; /* Esc ends it long before */
+    o.window_w_px = 160, o.window_h_px = 90;
+    o.record_path = "head.csv";
+    o.quiet_status = 1;
+    pthread_t th;
+    CHECK(pthread_create(&th, NULL, sender, NULL) == 0);
+    struct rpl_live_summary s;
+    struct hl_error err = {""};
+    int rc = rpl_live_run(&o, &s, &err);
+    pthread_join(th, NULL);
+    if (rc != 0)
+        fprintf(stderr, "live: %s\n", err.msg);
+    CHECK(rc == 0);
+    CHECK(!sender_failed);
+    rpl_live_summary_print(stdout, &s);
+    CHECK(s.frames > 0 && s.frames < o.frames);          /* Esc */
+    CHECK_NEAR(s.budget_ms, 1000.0 / 90.0 + 2.0, 1e-9);  /* + and = */
+    CHECK(s.velocity_term == 0 && s.eccentricity_term == 0);
+    CHECK(strcmp(s.gaze, "head") == 0);
+    CHECK(strcmp(s.selector, "static") == 0);
+    /* C wrote one capture; R paused the trace, so it has fewer rows than frames. */
+    int captures = 0;
+    FILE *ls = popen("ls", "r");
+    char line[256];
+    while (ls && fgets(line, sizeof line, ls)) {
+        if (strncmp(line, "hmdlod-capture-", 15) == 0) {
+            ++captures;
+            line[strcspn(line, "\n")] = '\0';
+            remove(line);
+        }
+    }
+    if (ls)
+        pclose(ls);
+    CHECK(captures == 1);
+    long rows = -1;
+    FILE *f = fopen("head.csv", "r");
+    CHECK(f != NULL);
+    while (f && fgets(line, sizeof line, f))
+        ++rows;
+    if (f)
+        fclose(f);
+    printf("captures %d, head trace rows %ld of %ld frames\n", captures, rows, s.frames);
+    CHECK(rows > 0 && rows < s.frames);
+    remove("head.csv");
+    if (chdir("/tmp") == 0)
+        rmdir(dir);
+    return tu_finish("test_live_keys");
+}

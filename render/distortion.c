@@ -83,41 +83,11 @@ void rnd_distortion_source_uv(const struct hmd_profile *p, int eye, int channel,
     src_uv[1] = cv + dy * s / out_h_eye_px;
 }
 
-static GLuint rnd_dist_shader(GLenum type, const char *src, struct hl_error *err)
-{
-    GLuint sh = glCreateShader(type);
-    glShaderSource(sh, 1, &src, NULL);
-    glCompileShader(sh);
-    GLint ok = 0;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        glGetShaderInfoLog(sh, sizeof log, NULL, log);
-        glDeleteShader(sh);
-        hl_fail(err, "distortion: shader does not compile: %s", log);
-        return 0;
-    }
-    return sh;
-}
-
 static int rnd_dist_program(struct rnd_distortion *d, struct hl_error *err)
 {
-    GLuint vs = rnd_dist_shader(GL_VERTEX_SHADER, rnd_dist_vs, err);
-    GLuint fs = vs ? rnd_dist_shader(GL_FRAGMENT_SHADER, rnd_dist_fs, err) : 0;
-    if (!fs) {
-        glDeleteShader(vs);
+    d->program = rnd_gl_program_build(rnd_dist_vs, rnd_dist_fs, "distortion", err);
+    if (!d->program)
         return -1;
-    }
-    d->program = glCreateProgram();
-    glAttachShader(d->program, vs);
-    glAttachShader(d->program, fs);
-    glLinkProgram(d->program);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = 0;
-    glGetProgramiv(d->program, GL_LINK_STATUS, &ok);
-    if (!ok)
-        return hl_fail(err, "distortion: shader program does not link");
     d->u_eye = glGetUniformLocation(d->program, "u_eye");
     d->u_source = glGetUniformLocation(d->program, "u_source");
     d->u_lens = glGetUniformLocation(d->program, "u_lens");

@@ -30,6 +30,11 @@ int rnd_renderer_draw_rect(struct rnd_renderer *r, const struct scn_scene *scene
 /* Reads the rectangle into rgba (width·height·4 bytes), rows top to bottom. */
 int rnd_renderer_read_rect(struct rnd_renderer *r, const int rect_px[4], uint8_t *rgba, struct hl_error *err);
 
+/* ---- GLSL programs (gl_program.c) ------------------------------------------------------------ */
+/* Compiles and links a vertex and a fragment shader in the current context; the program's name, or 0
+ * with "who: … shader does not compile / link: log" in err. */
+unsigned rnd_gl_program_build(const char *vertex_src, const char *fragment_src, const char *who, struct hl_error *err);
+
 /* ---- shared by the window and the distortion pass -------------------------------------------- */
 void rnd_flip_rows(uint8_t *rgba, int width_px, int height_px); /* bottom-up GL rows to top-down */
 unsigned rnd_renderer_color_texture(const struct rnd_renderer *r); /* the FBO's colour (GL_TEXTURE_2D) */

@@ -47,46 +47,11 @@ static const char rnd_fs[] =
  * shading stays put when the head turns. */
 static const double rnd_light_world[3] = {0.35, 0.85, 0.4};
 
-static GLuint rnd_compile(GLenum type, const char *src, const char *what, struct hl_error *err)
-{
-    GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &src, NULL);
-    glCompileShader(s);
-    GLint ok = 0;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        glGetShaderInfoLog(s, sizeof log, NULL, log);
-        hl_fail(err, "renderer: %s shader does not compile: %s", what, log);
-        glDeleteShader(s);
-        return 0;
-    }
-    return s;
-}
-
 static int rnd_renderer_build_program(struct rnd_renderer *r, struct hl_error *err)
 {
-    GLuint vs = rnd_compile(GL_VERTEX_SHADER, rnd_vs, "vertex", err);
-    if (!vs)
+    r->program = rnd_gl_program_build(rnd_vs, rnd_fs, "renderer", err);
+    if (!r->program)
         return -1;
-    GLuint fs = rnd_compile(GL_FRAGMENT_SHADER, rnd_fs, "fragment", err);
-    if (!fs) {
-        glDeleteShader(vs);
-        return -1;
-    }
-    r->program = glCreateProgram();
-    glAttachShader(r->program, vs);
-    glAttachShader(r->program, fs);
-    glLinkProgram(r->program);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = 0;
-    glGetProgramiv(r->program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        glGetProgramInfoLog(r->program, sizeof log, NULL, log);
-        return hl_fail(err, "renderer: shader program does not link: %s", log);
-    }
     r->u_mv = glGetUniformLocation(r->program, "u_mv");
     r->u_proj = glGetUniformLocation(r->program, "u_proj");
     r->u_color = glGetUniformLocation(r->program, "u_color");

@@ -21,48 +21,14 @@ static const char *const g_keys[F_COUNT] = {
     "distortion_k", "aberration", "xi_cpd", "neck_to_eye_m",
 };
 
-/* Reads the whole file (at most HMD_PROFILE_MAX_BYTES) into a NUL-terminated buffer. */
+/* Reads the whole file (at most HMD_PROFILE_MAX_BYTES) into a NUL-terminated buffer; base/file.c
+ * refuses FIFOs and devices before they can block. */
 static char *read_file(const char *path, size_t *len_out, struct hl_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+    char *buf = NULL;
+    size_t len = 0;
+    if (hl_file_read_all(path, HMD_PROFILE_MAX_BYTES, &buf, &len, err) != 0)
         return NULL;
-    }
-    struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        hl_fail(err, "%s: cannot read: not a regular file", path);
-        fclose(f);
-        return NULL;
-    }
-    if (st.st_size > HMD_PROFILE_MAX_BYTES) {
-        hl_fail(err, "%s: file too large (%lld bytes; a profile may have at most %d)", path,
-                (long long)st.st_size, HMD_PROFILE_MAX_BYTES);
-        fclose(f);
-        return NULL;
-    }
-    char *buf = malloc((size_t)HMD_PROFILE_MAX_BYTES + 2);
-    if (!buf) {
-        hl_fail(err, "%s: out of memory", path);
-        fclose(f);
-        return NULL;
-    }
-    /* Read one byte past the limit so a file that grew since fstat is still caught. */
-    size_t len = fread(buf, 1, (size_t)HMD_PROFILE_MAX_BYTES + 1, f);
-    int failed = ferror(f);
-    int saved_errno = errno;
-    fclose(f);
-    if (failed) {
-        hl_fail(err, "%s: cannot read: %s", path, strerror(saved_errno));
-        free(buf);
-        return NULL;
-    }
-    if (len > HMD_PROFILE_MAX_BYTES) {
-        hl_fail(err, "%s: file too large (a profile may have at most %d bytes)", path, HMD_PROFILE_MAX_BYTES);
-        free(buf);
-        return NULL;
-    }
-    buf[len] = 0;
     if (strlen(buf) != len) {
         hl_fail(err, "%s: not valid JSON near byte %zu (NUL byte)", path, strlen(buf));
         free(buf);

@@ -45,9 +45,9 @@ int trk_imu_csv_read(const char *path, struct trk_imu_csv_row **rows_out, size_t
 {
     *rows_out = NULL;
     *count_out = 0;
-    FILE *fp = fopen(path, "rb");
+    FILE *fp = hl_file_open_read(path, NULL, err); /* refuses FIFOs and devices without blocking */
     if (!fp)
-        return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
     struct trk_imu_csv_row *rows = NULL;
     size_t count = 0, cap = 0, lineno = 0;
     char line[512];

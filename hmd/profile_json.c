@@ -138,6 +138,7 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
     if (!field[F_EYE_PIXELS])
         return hl_fail(err, "%s: field 'eye_pixels': missing (required)", path);
     double px[2];
+    /* Integers that fit an int here; hmd_profile_validate then holds them to [HMD_PIXELS_MIN, _MAX]. */
     if (!get_number_array(field[F_EYE_PIXELS], 2, px) || !(px[0] >= 1 && px[0] <= 1 << 20) ||
         !(px[1] >= 1 && px[1] <= 1 << 20) || px[0] != floor(px[0]) || px[1] != floor(px[1]))
         return hl_fail(err, "%s: field 'eye_pixels': expected two positive integers", path);
@@ -150,10 +151,10 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
         return hl_fail(err, "%s: field 'fov_deg': missing (give 'fov_deg' [h, v] or 'fov_tangents')", path);
     if (field[F_FOV_DEG]) {
         double fov[2];
-        if (!get_number_array(field[F_FOV_DEG], 2, fov) || !(fov[0] > 0 && fov[0] < 180) ||
-            !(fov[1] > 0 && fov[1] < 180))
-            return hl_fail(err, "%s: field 'fov_deg': expected [horizontal, vertical] degrees, each in (0, 180)",
-                           path);
+        if (!get_number_array(field[F_FOV_DEG], 2, fov) || !(fov[0] >= HMD_FOV_MIN_DEG && fov[0] < 180) ||
+            !(fov[1] >= HMD_FOV_MIN_DEG && fov[1] < 180))
+            return hl_fail(err, "%s: field 'fov_deg': expected [horizontal, vertical] degrees, each in [%g, 180)",
+                           path, HMD_FOV_MIN_DEG);
         hmd_set_symmetric_fov_deg(p, fov[0], fov[1]);
     } else if (parse_tangents(field[F_FOV_TANGENTS], path, p, err) != 0) {
         return -1;
@@ -161,8 +162,10 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
 
     if (!field[F_REFRESH])
         return hl_fail(err, "%s: field 'refresh_hz': missing (required)", path);
-    if (!get_finite(field[F_REFRESH], &p->refresh_hz) || !(p->refresh_hz > 0))
-        return hl_fail(err, "%s: field 'refresh_hz': expected a finite number > 0", path);
+    if (!get_finite(field[F_REFRESH], &p->refresh_hz) ||
+        !(p->refresh_hz >= HMD_REFRESH_MIN_HZ && p->refresh_hz <= HMD_REFRESH_MAX_HZ))
+        return hl_fail(err, "%s: field 'refresh_hz': expected a finite number of Hz in [%g, %g]", path,
+                       HMD_REFRESH_MIN_HZ, HMD_REFRESH_MAX_HZ);
 
     if (field[F_IPD] && (!get_finite(field[F_IPD], &p->ipd_m) || !(p->ipd_m >= 0 && p->ipd_m < 0.1)))
         return hl_fail(err, "%s: field 'ipd_m': expected metres in [0, 0.1)", path);
@@ -178,7 +181,7 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
         return hl_fail(err, "%s: field 'neck_to_eye_m': expected [forward, up] metres, length below %g", path,
                        HMD_NECK_TO_EYE_MAX_M);
 
-    /* The tangent form can still reach 180° per axis (atan of huge values rounds to 90°). */
+    /* The ranges of every field (the tangent form can still reach 180° per axis, or fall below 1°). */
     return hmd_profile_validate(p, path, err);
 }
 

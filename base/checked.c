@@ -5,6 +5,10 @@
 
 #include <math.h>
 
+/* Sizes computed from 32-bit counts (vertices, rows, instances) times a small element size fit a
+ * 64-bit size_t provably; the project's loaders rely on that. */
+_Static_assert(sizeof(size_t) >= 8, "hmdlod needs a 64-bit size_t");
+
 /* 2^63 is exactly representable; every double below it converts. */
 #define TWO_POW_63 9223372036854775808.0
 

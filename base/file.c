@@ -125,7 +125,8 @@ int hl_file_read_all(const char *path, uint64_t max_bytes, char **buf_out, size_
         if (len > max_bytes || got == 0)
             break;
         if (len == cap) {
-            size_t ncap = cap * 2 > (size_t)max_bytes + 1 ? (size_t)max_bytes + 1 : cap * 2;
+            size_t most = (size_t)max_bytes + 1;
+            size_t ncap = cap > most / 2 ? most : cap * 2; /* no cap * 2 that could wrap */
             char *nb = realloc(buf, ncap + 1);
             if (!nb) {
                 free(buf);

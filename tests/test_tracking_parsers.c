@@ -868,6 +868,10 @@ static void test_counter_extremes(void)
         memset(&err, 0, sizeof err);
         CHECK(len > 0 && trk_stream_feed(st, r, (size_t)len, 0, &err) == -1 && strstr(err.msg, "int64 nanoseconds"));
         CHECK(st->rejected == 1);
+        const struct trk_report_counters *rc = kinds[k] == TRK_DEVICE_PSVR   ? &st->parser.psvr.n
+                                               : kinds[k] == TRK_DEVICE_VIVE ? &st->parser.vive.n
+                                                                             : &st->parser.rift.n;
+        CHECK(rc->rejected == 1 && rc->reports + rc->rejected == 2);
         free(st);
     }
     /* An encoder counter offset whose time does not fit int64 ns is an error, not a wrapped stamp. */

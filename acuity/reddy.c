@@ -81,6 +81,11 @@ void acu_limits_init(struct acu_limits *lim, double xi_cpd, double scale)
     lim->use_eccentricity = 1;
     lim->eccentricity_xi_deg = acu_eccentricity_at_acuity_deg(xi_cpd);
     lim->velocity_xi_degps = acu_velocity_at_acuity_degps(xi_cpd, 0.0);
+    /* ξ above H's peak (60 c/deg, the eye's still foveal acuity): H ≥ ξ holds nowhere, so the skip
+     * region is empty. The inverses return 0 there, which would leave the point v = 0, E ≤ 5.79
+     * "inside" and hand out ξ instead of H (docs/HARD_CASES.md, ξ above 60 c/deg). */
+    if (!(acu_acuity_cpd(0.0, 0.0) >= xi_cpd))
+        lim->eccentricity_xi_deg = lim->velocity_xi_degps = -1.0;
 }
 
 double acu_limit_cpd(const struct acu_limits *lim, double velocity_degps, double eccentricity_deg,

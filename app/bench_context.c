@@ -1,6 +1,7 @@
 /* The context every bench shares: output to stdout with a copy kept for --results, the machine,
  * commit and date a measurement was taken on, the shared data folder, and the RESULTS.md writer. */
 #define _XOPEN_SOURCE 700 /* mkdtemp, nftw (POSIX 2008 with the XSI part) */
+#include <errno.h>
 #include <fcntl.h>
 #include <ftw.h>
 #include <spawn.h>
@@ -14,6 +15,7 @@
 #include <unistd.h>
 
 #include "app/bench.h"
+#include "base/base.h"
 
 extern char **environ;
 
@@ -238,16 +240,13 @@ int bench_write_results_section(const char *path, const char *heading, const cha
 {
     char *old = NULL;
     size_t old_len = 0;
-    FILE *f = fopen(path, "rb");
-    if (f) {
-        if (fseek(f, 0, SEEK_END) == 0) {
-            long len = ftell(f);
-            if (len >= 0 && fseek(f, 0, SEEK_SET) == 0 && (old = malloc((size_t)len + 1))) {
-                old_len = fread(old, 1, (size_t)len, f);
-                old[old_len] = '\0';
-            }
+    struct hl_error rerr;
+    if (hl_file_read_all(path, 0, &old, &old_len, &rerr) != 0) {
+        if (errno != ENOENT) { /* a FIFO, device or unreadable file: never overwrite what was not read */
+            fprintf(stderr, "hmdlod bench: %s\n", rerr.msg);
+            return -1;
         }
-        fclose(f);
+        old = NULL, old_len = 0;
     }
     char tmp[4200];
     snprintf(tmp, sizeof tmp, "%s.tmp", path);

@@ -142,6 +142,13 @@ int bench_optimizer(int argc, char **argv, int full_argc, char **full_argv)
     }
     tr.start_s = tr.t.time_s[0];
     tr.span_s = tr.t.time_s[tr.t.count - 1] - tr.start_s;
+    /* The runs index frames as long: a span of 1e300 s must be refused, not converted (C11 6.3.1.4). */
+    if (!(tr.span_s * BOPT_RATE_HZ < (double)RPL_MAX_FRAMES)) {
+        fprintf(stderr, "hmdlod bench optimizer: %s: a span of %.9g s is more than %ld frames at %g Hz\n", o.trace,
+                tr.span_s, (long)RPL_MAX_FRAMES, (double)BOPT_RATE_HZ);
+        rpl_trace_free(&tr.t);
+        return 1;
+    }
     struct bopt_view view;
     bopt_view_init(&view, &display);
     if (o.has_hysteresis)

@@ -90,8 +90,8 @@ int cmd_record(int argc, char **argv)
         else if (!strcmp(opt, "--seconds")) {
             if (app_parse_double(opt, val, &seconds) != 0)
                 return 1;
-            if (!(seconds > 0) || !isfinite(seconds)) {
-                fprintf(stderr, "hmdlod: --seconds: %s is not a positive duration\n", val);
+            if (!(seconds > 0) || !(seconds <= 1e9)) { /* 31 years: the deadline in ns fits int64 */
+                fprintf(stderr, "hmdlod: --seconds: %s is not a positive duration of at most 1e9 s\n", val);
                 return 1;
             }
         } else {

@@ -1,5 +1,6 @@
-/* hmdlod base: the few things every module needs — errors, a monotonic clock, double-precision
- * vectors and quaternions, and a terminal progress bar. Prefix hl_. Nothing else belongs here. */
+/* hmdlod base: the few things every module needs — errors, a monotonic clock, bounded reading of
+ * input files, double-precision vectors and quaternions, checked time arithmetic, and a terminal
+ * progress bar. Prefix hl_. Nothing else belongs here. */
 #ifndef HMDLOD_BASE_H
 #define HMDLOD_BASE_H
 
@@ -24,6 +25,65 @@ int hl_fail(struct hl_error *err, const char *fmt, ...)
 /* ---- clock ----------------------------------------------------------------------------------- */
 int64_t hl_clock_now_ns(void); /* CLOCK_MONOTONIC, nanoseconds */
 double hl_clock_now_s(void);   /* the same in seconds (double keeps ns resolution for ~100 days) */
+
+/* ---- input files -----------------------------------------------------------------------------
+ * Every loader opens its input here. Only regular files are read: a FIFO, a device (/dev/zero) or a
+ * directory is refused before it can block or grow memory ("path: not a regular file (a FIFO)").
+ * Whole-file reads have a size limit; the default is 1 GiB, raised (or lowered) by the environment
+ * variable HMDLOD_MAX_INPUT_BYTES (a positive byte count; anything else keeps the default). */
+#define HL_FILE_DEFAULT_MAX_BYTES ((uint64_t)1 << 30)
+#define HL_FILE_MAX_BYTES_ENV "HMDLOD_MAX_INPUT_BYTES"
+uint64_t hl_file_max_bytes(void); /* the default limit, after the environment variable */
+/* Opens a regular file for reading (never blocks in open); its size in *size_out (may be NULL).
+ * On failure errno says why: ENOENT for a missing file, EINVAL for one that is not regular. */
+FILE *hl_file_open_read(const char *path, uint64_t *size_out, struct hl_error *err);
+/* Reads the whole file into a NUL-terminated malloc'd buffer of *len_out bytes (len_out may be NULL).
+ * max_bytes 0 means hl_file_max_bytes(); a larger file is an error naming the limit. */
+int hl_file_read_all(const char *path, uint64_t max_bytes, char **buf_out, size_t *len_out, struct hl_error *err);
+
+/* ---- checked time and counter arithmetic ------------------------------------------------------
+ * Timestamps, tick counters and counts come from files and devices, so any value is possible. Each
+ * function returns 0 with the exact result in *out, or -1 (leaving *out untouched) when the result
+ * does not fit: the caller turns -1 into an error naming the file and record, never a wrapped value. */
+static inline int hl_i64_add_checked(int64_t a, int64_t b, int64_t *out)
+{
+    int64_t r;
+    if (__builtin_add_overflow(a, b, &r))
+        return -1;
+    *out = r;
+    return 0;
+}
+static inline int hl_i64_sub_checked(int64_t a, int64_t b, int64_t *out)
+{
+    int64_t r;
+    if (__builtin_sub_overflow(a, b, &r))
+        return -1;
+    *out = r;
+    return 0;
+}
+static inline int hl_i64_mul_checked(int64_t a, int64_t b, int64_t *out)
+{
+    int64_t r;
+    if (__builtin_mul_overflow(a, b, &r))
+        return -1;
+    *out = r;
+    return 0;
+}
+static inline int hl_size_mul_checked(size_t a, size_t b, size_t *out)
+{
+    size_t r;
+    if (__builtin_mul_overflow(a, b, &r))
+        return -1;
+    *out = r;
+    return 0;
+}
+/* x truncated toward zero; -1 for NaN, ±inf, or a value outside [-2^63, 2^63). */
+int hl_i64_from_double(double x, int64_t *out);
+/* x truncated toward zero, clamped to [INT64_MIN, INT64_MAX]; NaN gives 0. For limits where
+ * "infinitely long" is a legitimate request (a time limit of +inf means none). */
+int64_t hl_i64_from_double_saturating(double x);
+/* Seconds to integer nanoseconds, rounded to nearest; -1 when not finite or beyond ±292 years. */
+int hl_ns_from_s(double seconds, int64_t *ns_out);
 
 /* ---- vectors (double; world positions and fusion state) --------------------------------------- */
 typedef struct hl_vec3d {

@@ -28,6 +28,20 @@ struct hmd_profile {
 #define HMD_NECK_TO_EYE_FORWARD_M 0.0805
 #define HMD_NECK_TO_EYE_UP_M 0.075
 #define HMD_NECK_TO_EYE_MAX_M 0.3
+/* Physically meaningful ranges (docs/display-profile.md "Ranges"): outside them a profile is an
+ * error, because the derived numbers stop meaning anything — a FOV of 1e-7 deg gives ξ = 6e9 c/deg
+ * and NaN downstream, a refresh of 1e-300 Hz a frame budget of 1e303 ms. */
+#define HMD_PIXELS_MIN 16            /* per eye, each axis */
+#define HMD_PIXELS_MAX 16384
+#define HMD_FOV_MIN_DEG 1.0          /* per axis; the maximum is below 180 */
+#define HMD_REFRESH_MIN_HZ 1.0
+#define HMD_REFRESH_MAX_HZ 1000.0
+#define HMD_IPD_MAX_M 0.1            /* [0, 0.1) */
+#define HMD_DISTORTION_K_MAX 10.0    /* |a|, |b|, |c|, |d|: real lenses stay within ~1.5 (DEVICES.md §1b) */
+#define HMD_ABERRATION_MIN 0.5       /* per-channel scale; real lenses differ from 1 by ~2 % */
+#define HMD_ABERRATION_MAX 2.0
+#define HMD_XI_MIN_CPD 0.1           /* override of ξ, when given */
+#define HMD_XI_MAX_CPD 1000.0
 
 /* Reddy's highest displayable frequency, eq. 4: one pixel is half a cycle. */
 struct hmd_xi {

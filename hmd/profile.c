@@ -59,9 +59,10 @@ int hmd_profile_validate(const struct hmd_profile *p, const char *where, struct 
                        HMD_NAME_MAX - 1);
     if (memchr(p->description, 0, sizeof p->description) == NULL)
         return hl_fail(err, "%s: field 'description': not terminated", where);
-    if (p->eye_width_px <= 0 || p->eye_height_px <= 0)
-        return hl_fail(err, "%s: field 'eye_pixels': expected two positive integers (got %d x %d)", where,
-                       p->eye_width_px, p->eye_height_px);
+    if (!(p->eye_width_px >= HMD_PIXELS_MIN && p->eye_width_px <= HMD_PIXELS_MAX && p->eye_height_px >= HMD_PIXELS_MIN &&
+          p->eye_height_px <= HMD_PIXELS_MAX))
+        return hl_fail(err, "%s: field 'eye_pixels': expected two positive integers, each in [%d, %d] (got %d x %d)",
+                       where, HMD_PIXELS_MIN, HMD_PIXELS_MAX, p->eye_width_px, p->eye_height_px);
     const double t[4] = {p->tan_left, p->tan_right, p->tan_up, p->tan_down};
     static const char *const tn[4] = {"left", "right", "up", "down"};
     for (int i = 0; i < 4; ++i)
@@ -69,27 +70,29 @@ int hmd_profile_validate(const struct hmd_profile *p, const char *where, struct 
             return hl_fail(err, "%s: field 'fov_tangents': '%s' must be a finite number > 0 (got %g)", where,
                            tn[i], t[i]);
     double h_deg = hmd_fov_horizontal_deg(p), v_deg = hmd_fov_vertical_deg(p);
-    if (!(h_deg < 180.0) || !(v_deg < 180.0))
-        return hl_fail(err, "%s: field 'fov_tangents': FOV must be below 180 deg per axis (got %.6g x %.6g deg)",
-                       where, h_deg, v_deg);
-    if (!(isfinite(p->refresh_hz) && p->refresh_hz > 0))
-        return hl_fail(err, "%s: field 'refresh_hz': expected a finite number > 0 (got %g)", where, p->refresh_hz);
-    if (!(isfinite(p->ipd_m) && p->ipd_m >= 0 && p->ipd_m < 0.1))
-        return hl_fail(err, "%s: field 'ipd_m': expected metres in [0, 0.1) (got %g)", where, p->ipd_m);
+    if (!(h_deg >= HMD_FOV_MIN_DEG && h_deg < 180.0) || !(v_deg >= HMD_FOV_MIN_DEG && v_deg < 180.0))
+        return hl_fail(err, "%s: field 'fov_tangents': FOV must be in [%g, 180) deg per axis (got %.6g x %.6g deg)",
+                       where, HMD_FOV_MIN_DEG, h_deg, v_deg);
+    if (!(p->refresh_hz >= HMD_REFRESH_MIN_HZ && p->refresh_hz <= HMD_REFRESH_MAX_HZ))
+        return hl_fail(err, "%s: field 'refresh_hz': expected Hz in [%g, %g] (got %g)", where, HMD_REFRESH_MIN_HZ,
+                       HMD_REFRESH_MAX_HZ, p->refresh_hz);
+    if (!(p->ipd_m >= 0 && p->ipd_m < HMD_IPD_MAX_M))
+        return hl_fail(err, "%s: field 'ipd_m': expected metres in [0, %g) (got %g)", where, HMD_IPD_MAX_M, p->ipd_m);
     /* hypot of two finite numbers is finite; a NaN fails the comparison. */
     if (!(hypot(p->neck_to_eye_m[0], p->neck_to_eye_m[1]) < HMD_NECK_TO_EYE_MAX_M))
         return hl_fail(err, "%s: field 'neck_to_eye_m': expected [forward, up] metres, finite, length below %g (got %g, %g)",
                        where, HMD_NECK_TO_EYE_MAX_M, p->neck_to_eye_m[0], p->neck_to_eye_m[1]);
     for (int i = 0; i < 4; ++i)
-        if (!isfinite(p->distortion_k[i]))
-            return hl_fail(err, "%s: field 'distortion_k': coefficients must be finite", where);
+        if (!(fabs(p->distortion_k[i]) <= HMD_DISTORTION_K_MAX))
+            return hl_fail(err, "%s: field 'distortion_k': coefficients must be finite, each within ±%g (got %g)", where,
+                           HMD_DISTORTION_K_MAX, p->distortion_k[i]);
     for (int i = 0; i < 3; ++i)
-        if (!(isfinite(p->aberration[i]) && p->aberration[i] > 0))
-            return hl_fail(err, "%s: field 'aberration': expected three finite numbers > 0 (got %g)", where,
-                           p->aberration[i]);
-    if (!(isfinite(p->xi_override_cpd) && p->xi_override_cpd >= 0))
-        return hl_fail(err, "%s: field 'xi_cpd': expected a finite number > 0, or 0 for none (got %g)", where,
-                       p->xi_override_cpd);
+        if (!(p->aberration[i] >= HMD_ABERRATION_MIN && p->aberration[i] <= HMD_ABERRATION_MAX))
+            return hl_fail(err, "%s: field 'aberration': expected three finite numbers in [%g, %g] (got %g)", where,
+                           HMD_ABERRATION_MIN, HMD_ABERRATION_MAX, p->aberration[i]);
+    if (!(p->xi_override_cpd == 0 || (p->xi_override_cpd >= HMD_XI_MIN_CPD && p->xi_override_cpd <= HMD_XI_MAX_CPD)))
+        return hl_fail(err, "%s: field 'xi_cpd': expected cycles/degree in [%g, %g], or 0 for none (got %g)", where,
+                       HMD_XI_MIN_CPD, HMD_XI_MAX_CPD, p->xi_override_cpd);
     return 0;
 }
 

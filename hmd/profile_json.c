@@ -21,48 +21,14 @@ static const char *const g_keys[F_COUNT] = {
     "distortion_k", "aberration", "xi_cpd", "neck_to_eye_m",
 };
 
-/* Reads the whole file (at most HMD_PROFILE_MAX_BYTES) into a NUL-terminated buffer. */
+/* Reads the whole file (at most HMD_PROFILE_MAX_BYTES) into a NUL-terminated buffer; base/file.c
+ * refuses FIFOs and devices before they can block. */
 static char *read_file(const char *path, size_t *len_out, struct hl_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+    char *buf = NULL;
+    size_t len = 0;
+    if (hl_file_read_all(path, HMD_PROFILE_MAX_BYTES, &buf, &len, err) != 0)
         return NULL;
-    }
-    struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        hl_fail(err, "%s: cannot read: not a regular file", path);
-        fclose(f);
-        return NULL;
-    }
-    if (st.st_size > HMD_PROFILE_MAX_BYTES) {
-        hl_fail(err, "%s: file too large (%lld bytes; a profile may have at most %d)", path,
-                (long long)st.st_size, HMD_PROFILE_MAX_BYTES);
-        fclose(f);
-        return NULL;
-    }
-    char *buf = malloc((size_t)HMD_PROFILE_MAX_BYTES + 2);
-    if (!buf) {
-        hl_fail(err, "%s: out of memory", path);
-        fclose(f);
-        return NULL;
-    }
-    /* Read one byte past the limit so a file that grew since fstat is still caught. */
-    size_t len = fread(buf, 1, (size_t)HMD_PROFILE_MAX_BYTES + 1, f);
-    int failed = ferror(f);
-    int saved_errno = errno;
-    fclose(f);
-    if (failed) {
-        hl_fail(err, "%s: cannot read: %s", path, strerror(saved_errno));
-        free(buf);
-        return NULL;
-    }
-    if (len > HMD_PROFILE_MAX_BYTES) {
-        hl_fail(err, "%s: file too large (a profile may have at most %d bytes)", path, HMD_PROFILE_MAX_BYTES);
-        free(buf);
-        return NULL;
-    }
-    buf[len] = 0;
     if (strlen(buf) != len) {
         hl_fail(err, "%s: not valid JSON near byte %zu (NUL byte)", path, strlen(buf));
         free(buf);
@@ -172,6 +138,7 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
     if (!field[F_EYE_PIXELS])
         return hl_fail(err, "%s: field 'eye_pixels': missing (required)", path);
     double px[2];
+    /* Integers that fit an int here; hmd_profile_validate then holds them to [HMD_PIXELS_MIN, _MAX]. */
     if (!get_number_array(field[F_EYE_PIXELS], 2, px) || !(px[0] >= 1 && px[0] <= 1 << 20) ||
         !(px[1] >= 1 && px[1] <= 1 << 20) || px[0] != floor(px[0]) || px[1] != floor(px[1]))
         return hl_fail(err, "%s: field 'eye_pixels': expected two positive integers", path);
@@ -184,10 +151,10 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
         return hl_fail(err, "%s: field 'fov_deg': missing (give 'fov_deg' [h, v] or 'fov_tangents')", path);
     if (field[F_FOV_DEG]) {
         double fov[2];
-        if (!get_number_array(field[F_FOV_DEG], 2, fov) || !(fov[0] > 0 && fov[0] < 180) ||
-            !(fov[1] > 0 && fov[1] < 180))
-            return hl_fail(err, "%s: field 'fov_deg': expected [horizontal, vertical] degrees, each in (0, 180)",
-                           path);
+        if (!get_number_array(field[F_FOV_DEG], 2, fov) || !(fov[0] >= HMD_FOV_MIN_DEG && fov[0] < 180) ||
+            !(fov[1] >= HMD_FOV_MIN_DEG && fov[1] < 180))
+            return hl_fail(err, "%s: field 'fov_deg': expected [horizontal, vertical] degrees, each in [%g, 180)",
+                           path, HMD_FOV_MIN_DEG);
         hmd_set_symmetric_fov_deg(p, fov[0], fov[1]);
     } else if (parse_tangents(field[F_FOV_TANGENTS], path, p, err) != 0) {
         return -1;
@@ -195,8 +162,10 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
 
     if (!field[F_REFRESH])
         return hl_fail(err, "%s: field 'refresh_hz': missing (required)", path);
-    if (!get_finite(field[F_REFRESH], &p->refresh_hz) || !(p->refresh_hz > 0))
-        return hl_fail(err, "%s: field 'refresh_hz': expected a finite number > 0", path);
+    if (!get_finite(field[F_REFRESH], &p->refresh_hz) ||
+        !(p->refresh_hz >= HMD_REFRESH_MIN_HZ && p->refresh_hz <= HMD_REFRESH_MAX_HZ))
+        return hl_fail(err, "%s: field 'refresh_hz': expected a finite number of Hz in [%g, %g]", path,
+                       HMD_REFRESH_MIN_HZ, HMD_REFRESH_MAX_HZ);
 
     if (field[F_IPD] && (!get_finite(field[F_IPD], &p->ipd_m) || !(p->ipd_m >= 0 && p->ipd_m < 0.1)))
         return hl_fail(err, "%s: field 'ipd_m': expected metres in [0, 0.1)", path);
@@ -212,7 +181,7 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
         return hl_fail(err, "%s: field 'neck_to_eye_m': expected [forward, up] metres, length below %g", path,
                        HMD_NECK_TO_EYE_MAX_M);
 
-    /* The tangent form can still reach 180° per axis (atan of huge values rounds to 90°). */
+    /* The ranges of every field (the tangent form can still reach 180° per axis, or fall below 1°). */
     return hmd_profile_validate(p, path, err);
 }
 

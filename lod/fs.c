@@ -357,7 +357,10 @@ void lod_optimize_fs(const struct lod_problem *p, double time_limit_us, void *sc
                      struct lod_result *r)
 {
     int64_t t0 = hl_clock_now_ns();
-    int64_t deadline = time_limit_us > 0.0 ? t0 + (int64_t)(time_limit_us * 1e3) : INT64_MAX;
+    /* Saturating: a limit of +inf (or 1e300 us) means none, not an undefined conversion. */
+    int64_t deadline = INT64_MAX;
+    if (time_limit_us > 0.0 && hl_i64_add_checked(t0, hl_i64_from_double_saturating(time_limit_us * 1e3), &deadline) != 0)
+        deadline = INT64_MAX;
     int64_t budget = lod_budget_units(p->budget_ms);
     *r = (struct lod_result){0};
     size_t n = p->object_count;

@@ -542,7 +542,7 @@ void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scrat
 
     /* Values that do not fall with detail could cycle; no honest run needs more than this. */
     const uint64_t cap = 4u * ((uint64_t)candidates + t->node_count) + 64u;
-    const int64_t limit_ns = time_limit_us > 0.0 ? (int64_t)(time_limit_us * 1e3) : 0;
+    const int64_t limit_ns = time_limit_us > 0.0 ? hl_i64_from_double_saturating(time_limit_us * 1e3) : 0; /* +inf: none */
     uint64_t iterations = 0;
     int over = 0, stuck = 0;
     for (;;) {

@@ -3,6 +3,7 @@
  * and kept as a .lod beside the analysis tables (docs/scene-format.md). A chain store for scene/'s
  * default resolver (scene/scenefile.h). */
 #include <stdio.h>
+#include <sys/stat.h>
 #include <string.h>
 
 #include "replay/replay.h"
@@ -31,10 +32,9 @@ static int rpl_chain_load(void *user, const char *path, uint64_t hash, struct sc
     char dir[4096], file[4600];
     if (rpl_chain_path(path, hash, dir, sizeof dir, file, sizeof file) != 0)
         return -1;
-    FILE *probe = fopen(file, "rb");
-    if (!probe)
-        return -1; /* not made yet */
-    fclose(probe);
+    struct stat st;
+    if (stat(file, &st) != 0)
+        return -1; /* not made yet (anything else there is reported by scn_lodfile_read) */
     struct hl_error err = {{0}};
     if (scn_lodfile_read(file, out, &err) == 0 && out->source_hash == hash)
         return 0;

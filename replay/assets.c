@@ -161,9 +161,11 @@ static int rpl_cache_format(char *buf, size_t size, uint64_t key, const struct s
 static int rpl_cache_read(const char *path, uint64_t key, const struct scn_lodset *set,
                           const struct rnd_analyze_params *p, double narrow[], double longr[], const char **why)
 {
-    FILE *f = fopen(path, "rb");
+    struct hl_error open_err;
+    FILE *f = hl_file_open_read(path, NULL, &open_err);
+    *why = "not a regular file";
     if (!f)
-        return 1;
+        return errno == ENOENT ? 1 : -1;
     char buf[RPL_CACHE_FILE_MAX + 1];
     size_t len = fread(buf, 1, RPL_CACHE_FILE_MAX, f);
     int toolong = !feof(f);

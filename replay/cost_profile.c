@@ -39,28 +39,8 @@ static double *coefficient(struct lod_cost_model *m, int i)
 
 static char *read_text(const char *path, struct hl_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
-        return NULL;
-    }
-    struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode) || st.st_size > COST_PROFILE_MAX_BYTES) {
-        hl_fail(err, "%s: not a regular file of at most %d bytes", path, COST_PROFILE_MAX_BYTES);
-        fclose(f);
-        return NULL;
-    }
-    char *buf = malloc((size_t)COST_PROFILE_MAX_BYTES + 2);
-    size_t len = buf ? fread(buf, 1, (size_t)COST_PROFILE_MAX_BYTES + 1, f) : 0;
-    int failed = !buf || ferror(f) || len > COST_PROFILE_MAX_BYTES;
-    fclose(f);
-    if (failed) {
-        hl_fail(err, "%s: cannot read (or larger than %d bytes)", path, COST_PROFILE_MAX_BYTES);
-        free(buf);
-        return NULL;
-    }
-    buf[len] = '\0';
-    return buf;
+    char *buf = NULL;
+    return hl_file_read_all(path, COST_PROFILE_MAX_BYTES, &buf, NULL, err) == 0 ? buf : NULL;
 }
 
 /* Unknown keys are errors: a misspelt coefficient must not silently fall back to nothing. */

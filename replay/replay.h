@@ -39,6 +39,7 @@ struct rpl_trace_report {
     size_t held_orientations; /* EDVAM: forward within RPL_EDVAM_VERTICAL_DEG of vertical: previous kept */
 };
 #define RPL_TRACE_GAP_S 0.1
+#define RPL_MAX_FRAMES 100000000L        /* frames one replay may hold (as --frames): 12.9 days at 90 Hz */
 #define RPL_TRACE_OUTLIER_DEGPS 1000.0   /* above physiological head turns (traces peak at 600–800 deg/s) */
 #define RPL_TRACE_UNIT_TOLERANCE 1e-3    /* | |q| − 1 | beyond this is an error, not renormalised */
 #define RPL_EDVAM_MIN_CONFIDENCE 0.8     /* Pupil confidence below this: no measured gaze (data README §3) */

@@ -72,15 +72,27 @@ static int capture_frame(struct rpl_session *s, uint8_t *rgba, const char *dir, 
     return write_png(s, rgba, dir, frame, "", err);
 }
 
-static long frame_count(const struct rpl_options *o, const struct trk_pose_source *src, double rate_hz)
+/* The frame count as a double first: a trace spanning 1e300 s, or a refresh of 1e308 Hz, must be an
+ * error here, not a conversion whose result C leaves undefined (it came out negative, and the replay
+ * wrote no rows and exited 0). */
+static int frame_count(const struct rpl_options *o, const struct trk_pose_source *src, double rate_hz, long *out,
+                       struct hl_error *err)
 {
-    long available = (long)floor((src->end_time_s - src->start_time_s) * rate_hz + 1e-9) + 1;
+    const char *what = o->raw_path ? o->raw_path : o->trace_path ? o->trace_path : "the built-in clip";
+    double span_s = src->end_time_s - src->start_time_s;
+    double frames_d = floor(span_s * rate_hz + 1e-9) + 1.0;
+    if (!(rate_hz > 0.0) || !isfinite(frames_d) || frames_d < 1.0 || frames_d > (double)RPL_MAX_FRAMES)
+        return hl_fail(err, "%s: %.9g s at %.9g Hz is %.6g frames; a replay holds 1 to %ld", what, span_s, rate_hz,
+                       frames_d, (long)RPL_MAX_FRAMES);
+    long available = (long)frames_d;
+    *out = available;
     if (o->frames == 0)
-        return available;
+        return 0;
     if (o->frames > available)
         fprintf(stderr, "hmdlod: note: the trace covers %ld frames at %.6g Hz; replaying %ld holds its last pose\n",
                 available, rate_hz, o->frames);
-    return o->frames;
+    *out = o->frames;
+    return 0;
 }
 
 int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_error *err)
@@ -102,7 +114,9 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
         make_dirs(o->out_dir, err) != 0)
         goto done;
     double rate_hz = o->rate_hz > 0.0 ? o->rate_hz : s.display.refresh_hz;
-    long frames = frame_count(o, s.source, rate_hz);
+    long frames = 0;
+    if (frame_count(o, s.source, rate_hz, &frames, err) != 0)
+        goto done;
     if (o->capture_every > 0 || o->reference_every > 0) {
         int w, h;
         rnd_renderer_size(s.renderer, &w, &h);

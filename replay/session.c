@@ -30,6 +30,8 @@ int rpl_session_check_options(const struct rpl_options *o, int need_out_dir, enu
         return hl_fail(err, "--render-scale: %g is outside (0, 4]", o->render_scale);
     if (o->frames < 0 || o->capture_every < 0 || o->reference_every < 0)
         return hl_fail(err, "--frames, --capture and --reference must be >= 0");
+    if (o->frames > RPL_MAX_FRAMES)
+        return hl_fail(err, "--frames: %ld is more than the %ld frames a replay holds", o->frames, (long)RPL_MAX_FRAMES);
     enum acu_gaze_model model;
     if (o->gaze && strcmp(o->gaze, "auto") != 0 && acu_gaze_model_parse(o->gaze, &model) != 0)
         return hl_fail(err, "--gaze: '%s' is not a gaze model (auto, head, vor, tracked)", o->gaze);

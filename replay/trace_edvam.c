@@ -222,15 +222,6 @@ static void take_row(struct trace_builder *b, struct edvam_state *st, const stru
     st->prev_q = q;
 }
 
-/* Counts lines (rows ≤ newlines + 1) so the arrays are sized once. */
-static size_t count_lines(const char *text, size_t length)
-{
-    size_t lines = 1;
-    for (const char *p = text; p && (p = memchr(p, '\n', length - (size_t)(p - text))) != NULL; ++p)
-        ++lines;
-    return lines;
-}
-
 /* Frees what the parse holds and fails: the one exit for every error after allocation. */
 static int fail_free(struct rpl_trace *out, unsigned char *measured)
 {
@@ -241,7 +232,7 @@ static int fail_free(struct rpl_trace *out, unsigned char *measured)
 
 int trace_parse_edvam(const char *text, size_t length, const char *name, struct rpl_trace *out, struct hl_error *err)
 {
-    size_t lines = count_lines(text, length);
+    size_t lines = trace_count_content_lines(text, length); /* blank padding costs nothing */
     struct trace_builder b;
     if (trace_builder_init(&b, out, RPL_TRACE_EDVAM, lines, 1, 1, err) != 0)
         return -1;

@@ -37,6 +37,9 @@ int trace_builder_finish(struct trace_builder *b, const char *name, size_t first
 
 /* Trims spaces, tabs and a CR (CRLF files) from both ends of [*s, *s+*n). */
 void trace_trim(const char **s, size_t *n);
+/* Lines with content (not blank, not a comment), at least 1: the most rows a text can hold. Arrays
+ * are sized from this, so blank-line padding costs no memory. */
+size_t trace_count_content_lines(const char *text, size_t length);
 
 /* Copies a field for a message (at most size − 1 bytes), replacing anything unprintable. */
 void trace_quote_field(const char *s, size_t n, char *buf, size_t size);

@@ -169,10 +169,9 @@ int rpl_trace_parse(const char *text, size_t length, const char *name, struct rp
     if (!text && length > 0)
         return hl_fail(err, "%s:1: no text", name);
 
-    /* Rows ≤ newlines + 1: one pass sizes the arrays so the parse never reallocates. */
-    size_t lines = 1;
-    for (const char *p = text; p && (p = memchr(p, '\n', length - (size_t)(p - text))) != NULL; ++p)
-        ++lines;
+    /* Rows ≤ lines with content: one pass sizes the arrays so the parse never reallocates, and
+     * blank lines or comments (padding) cost nothing. */
+    size_t lines = trace_count_content_lines(text, length);
 
     struct layout L;
     int have_header = 0;
@@ -282,42 +281,12 @@ int rpl_trace_load(const char *path, struct rpl_trace *out, struct hl_error *err
         memset(out, 0, sizeof *out);
     if (!path)
         return hl_fail(err, "trace: no path");
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
-    struct stat st;
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(f);
-        return hl_fail(err, "%s: is a folder, not a trace file", path);
-    }
-    size_t cap = 1 << 16, len = 0;
-    char *buf = malloc(cap);
-    if (!buf) {
-        fclose(f);
-        return hl_fail(err, "%s: out of memory", path);
-    }
-    for (;;) {
-        if (len == cap) {
-            char *nb = cap < ((size_t)1 << 40) ? realloc(buf, cap * 2) : NULL;
-            if (!nb) {
-                free(buf);
-                fclose(f);
-                return hl_fail(err, "%s: out of memory reading the file", path);
-            }
-            buf = nb;
-            cap *= 2;
-        }
-        size_t got = fread(buf + len, 1, cap - len, f);
-        len += got;
-        if (got == 0)
-            break;
-    }
-    int read_error = ferror(f);
-    fclose(f);
-    if (read_error) {
-        free(buf);
-        return hl_fail(err, "%s: read error", path);
-    }
+    /* Regular files only (a FIFO or /dev/zero is refused before it can block or grow memory), at
+     * most hl_file_max_bytes() (1 GiB unless HMDLOD_MAX_INPUT_BYTES says otherwise). */
+    char *buf = NULL;
+    size_t len = 0;
+    if (hl_file_read_all(path, 0, &buf, &len, err) != 0)
+        return -1;
     int rc = rpl_trace_parse(buf, len, path, out, err);
     free(buf);
     return rc;

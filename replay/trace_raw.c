@@ -53,7 +53,7 @@ int rpl_trace_from_recording(const char *path, struct rpl_trace *out, struct hl_
     int64_t host_ns, first_ns = 0;
     size_t len;
     int rc, have_first = 0;
-    uint64_t rejected = 0;
+    uint64_t rejected = 0, not_later = 0;
     char first_reject[sizeof(struct hl_error)] = "";
     while ((rc = trk_recording_next(r, &host_ns, buf, sizeof buf, &len, err)) == 1) {
         struct hl_error perr;
@@ -74,13 +74,23 @@ int rpl_trace_from_recording(const char *path, struct rpl_trace *out, struct hl_
         struct trk_pose pose;
         trk_stream_pose(s, 0.0, &pose);
         /* Device time from the first fused sample; difference taken in int64 ns before converting
-         * so a large device counter does not cost precision. */
-        double t_s = (double)(s->newest_time_ns - first_ns) * 1e-9;
-        if (out->count > 0 && !(t_s > out->time_s[out->count - 1]))
-            continue; /* the parsers drop backward samples; keep the trace strictly increasing anyway */
+         * so a large device counter does not cost precision — checked, because host times (the
+         * HDK's clock) come from the file and two of them can differ by more than int64 holds. */
+        int64_t dt_ns;
+        if (hl_i64_sub_checked(s->newest_time_ns, first_ns, &dt_ns) != 0) {
+            rc = hl_fail(err, "%s: record %llu: time %lld ns is too far from the first sample's %lld ns (more than "
+                         "int64 nanoseconds hold)", path, (unsigned long long)r->records,
+                         (long long)s->newest_time_ns, (long long)first_ns);
+            break;
+        }
+        double t_s = (double)dt_ns * 1e-9;
+        if (out->count > 0 && !(t_s > out->time_s[out->count - 1])) {
+            ++not_later; /* the parsers drop backward samples; keep the trace strictly increasing anyway */
+            continue;
+        }
         trace_builder_push(&b, t_s, hl_q_normalize(pose.orientation), NULL, NULL);
     }
-    if (out->count > 0 && trace_builder_finish(&b, path, 0, err) != 0) {
+    if (rc >= 0 && out->count > 0 && trace_builder_finish(&b, path, 0, err) != 0) {
         trk_recording_reader_close(r);
         free(s);
         return -1; /* cannot happen: times are strictly increasing; the builder freed the trace */
@@ -104,5 +114,8 @@ int rpl_trace_from_recording(const char *path, struct rpl_trace *out, struct hl_
     if (rejected)
         fprintf(stderr, "hmdlod: note: %s: %llu of %llu reports rejected and skipped; first: %s\n", path,
                 (unsigned long long)rejected, (unsigned long long)records, first_reject);
+    if (not_later)
+        fprintf(stderr, "hmdlod: note: %s: %llu fused samples not later than the one before were skipped\n", path,
+                (unsigned long long)not_later);
     return 0;
 }

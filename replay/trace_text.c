@@ -18,6 +18,21 @@ void trace_trim(const char **s, size_t *n)
         --*n;
 }
 
+size_t trace_count_content_lines(const char *text, size_t length)
+{
+    size_t rows = 0, pos = 0;
+    while (pos < length) {
+        const char *line = text + pos;
+        const char *nl = memchr(line, '\n', length - pos);
+        size_t n = nl ? (size_t)(nl - line) : length - pos;
+        pos += n + (nl ? 1 : 0);
+        const char *s = line;
+        trace_trim(&s, &n);
+        rows += n > 0 && s[0] != '#';
+    }
+    return rows > 0 ? rows : 1;
+}
+
 void trace_quote_field(const char *s, size_t n, char *buf, size_t size)
 {
     size_t k = 0;

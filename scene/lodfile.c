@@ -333,52 +333,12 @@ int scn_lodfile_read(const char *path, struct scn_lodset *out, struct hl_error *
     *out = (struct scn_lodset){0};
     if (!path)
         return hl_fail(err, "lodfile: no path");
-    /* O_NONBLOCK: opening a FIFO for reading must not wait for a writer; fstat then refuses it. */
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0)
-        return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
-    struct stat st;
-    if (fstat(fd, &st) != 0) {
-        int e = errno;
-        close(fd);
-        return hl_fail(err, "%s: cannot stat: %s", path, strerror(e));
-    }
-    if (!S_ISREG(st.st_mode)) {
-        close(fd);
-        return hl_fail(err, "%s: not a regular file (%s)", path,
-                       S_ISDIR(st.st_mode)    ? "a directory"
-                       : S_ISFIFO(st.st_mode) ? "a FIFO"
-                       : S_ISCHR(st.st_mode)  ? "a character device"
-                       : S_ISBLK(st.st_mode)  ? "a block device"
-                       : S_ISSOCK(st.st_mode) ? "a socket"
-                                              : "not a plain file");
-    }
-    uint64_t size = (uint64_t)st.st_size;
-    if (size > SCN_LOD_MAX_BYTES) {
-        close(fd);
-        return hl_fail(err, "%s: %llu bytes, more than the 2 GiB a .lod file may hold", path,
-                       (unsigned long long)size);
-    }
-    unsigned char *buf = malloc(size ? (size_t)size : 1);
-    if (!buf) {
-        close(fd);
-        return hl_fail(err, "%s: out of memory for %llu bytes", path, (unsigned long long)size);
-    }
-    uint64_t got = 0;
-    while (got < size) {
-        ssize_t r = read(fd, buf + got, (size_t)(size - got));
-        if (r < 0 && errno == EINTR)
-            continue;
-        if (r <= 0) {
-            int e = errno;
-            free(buf);
-            close(fd);
-            return r < 0 ? hl_fail(err, "%s: byte %llu: read failed: %s", path, (unsigned long long)got, strerror(e))
-                         : hl_fail(err, "%s: byte %llu: file shrank while being read", path, (unsigned long long)got);
-        }
-        got += (uint64_t)r;
-    }
-    close(fd);
+    /* base/file.c: a FIFO or device is refused before it can block; at most the 2 GiB a .lod holds. */
+    char *text = NULL;
+    size_t size = 0;
+    if (hl_file_read_all(path, SCN_LOD_MAX_BYTES, &text, &size, err) != 0)
+        return -1;
+    unsigned char *buf = (unsigned char *)text;
     int rc = scn_lod_parse(buf, size, path, out, err);
     free(buf);
     if (rc != 0)

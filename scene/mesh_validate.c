@@ -394,9 +394,9 @@ int scn_soup_to_mesh(const char *path, struct scn_soup *soup, struct scn_mesh *o
  * at the wrong vertex. So OBJ vertex lines are checked here first, with strtod, naming the line. */
 static int obj_prescan(const char *path, uint32_t *vertex_lines, struct hl_error *err)
 {
-    FILE *f = fopen(path, "rb");
+    FILE *f = hl_file_open_read(path, NULL, err);
     if (!f)
-        return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
     char *line = NULL;
     size_t cap = 0;
     uint64_t lineno = 0, nv = 0;
@@ -457,14 +457,15 @@ int scn_mesh_import(const char *path, struct scn_mesh *out, struct scn_import_re
         return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
     if (S_ISDIR(st.st_mode))
         return hl_fail(err, "%s: is a directory, not a mesh file", path);
-    if (!S_ISREG(st.st_mode))
-        return hl_fail(err, "%s: not a regular file", path);
-    if (st.st_size == 0)
-        return hl_fail(err, "%s: empty file (0 bytes)", path);
-    FILE *probe = fopen(path, "rb"); /* a readable file: the readers' own messages are vaguer */
+    /* A readable regular file, opened without blocking (a FIFO is refused here, before OpenMesh or
+     * assimp could wait on it): the readers' own messages are vaguer. */
+    uint64_t size = 0;
+    FILE *probe = hl_file_open_read(path, &size, err);
     if (!probe)
-        return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
     fclose(probe);
+    if (size == 0)
+        return hl_fail(err, "%s: empty file (0 bytes)", path);
     uint32_t obj_vertices = 0;
     int is_obj = ext_is(ext, "obj");
     if (is_obj && obj_prescan(path, &obj_vertices, err) != 0)

@@ -27,40 +27,8 @@ void sf_file_free(struct sf_file *f)
 
 static char *sf_read_all(const char *path, size_t *len_out, struct hl_error *err)
 {
-    FILE *fp = fopen(path, "rb");
-    if (!fp) {
-        hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
-        return NULL;
-    }
-    struct stat st;
-    if (fstat(fileno(fp), &st) != 0 || !S_ISREG(st.st_mode)) {
-        hl_fail(err, "%s: cannot read: not a regular file", path);
-        fclose(fp);
-        return NULL;
-    }
-    if (st.st_size > SF_MAX_BYTES) {
-        hl_fail(err, "%s: file too large (%lld bytes; a scene file may have at most %d)", path,
-                (long long)st.st_size, SF_MAX_BYTES);
-        fclose(fp);
-        return NULL;
-    }
-    char *buf = malloc((size_t)st.st_size + 2);
-    if (!buf) {
-        fclose(fp);
-        hl_fail(err, "%s: out of memory", path);
-        return NULL;
-    }
-    size_t len = fread(buf, 1, (size_t)st.st_size + 1, fp); /* one past: a file that grew is caught */
-    int failed = ferror(fp);
-    fclose(fp);
-    if (failed || len > (size_t)st.st_size) {
-        free(buf);
-        hl_fail(err, "%s: cannot read (read error, or the file changed while being read)", path);
-        return NULL;
-    }
-    buf[len] = '\0';
-    *len_out = len;
-    return buf;
+    char *buf = NULL;
+    return hl_file_read_all(path, SF_MAX_BYTES, &buf, len_out, err) == 0 ? buf : NULL;
 }
 
 /* Line and column (1-based) of byte `offset` in text. */

@@ -27,6 +27,63 @@ expect_error() {
   grep -Eq -- "$pattern" "$tmp/err" || fail "$what: stderr does not match /$pattern/: $(cat "$tmp/err")"
 }
 
+# Hard cases of input (docs/HARD_CASES.md): a device or a FIFO with no writer is refused at once by
+# every file-reading command (never a hang in open(), never unbounded memory); extreme spans and
+# refresh rates are errors, not wrapped frame counts. `cli_tests.sh hard-cases` runs only these.
+hard_cases() {
+  expect_error "replay --trace /dev/zero" "/dev/zero: not a regular file \(a character device\)" -- \
+    timeout 10 "$bin" replay --trace /dev/zero --out "$tmp/z"
+  [ ! -e "$tmp/z/frames.csv" ] || fail "replay --trace /dev/zero left frames.csv"
+  mkfifo "$tmp/fifo" "$tmp/fifo.json" "$tmp/fifo.obj"
+  expect_error "replay --trace FIFO" "fifo: not a regular file \(a FIFO\)" -- \
+    timeout 10 "$bin" replay --trace "$tmp/fifo" --out "$tmp/z"
+  expect_error "replay --raw FIFO" "fifo: not a regular file \(a FIFO\)" -- \
+    timeout 10 "$bin" replay --raw "$tmp/fifo" --out "$tmp/z"
+  expect_error "replay --display FIFO" "fifo.json: not a regular file \(a FIFO\)" -- \
+    timeout 10 "$bin" replay --display "$tmp/fifo.json" --out "$tmp/z"
+  expect_error "replay --scene FIFO" "fifo.json: not a regular file" -- \
+    timeout 10 "$bin" replay --scene "$tmp/fifo.json" --out "$tmp/z"
+  expect_error "replay --cost-profile FIFO" "fifo.json: not a regular file \(a FIFO\)" -- \
+    timeout 10 "$bin" replay --cost-profile "$tmp/fifo.json" --out "$tmp/z"
+  expect_error "display show FIFO" "fifo.json: not a regular file \(a FIFO\)" -- \
+    timeout 10 "$bin" display show "$tmp/fifo.json"
+  expect_error "convert FIFO" "fifo: not a regular file \(a FIFO\)" -- \
+    timeout 10 "$bin" convert "$tmp/fifo" --to "$tmp/z.csv"
+  expect_error "lodgen FIFO" "fifo.obj: not a regular file \(a FIFO\)" -- \
+    timeout 10 "$bin" lodgen "$tmp/fifo.obj" --out "$tmp/z.lod"
+  [ ! -e "$tmp/z.csv" ] && [ ! -e "$tmp/z.lod" ] || fail "a refused input left an output behind"
+  # A span of 1e300 s (or a refresh of 1e308 Hz) once wrapped the frame count: exit 0, no rows.
+  printf 't_s,qw,qx,qy,qz\n0,1,0,0,0\n1e300,1,0,0,0\n' >"$tmp/span.csv"
+  expect_error "replay of a 1e300 s trace" "span.csv: .* frames; a replay holds 1 to 100000000" -- \
+    "$bin" replay --trace "$tmp/span.csv" --out "$tmp/span"
+  [ ! -e "$tmp/span/frames.csv" ] || fail "replay of a 1e300 s trace left frames.csv"
+  expect_error "replay --frames past the limit" "--frames: 2000000000 is outside" -- \
+    "$bin" replay --frames 2000000000 --out "$tmp/z"
+  printf '{"name": "n", "eye_pixels": [100, 100], "fov_deg": [90, 90], "refresh_hz": 1e308}\n' >"$tmp/fast.json"
+  expect_error "display refresh 1e308 Hz" "fast.json: field 'refresh_hz'" -- "$bin" replay --display "$tmp/fast.json" \
+    --out "$tmp/z"
+  printf '{"name": "n", "eye_pixels": [100, 100], "fov_deg": [1e-7, 90], "refresh_hz": 60}\n' >"$tmp/narrow.json"
+  expect_error "display FOV 1e-7 deg" "narrow.json: field 'fov_deg'" -- "$bin" display show "$tmp/narrow.json"
+  # The input size limit is stated, and the environment variable lowers (or raises) it.
+  printf 't_s,qw,qx,qy,qz\n0,1,0,0,0\n0.1,1,0,0,0\n' >"$tmp/small.csv"
+  expect_error "trace over HMDLOD_MAX_INPUT_BYTES" "small.csv: file too large: .*raise it with HMDLOD_MAX_INPUT_BYTES" -- \
+    env HMDLOD_MAX_INPUT_BYTES=16 "$bin" replay --trace "$tmp/small.csv" --out "$tmp/z"
+  rm -f "$tmp/fifo" "$tmp/fifo.json" "$tmp/fifo.obj"
+  # A scene of one object replays like any other. (It renders: under ASan, LeakSanitizer is off for
+  # this run only, for the ~240 bytes Mesa's llvmpipe keeps in driver globals, as test_analyze does.)
+  expect_ok "replay a one-object scene" "frames within the budget" -- \
+    env ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" "$bin" replay --scene field --objects 1 \
+    --frames 5 --render-scale 0.25 --out "$tmp/one"
+  rm -rf "$tmp/one" "$tmp/z"
+}
+if [ "${1:-}" = hard-cases ]; then
+  hard_cases
+  echo "cli hard cases: $failures failed"
+  [ $failures -eq 0 ]
+  exit
+fi
+hard_cases
+
 expect_ok "top-level help" "commands:" -- "$bin" --help
 for c in demo display acuity replay; do
   expect_ok "$c --help" "usage: hmdlod $c" -- "$bin" $c --help

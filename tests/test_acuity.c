@@ -361,8 +361,40 @@ static void test_pixels_box(void)
     CHECK(box_sum >= 0.99 * image && box_sum <= 1.3 * image);
 }
 
-int main(void)
+/* ξ above 60 c/deg (a display finer than the eye, or a 6e3 c/deg override): H never reaches ξ, so
+ * the skip region is empty, every point is modelled, and the limit is H itself — finite, ≤ 60. */
+static void test_xi_above_60(void)
 {
+    const double xis[] = {60.0, 60.000001, 80.0, 1000.0};
+    for (size_t x = 0; x < sizeof xis / sizeof xis[0]; ++x) {
+        struct acu_limits lim;
+        acu_limits_init(&lim, xis[x], 1.0);
+        uint64_t evaluations = 0, points = 0;
+        int wrong = 0;
+        for (double v = 0.0; v <= 130.0; v += 2.5)
+            for (double e = 0.0; e <= 180.0; e += 5.0) {
+                double limit = acu_limit_cpd(&lim, v, e, &evaluations);
+                ++points;
+                wrong += !(isfinite(limit) && limit <= 60.0 && fabs(limit - fmin(acu_acuity_cpd(v, e), xis[x])) < 1e-12);
+            }
+        CHECK(wrong == 0);
+        if (xis[x] > 60.0)
+            CHECK(evaluations == points); /* nothing may be skipped: H < ξ everywhere */
+        uint64_t n = 0;
+        CHECK(acu_limit_cpd(&lim, 0.0, 0.0, &n) == 60.0);
+    }
+}
+
+int main(int argc, char **argv)
+{
+    if (argc > 1 && strcmp(argv[1], "hard-cases") == 0) { /* ctest -L hard-cases */
+        test_hard_cases();
+        test_xi_above_60();
+        test_skip_region();
+        test_geometry();
+        return tu_finish("test_acuity hard-cases");
+    }
+    test_xi_above_60();
     test_paper_figures();
     test_continuity();
     test_hard_cases();

@@ -1,9 +1,15 @@
-/* base: the double-precision vector and quaternion helpers on their hard cases. */
+/* base: the double-precision vector and quaternion helpers, checked time arithmetic and bounded
+ * file reading, on their hard cases (docs/HARD_CASES.md). */
+#define _GNU_SOURCE /* setenv, mkdtemp */
 #include "base/base.h"
 #include "test_util.h"
 
+#include <errno.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 static void test_angles(void)
 {
@@ -79,11 +85,127 @@ static void test_percentiles(void)
     hl_sort_doubles(v, 0);
 }
 
+/* INT64 edges: every checked operation fits exactly up to the edge and refuses one past it. */
+static void test_checked_int64(void)
+{
+    int64_t r = 0;
+    CHECK(hl_i64_add_checked(INT64_MAX - 1, 1, &r) == 0 && r == INT64_MAX);
+    CHECK(hl_i64_add_checked(INT64_MAX, 1, &r) == -1 && r == INT64_MAX); /* untouched on failure */
+    CHECK(hl_i64_add_checked(INT64_MIN, -1, &r) == -1);
+    CHECK(hl_i64_sub_checked(INT64_MIN + 1, 1, &r) == 0 && r == INT64_MIN);
+    CHECK(hl_i64_sub_checked(INT64_MIN, 1, &r) == -1);
+    CHECK(hl_i64_sub_checked(INT64_MAX, INT64_MIN, &r) == -1); /* two host times at opposite ends */
+    CHECK(hl_i64_sub_checked(0, INT64_MIN, &r) == -1);
+    CHECK(hl_i64_mul_checked(INT64_MAX / 1000000, 1000000, &r) == 0 && r == INT64_MAX / 1000000 * 1000000);
+    CHECK(hl_i64_mul_checked(INT64_MAX / 1000000 + 1, 1000000, &r) == -1); /* ms ticks → ns, one past */
+    CHECK(hl_i64_mul_checked(INT64_MIN, -1, &r) == -1);
+    CHECK(hl_i64_mul_checked(-1, INT64_MAX, &r) == 0 && r == -INT64_MAX);
+    size_t z = 0;
+    CHECK(hl_size_mul_checked(SIZE_MAX / 8, 8, &z) == 0);
+    CHECK(hl_size_mul_checked(SIZE_MAX / 8 + 1, 8, &z) == -1);
+
+    /* Doubles → int64: NaN, ±inf and anything at or past 2^63 refused; −2^63 itself fits. */
+    CHECK(hl_i64_from_double(NAN, &r) == -1);
+    CHECK(hl_i64_from_double(INFINITY, &r) == -1);
+    CHECK(hl_i64_from_double(-INFINITY, &r) == -1);
+    CHECK(hl_i64_from_double(9223372036854775808.0, &r) == -1);
+    CHECK(hl_i64_from_double(-9223372036854775808.0, &r) == 0 && r == INT64_MIN);
+    CHECK(hl_i64_from_double(9223372036854774784.0, &r) == 0 && r == 9223372036854774784LL); /* largest below */
+    CHECK(hl_i64_from_double(1e300, &r) == -1);
+    CHECK(hl_i64_from_double(-2.9, &r) == 0 && r == -2);
+    CHECK(hl_i64_from_double_saturating(INFINITY) == INT64_MAX);
+    CHECK(hl_i64_from_double_saturating(-1e300) == INT64_MIN);
+    CHECK(hl_i64_from_double_saturating(NAN) == 0);
+    CHECK(hl_i64_from_double_saturating(12.7) == 12);
+    CHECK(hl_ns_from_s(1.5, &r) == 0 && r == 1500000000);
+    CHECK(hl_ns_from_s(-1e-9, &r) == 0 && r == -1);
+    CHECK(hl_ns_from_s(9.3e9, &r) == -1); /* 295 years: past int64 ns */
+    CHECK(hl_ns_from_s(NAN, &r) == -1);
+    CHECK(hl_ns_from_s(-INFINITY, &r) == -1);
+}
+
+static char g_dir[64];
+
+/* One buffer per name: the paths stay valid together. */
+static const char *tmp_file(const char *name)
+{
+    static char bufs[8][128];
+    static int next;
+    char *buf = bufs[next++ % 8];
+    snprintf(buf, sizeof bufs[0], "%s/%s", g_dir, name);
+    return buf;
+}
+
+/* Non-regular files are refused at once (a FIFO without a writer would block a plain open), the
+ * size limit holds for the default and the environment variable, and a missing file keeps ENOENT. */
+static void test_files(void)
+{
+    snprintf(g_dir, sizeof g_dir, "/tmp/hmdlod_test_base_XXXXXX");
+    if (!mkdtemp(g_dir)) {
+        CHECK(!"mkdtemp");
+        return;
+    }
+    struct hl_error err = {{0}};
+    char *buf = NULL;
+    size_t len = 0;
+
+    const char *fifo = tmp_file("fifo");
+    CHECK(mkfifo(fifo, 0600) == 0);
+    int64_t t0 = hl_clock_now_ns();
+    CHECK(hl_file_read_all(fifo, 0, &buf, &len, &err) == -1 && strstr(err.msg, "not a regular file (a FIFO)"));
+    CHECK(hl_file_open_read(fifo, NULL, &err) == NULL && errno == EINVAL);
+    CHECK(hl_clock_now_ns() - t0 < 1000000000LL); /* no wait for a writer */
+    CHECK(hl_file_read_all("/dev/zero", 0, &buf, &len, &err) == -1 &&
+          strstr(err.msg, "/dev/zero: not a regular file (a character device)"));
+    CHECK(hl_file_read_all(g_dir, 0, &buf, &len, &err) == -1 && strstr(err.msg, "(a directory)"));
+    CHECK(hl_file_read_all(tmp_file("absent"), 0, &buf, &len, &err) == -1 && errno == ENOENT &&
+          strstr(err.msg, "cannot open"));
+
+    const char *small = tmp_file("small");
+    FILE *f = fopen(small, "wb");
+    fputs("0123456789", f);
+    fclose(f);
+    CHECK(hl_file_read_all(small, 10, &buf, &len, &err) == 0 && len == 10 && buf[10] == '\0' &&
+          memcmp(buf, "0123456789", 10) == 0);
+    free(buf);
+    CHECK(hl_file_read_all(small, 9, &buf, &len, &err) == -1 && buf == NULL &&
+          strstr(err.msg, "10 bytes, more than the 9 bytes limit") && !strstr(err.msg, HL_FILE_MAX_BYTES_ENV));
+    const char *empty = tmp_file("empty");
+    fclose(fopen(empty, "wb"));
+    CHECK(hl_file_read_all(empty, 0, &buf, &len, &err) == 0 && len == 0 && buf[0] == '\0');
+    free(buf);
+
+    /* The default limit: 1 GiB, the environment variable lowers or raises it, junk is ignored. */
+    CHECK(hl_file_max_bytes() == HL_FILE_DEFAULT_MAX_BYTES || getenv(HL_FILE_MAX_BYTES_ENV));
+    setenv(HL_FILE_MAX_BYTES_ENV, "5", 1);
+    CHECK(hl_file_max_bytes() == 5);
+    CHECK(hl_file_read_all(small, 0, &buf, &len, &err) == -1 && strstr(err.msg, "more than the 5 bytes limit") &&
+          strstr(err.msg, "raise it with " HL_FILE_MAX_BYTES_ENV));
+    setenv(HL_FILE_MAX_BYTES_ENV, "-5", 1);
+    CHECK(hl_file_max_bytes() == HL_FILE_DEFAULT_MAX_BYTES);
+    setenv(HL_FILE_MAX_BYTES_ENV, "12abc", 1);
+    CHECK(hl_file_max_bytes() == HL_FILE_DEFAULT_MAX_BYTES);
+    setenv(HL_FILE_MAX_BYTES_ENV, "0", 1);
+    CHECK(hl_file_max_bytes() == HL_FILE_DEFAULT_MAX_BYTES);
+    unsetenv(HL_FILE_MAX_BYTES_ENV);
+    /* A sparse file of 2 GiB: refused from its size alone, nothing allocated or read. */
+    const char *sparse = tmp_file("sparse");
+    f = fopen(sparse, "wb");
+    CHECK(f && ftruncate(fileno(f), (off_t)2 << 30) == 0);
+    fclose(f);
+    CHECK(hl_file_read_all(sparse, 0, &buf, &len, &err) == -1 && strstr(err.msg, "more than the 1 GiB limit"));
+
+    remove(fifo), remove(small), remove(empty), remove(sparse);
+    rmdir(g_dir);
+}
+
 int main(void)
 {
     test_percentiles();
     test_angles();
     test_quaternions();
     test_error();
+    test_checked_int64();
+    test_files();
     return tu_finish("test_base");
 }

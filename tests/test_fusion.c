@@ -18,6 +18,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "tests/test_util.h"
@@ -417,6 +418,17 @@ static void test_csv_reader(void)
     remove(path);
     struct trk_imu_csv_row *none = NULL;
     CHECK(trk_imu_csv_read("does/not/exist.csv", &none, &n, &err) < 0 && strstr(err.msg, "does/not/exist.csv"));
+    /* Not a regular file: refused at once (a FIFO without a writer would block a plain open). */
+    CHECK(mkfifo(path, 0600) == 0);
+    CHECK(trk_imu_csv_read(path, &none, &n, &err) < 0 && strstr(err.msg, "not a regular file (a FIFO)") && !none);
+    remove(path);
+    CHECK(trk_imu_csv_read("/dev/zero", &none, &n, &err) < 0 && strstr(err.msg, "not a regular file"));
+    /* Over the stated size limit (lowered here by the environment variable): refused unread. */
+    CHECK(write_file(path, text) == 0);
+    setenv(HL_FILE_MAX_BYTES_ENV, "100", 1);
+    CHECK(trk_imu_csv_read(path, &none, &n, &err) < 0 && strstr(err.msg, "file too large") && !none);
+    unsetenv(HL_FILE_MAX_BYTES_ENV);
+    remove(path);
 }
 
 /* splitmix64 + Box–Muller. */

@@ -274,6 +274,17 @@ static const struct bad_case g_bad[] = {
     {"invalid_truncated.json", "not valid JSON near byte"},
     {"invalid_neck_long.json", "'neck_to_eye_m'"},
     {"invalid_neck_shape.json", "'neck_to_eye_m'"},
+    /* physically meaningless values (docs/display-profile.md "Ranges") */
+    {"invalid_fov_tiny.json", "'fov_deg'"},
+    {"invalid_tangents_tiny.json", "'fov_tangents'"},
+    {"invalid_refresh_tiny.json", "'refresh_hz'"},
+    {"invalid_refresh_huge.json", "'refresh_hz'"},
+    {"invalid_pixels_huge.json", "'eye_pixels'"},
+    {"invalid_pixels_tiny.json", "'eye_pixels'"},
+    {"invalid_distortion_huge.json", "'distortion_k'"},
+    {"invalid_aberration_huge.json", "'aberration'"},
+    {"invalid_xi_huge.json", "'xi_cpd'"},
+    {"invalid_ipd_negative.json", "'ipd_m'"},
 };
 
 static void test_json_invalid(void)

@@ -1088,13 +1088,135 @@ static void test_hull_reduce(void)
     inst_free(&in);
 }
 
+/* ---- hard cases: budgets of zero and infinity, zero-cost items, ties, one object, a million ---- */
+
+/* n objects with k candidates each, object i's candidate j costing cost0·2^j (+ i·jitter) and earning
+ * benefit0·(2 − 2^−j): a concave hull, so every candidate survives lod_hull_reduce. */
+struct hard {
+    size_t n;
+    uint32_t *id, *first;
+    uint8_t *count, *level, *choice_g, *choice_f;
+    double *cost, *benefit;
+};
+
+static void hard_make(struct hard *h, size_t n, int k, double cost0, double jitter, double benefit0)
+{
+    h->n = n;
+    h->id = malloc(n * sizeof *h->id), h->first = malloc(n * sizeof *h->first);
+    h->count = malloc(n), h->choice_g = malloc(n), h->choice_f = malloc(n);
+    h->level = malloc(n * (size_t)k), h->cost = malloc(n * (size_t)k * sizeof(double));
+    h->benefit = malloc(n * (size_t)k * sizeof(double));
+    for (size_t i = 0; i < n; ++i) {
+        h->id[i] = (uint32_t)i, h->first[i] = (uint32_t)(i * (size_t)k), h->count[i] = (uint8_t)k;
+        for (int j = 0; j < k; ++j) {
+            size_t c = i * (size_t)k + (size_t)j;
+            h->level[c] = (uint8_t)(k - 1 - j);
+            h->cost[c] = cost0 * (double)(1u << j) + jitter * (double)(i % 97);
+            h->benefit[c] = benefit0 * (2.0 - 1.0 / (double)(1u << j)) * (1.0 + 1e-3 * (double)(i % 89));
+        }
+    }
+}
+
+static void hard_free(struct hard *h)
+{
+    free(h->id), free(h->first), free(h->count), free(h->level), free(h->choice_g), free(h->choice_f);
+    free(h->cost), free(h->benefit);
+}
+
+/* Runs the greedy and fs (from all-cheapest, with time limit limit_us) on budget_ms; both results
+ * must be feasible and agree. Returns the greedy's result in *rg. */
+static void hard_run(struct hard *h, double budget_ms, double limit_us, struct lod_result *rg)
+{
+    struct lod_problem p = {h->n, h->id, h->first, h->count, h->cost, h->benefit, h->level, budget_ms, 0.0};
+    size_t cands = 0;
+    for (size_t i = 0; i < h->n; ++i)
+        cands += h->count[i];
+    void *scratch = malloc(lod_scratch_bytes(h->n, cands + 1));
+    struct lod_result rf;
+    lod_optimize_greedy(&p, scratch, h->choice_g, rg);
+    memset(h->choice_f, 0, h->n);
+    lod_optimize_fs(&p, limit_us, scratch, h->choice_f, &rf);
+    free(scratch);
+    CHECK(isfinite(rg->cost_ms) && isfinite(rg->benefit) && rg->cost_ms <= budget_ms);
+    CHECK(rf.cost_ms <= budget_ms && !rf.truncated);
+    CHECK(memcmp(h->choice_g, h->choice_f, h->n) == 0);
+    CHECK_NEAR(rf.benefit, rg->benefit, 1e-9 * (1.0 + rg->benefit));
+}
+
+static void test_hard_cases(void)
+{
+    struct hard h;
+    struct lod_result r;
+    /* Budget 0 (and negative, and NaN): nothing with a cost fits; everything dropped, said so. */
+    const double nothing[] = {0.0, -1.0, NAN};
+    for (size_t b = 0; b < 3; ++b) {
+        hard_make(&h, 5, 3, 1.0, 0.0, 1.0);
+        struct lod_problem p = {h.n, h.id, h.first, h.count, h.cost, h.benefit, h.level, nothing[b], 0.0};
+        void *scratch = malloc(lod_scratch_bytes(h.n, 16));
+        lod_optimize_greedy(&p, scratch, h.choice_g, &r);
+        CHECK(r.over_budget && r.dropped == 5 && r.cost_ms == 0.0);
+        memset(h.choice_f, 0, h.n);
+        lod_optimize_fs(&p, 0.0, scratch, h.choice_f, &r);
+        CHECK(r.over_budget && r.dropped == 5 && r.cost_ms == 0.0);
+        for (size_t i = 0; i < h.n; ++i)
+            CHECK(h.choice_g[i] == LOD_DROPPED && h.choice_f[i] == LOD_DROPPED);
+        free(scratch);
+        hard_free(&h);
+    }
+    /* Budget +inf, 1e300 and DBL_MAX, and a time limit of +inf: every object at its finest. */
+    const double everything[] = {INFINITY, 1e300, DBL_MAX};
+    for (size_t b = 0; b < 3; ++b) {
+        hard_make(&h, 50, 4, 0.25, 1e-3, 2.0);
+        hard_run(&h, everything[b], INFINITY, &r);
+        CHECK(!r.over_budget && r.dropped == 0);
+        for (size_t i = 0; i < h.n; ++i)
+            CHECK(h.choice_g[i] == 3);
+        hard_free(&h);
+    }
+    /* Zero-cost items: free candidates are taken at their best even with a budget of 0. */
+    hard_make(&h, 4, 3, 0.0, 0.0, 1.0);
+    hard_run(&h, 0.0, 0.0, &r);
+    CHECK(!r.over_budget && r.dropped == 0 && r.cost_ms == 0.0);
+    struct lod_problem zp = {h.n, h.id, h.first, h.count, h.cost, h.benefit, h.level, 0.0, 0.0};
+    CHECK(lod_lp_bound(&zp, NULL) >= r.benefit - 1e-12);
+    hard_free(&h);
+    /* Ties: two identical objects, room for one upgrade — the lower object_id gets it, every run. */
+    hard_make(&h, 2, 2, 1.0, 0.0, 1.0);
+    h.id[0] = 7, h.id[1] = 3;
+    h.benefit[2] = h.benefit[0], h.benefit[3] = h.benefit[1]; /* exactly equal values */
+    for (int run = 0; run < 3; ++run) {
+        hard_run(&h, 3.0, 0.0, &r);
+        CHECK(h.choice_g[0] == 0 && h.choice_g[1] == 1);
+    }
+    hard_free(&h);
+    /* A scene of one object: the finest candidate that fits, exactly at the budget's edge. */
+    hard_make(&h, 1, 3, 1.0, 0.0, 1.0);
+    hard_run(&h, 2.0, 0.0, &r);
+    CHECK(h.choice_g[0] == 1 && r.cost_ms == 2.0);
+    hard_run(&h, 1.999999, 0.0, &r);
+    CHECK(h.choice_g[0] == 0);
+    hard_free(&h);
+    /* A million objects: the integer cost sums stay exact and within budget; fs equals the greedy. */
+    hard_make(&h, 1000000, 3, 1e-4, 1e-7, 1.0);
+    hard_run(&h, 150.0, 0.0, &r);
+    CHECK(!r.over_budget && r.cost_ms > 149.0);
+    hard_free(&h);
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1 && strcmp(argv[1], "glpsol") == 0)
         return test_against_glpsol();
+    if (argc > 1 && strcmp(argv[1], "hard-cases") == 0) { /* ctest -L hard-cases */
+        test_hard_cases();
+        test_over_budget();
+        test_exact_errors();
+        test_lp_bound_cases();
+        return tu_finish("test_lod_optimize hard-cases");
+    }
     if (argc > 1) {
         fprintf(stderr, "test_lod_optimize: unknown argument '%s' (none: the solvers and guarantees; glpsol: the "
-                        "check against glpsol)\n", argv[1]);
+                        "check against glpsol; hard-cases: the extremes only)\n", argv[1]);
         return 1;
     }
     test_exact_brute_force();
@@ -1109,5 +1231,6 @@ int main(int argc, char **argv)
     test_determinism();
     test_fs_previous_frame();
     test_fs_time_limit();
+    test_hard_cases();
     return tu_finish("test_lod_optimize");
 }

@@ -564,18 +564,74 @@ static void test_end_to_end(void)
     CHECK(access(bad_p, F_OK) != 0);
 }
 
-int main(void)
+/* Writes an HDK recording (the HDK's sample time is the host arrival time) of one report per time. */
+static int write_hdk(const char *path, const int64_t *times, int count)
+{
+    struct trk_recording *rec = trk_recording_create(path, TRK_DEVICE_HDK, 0x1532, 0x0b00, "HDK test", &err);
+    if (!rec)
+        return -1;
+    struct trk_encoder enc;
+    trk_encoder_init(&enc, TRK_DEVICE_HDK, NULL);
+    int written = 0;
+    for (int64_t t = 0; written < count && t < 1000000000; t += 1000000) {
+        struct trk_imu_sample s;
+        memset(&s, 0, sizeof s);
+        s.device_time_ns = t;
+        s.orientation = hl_q_from_axis_angle(hl_v3(0, 1, 0), 0.01 * written);
+        s.has_orientation = 1;
+        uint8_t b[64];
+        int len = trk_encoder_push(&enc, &s, b, sizeof b, &err);
+        if (len < 0)
+            return -1;
+        if (len > 0 && trk_recording_append(rec, times[written++], b, (size_t)len, &err) != 0)
+            return -1;
+    }
+    return trk_recording_close(rec, 1, &err);
+}
+
+/* Host times at the ends of int64: their difference is an error naming the file and record, never a
+ * wrapped (negative) time that would silently drop the row; near INT64_MAX they still work. */
+static void test_host_time_extremes(void)
+{
+    const char *path = tmp_path("hdk_extreme.raw");
+    const int64_t apart[2] = {INT64_MIN + 1000, INT64_MAX - 1000};
+    CHECK(write_hdk(path, apart, 2) == 0);
+    struct rpl_trace tr;
+    memset(&err, 0, sizeof err);
+    CHECK(rpl_trace_from_recording(path, &tr, &err) == -1 && strstr(err.msg, "hdk_extreme.raw: record 2:") &&
+          strstr(err.msg, "int64"));
+
+    const char *late = tmp_path("hdk_late.raw");
+    const int64_t near_max[3] = {INT64_MAX - 2000000, INT64_MAX - 1000000, INT64_MAX};
+    CHECK(write_hdk(late, near_max, 3) == 0);
+    int rc = rpl_trace_from_recording(late, &tr, &err);
+    CHECK(rc == 0 && tr.count == 3);
+    if (rc == 0) {
+        CHECK_NEAR(tr.time_s[2] - tr.time_s[0], 0.002, 1e-12);
+        rpl_trace_free(&tr);
+    } else {
+        fprintf(stderr, "%s\n", err.msg);
+    }
+}
+
+int main(int argc, char **argv)
 {
     if (!mkdtemp(dir)) {
         perror("mkdtemp");
         return 1;
     }
-    test_crc_and_round_trip();
-    test_truncation();
-    test_corruption();
-    test_sigkill();
-    test_stream_basics();
-    test_end_to_end();
+    if (argc > 1 && strcmp(argv[1], "hard-cases") == 0) { /* ctest -L hard-cases */
+        test_host_time_extremes();
+        test_truncation();
+    } else {
+        test_host_time_extremes();
+        test_crc_and_round_trip();
+        test_truncation();
+        test_corruption();
+        test_sigkill();
+        test_stream_basics();
+        test_end_to_end();
+    }
     if (tu_failures == 0) {
         char cmd[600];
         snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);

@@ -2,6 +2,7 @@
  * trips, counter wraps, repeats, backward samples, loss, truncation and random bytes. Facts from
  * DEVICES.md §2. */
 #include "tests/test_util.h"
+#include "tracking/report_internal.h" /* trk_ns_to_counter, the encoders' tick conversion */
 #include "tracking/tracking.h"
 
 #include <math.h>
@@ -806,8 +807,95 @@ static void test_builders(void)
     CHECK(trk_device_table_count >= 7);
 }
 
-int main(void)
+/* Encodes 1 ms samples from t_ns until the encoder emits a report; its length. */
+static int encode_report(struct trk_encoder *enc, int64_t *t_ns, uint8_t *r, size_t cap)
 {
+    for (int i = 0; i < 16; ++i) {
+        struct trk_imu_sample smp = make_sample(*t_ns, hl_v3(0, 0, 0), hl_v3(0, G, 0));
+        *t_ns += 1000000;
+        int len = trk_encoder_push(enc, &smp, r, cap, &err);
+        if (len != 0)
+            return len;
+    }
+    return -1;
+}
+
+/* The int64-nanosecond edge of every device clock: the unwrapped count reaches exactly the largest
+ * value whose time fits, one step more is refused (never wrapped into a negative time), and each
+ * parser then refuses the report with an error instead of dropping it silently. */
+static void test_counter_extremes(void)
+{
+    static const struct {
+        uint32_t bits, num, den;
+    } clocks[] = {{16, 1000000, 1}, {24, 1000, 1}, {32, 1000, 1}, {32, 125, 6}, {2, 1, 1}, {8, 7, 3}};
+    for (size_t i = 0; i < sizeof clocks / sizeof clocks[0]; ++i) {
+        struct trk_tick_clock c;
+        trk_tick_clock_init(&c, clocks[i].bits, clocks[i].num, clocks[i].den);
+        int64_t t, max = trk_tick_clock_max_ticks(&c);
+        CHECK(max > 0 && (__int128)max * clocks[i].num + clocks[i].den <= (__int128)INT64_MAX);
+        CHECK(trk_tick_clock_unwrap(&c, 0, &t) == 1);
+        c.ticks = max - 1; /* as if the device had run for ~292 years (DK1) or ~4.9 years (Vive) */
+        CHECK(trk_tick_clock_unwrap(&c, 1, &t) == 1 && t == max);
+        int64_t ns = trk_tick_clock_ns(&c, t);
+        CHECK(ns > 0 && ns != INT64_MAX && (__int128)ns * clocks[i].den >= (__int128)max * clocks[i].num - clocks[i].den);
+        CHECK(trk_tick_clock_unwrap(&c, 2, &t) == -2 && c.overflowed && c.ticks == max);
+        CHECK(trk_tick_clock_ns(&c, INT64_MAX) == INT64_MAX);
+        CHECK(trk_tick_clock_ns(&c, INT64_MIN) == INT64_MIN);
+        CHECK(trk_tick_clock_ns(&c, 0) == (int64_t)(clocks[i].den / 2) / (int64_t)clocks[i].den);
+    }
+    /* Time → counter (the encoders) in 128 bits: 2e18 ns at 125/6 ns is 9.6e16 ticks, mod 2^32. */
+    CHECK(trk_ns_to_counter(2000000000000000000LL, 32, 125, 6, 0) == 3396337664u);
+    CHECK(trk_ns_to_counter(INT64_MAX, 16, 1000000, 1, 0) == (uint32_t)((INT64_MAX / 1000000 + 1) & 0xFFFF));
+    /* floor((−2^63 + 500) / 1000) = −2^63 / 1000 − 1 (C's division truncates; the counter floors) */
+    CHECK(trk_ns_to_counter(INT64_MIN, 24, 1000, 1, 0) == (uint32_t)((uint64_t)(INT64_MIN / 1000 - 1) & 0xFFFFFF));
+
+    /* The parsers: one report accepted, then the clock is pushed to its edge and the next refused. */
+    const enum trk_device_kind kinds[] = {TRK_DEVICE_RIFT_DK1, TRK_DEVICE_RIFT_DK2, TRK_DEVICE_PSVR, TRK_DEVICE_VIVE};
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; ++k) {
+        struct trk_encoder enc;
+        trk_encoder_init(&enc, kinds[k], NULL);
+        struct trk_stream *st = malloc(sizeof *st);
+        trk_stream_init(st, kinds[k], NULL);
+        struct trk_tick_clock *clk = kinds[k] == TRK_DEVICE_PSVR   ? &st->parser.psvr.clock
+                                     : kinds[k] == TRK_DEVICE_VIVE ? &st->parser.vive.clock
+                                                                   : &st->parser.rift.clock;
+        uint8_t r[64];
+        int64_t t_ns = 1000000000;
+        int len = encode_report(&enc, &t_ns, r, sizeof r);
+        CHECK(len > 0 && trk_stream_feed(st, r, (size_t)len, 0, &err) >= 1);
+        clk->ticks = trk_tick_clock_max_ticks(clk);
+        len = encode_report(&enc, &t_ns, r, sizeof r);
+        memset(&err, 0, sizeof err);
+        CHECK(len > 0 && trk_stream_feed(st, r, (size_t)len, 0, &err) == -1 && strstr(err.msg, "int64 nanoseconds"));
+        CHECK(st->rejected == 1);
+        const struct trk_report_counters *rc = kinds[k] == TRK_DEVICE_PSVR   ? &st->parser.psvr.n
+                                               : kinds[k] == TRK_DEVICE_VIVE ? &st->parser.vive.n
+                                                                             : &st->parser.rift.n;
+        CHECK(rc->rejected == 1 && rc->reports + rc->rejected == 2);
+        free(st);
+    }
+    /* An encoder counter offset whose time does not fit int64 ns is an error, not a wrapped stamp. */
+    struct trk_encoder_options opt;
+    memset(&opt, 0, sizeof opt);
+    opt.counter_offset_ticks = INT64_MAX / 1000;
+    struct trk_encoder enc;
+    trk_encoder_init(&enc, TRK_DEVICE_RIFT_DK1, &opt);
+    struct trk_imu_sample smp = make_sample(0, hl_v3(0, 0, 0), hl_v3(0, G, 0));
+    uint8_t r[64];
+    CHECK(trk_encoder_push(&enc, &smp, r, sizeof r, &err) == -1 && strstr(err.msg, "does not fit int64"));
+}
+
+int main(int argc, char **argv)
+{
+    /* "hard-cases": only the counter and timestamp extremes (ctest -L hard-cases). */
+    if (argc > 1 && strcmp(argv[1], "hard-cases") == 0) {
+        test_tick_clock();
+        test_counter_extremes();
+        test_wraps();
+        test_loss_and_backward();
+        return tu_finish("test_tracking_parsers hard-cases");
+    }
+    test_counter_extremes();
     test_21bit();
     test_tick_clock();
     test_rift_hand();

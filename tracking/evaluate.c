@@ -383,7 +383,10 @@ int trk_evaluate_device(enum trk_device_kind kind, const struct trk_imu_csv_row 
     counter_format(kind, &bits, &tick_ns);
     if (opt.counter_wrap_at_s > 0 && bits > 0) {
         /* Start the counter so that it reaches 2^bits (wraps) counter_wrap_at_s into the stream. */
-        int64_t ticks = (int64_t)(opt.counter_wrap_at_s * 1e9 / tick_ns + 0.5);
+        int64_t ticks;
+        if (hl_i64_from_double(opt.counter_wrap_at_s * 1e9 / tick_ns + 0.5, &ticks) != 0 || ticks > ((int64_t)1 << bits))
+            return hl_fail(err, "tracking evaluation: a counter wrap at %g s is beyond the %u-bit counter's range",
+                           opt.counter_wrap_at_s, bits);
         int64_t offset = ((int64_t)1 << bits) - ticks;
         if (kind == TRK_DEVICE_VIVE || kind == TRK_DEVICE_VIVE_PRO_INDEX)
             offset -= offset % 6; /* the encoder's tick→ns conversion is exact for multiples of 6 */

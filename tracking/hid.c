@@ -2,6 +2,7 @@
  * start and keep-alive reports each kind needs (DEVICES.md §2b–§2e), and draining stale reports. */
 #include <errno.h>
 #include <stdio.h>
+#include <sys/stat.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -101,10 +102,8 @@ int trk_hid_open(const char *path_or_auto, struct trk_hid_device **out, struct h
     }
     {
         char names[400];
-        FILE *f = fopen(path_or_auto, "r");
-        int exists = f != NULL || errno != ENOENT;
-        if (f)
-            fclose(f);
+        struct stat st; /* stat, not open: opening a FIFO given as a device path would block */
+        int exists = stat(path_or_auto, &st) == 0 || errno != ENOENT;
         if (exists)
             hl_fail(err, "%s is not a supported head tracker's hidraw node (supported: %s; see hmdlod devices)",
                     path_or_auto, trk_hid_supported_list(names, sizeof names));

@@ -45,9 +45,16 @@ int trk_imu_csv_read(const char *path, struct trk_imu_csv_row **rows_out, size_t
 {
     *rows_out = NULL;
     *count_out = 0;
-    FILE *fp = fopen(path, "rb");
+    uint64_t size = 0;
+    FILE *fp = hl_file_open_read(path, &size, err); /* refuses FIFOs and devices without blocking */
     if (!fp)
-        return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    /* Read line by line, but the rows are kept: the same stated limit as every whole-file input. */
+    if (size > hl_file_max_bytes()) {
+        fclose(fp);
+        return hl_fail(err, "%s: file too large: %llu bytes, more than the limit of %llu (raise it with %s)", path,
+                       (unsigned long long)size, (unsigned long long)hl_file_max_bytes(), HL_FILE_MAX_BYTES_ENV);
+    }
     struct trk_imu_csv_row *rows = NULL;
     size_t count = 0, cap = 0, lineno = 0;
     char line[512];

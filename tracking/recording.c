@@ -218,17 +218,10 @@ struct trk_recording_reader *trk_recording_open(const char *path, struct hl_erro
         return NULL;
     }
     memcpy(r->path, path, path_len + 1);
-    struct stat st;
-    r->file = fopen(path, "rb");
-    if (!r->file || fstat(fileno(r->file), &st) != 0) {
-        hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+    /* Read record by record (memory does not grow with the file); a FIFO or device is refused here. */
+    r->file = hl_file_open_read(path, &r->file_size, err);
+    if (!r->file)
         goto fail;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        hl_fail(err, "%s: not a regular file", path);
-        goto fail;
-    }
-    r->file_size = (uint64_t)st.st_size;
 
     uint8_t h[TRK_RECORDING_HEADER_SIZE];
     size_t got = fread(h, 1, sizeof h, r->file);

@@ -16,6 +16,8 @@ struct trk_imu_sample *trk_sample_begin_at_tick(struct trk_tick_clock *clock, st
 {
     int64_t ticks;
     int step = trk_tick_clock_unwrap(clock, raw_ticks, &ticks);
+    if (step == -2)
+        return NULL; /* the caller sees clock->overflowed and refuses the report */
     if (step <= 0) {
         trk_count_drop(n, step);
         return NULL;
@@ -60,6 +62,10 @@ int trk_tick_clock_unwrap(struct trk_tick_clock *clock, uint32_t raw, int64_t *t
     }
     if (d >= half)
         return -1;
+    if (clock->ticks > trk_tick_clock_max_ticks(clock) - (int64_t)d) {
+        clock->overflowed = 1;
+        return -2;
+    }
     clock->last_raw = raw;
     clock->ticks += d;
     *ticks_out = clock->ticks;
@@ -74,17 +80,32 @@ static int64_t floor_div(int64_t a, int64_t b)
     return q;
 }
 
+int64_t trk_tick_clock_max_ticks(const struct trk_tick_clock *clock)
+{
+    /* ticks·num + den/2 must fit int64: the DK1's 1 ms tick allows 9.2e12 ticks (292 years). */
+    return (INT64_MAX - (int64_t)clock->period_den) / (int64_t)clock->period_num_ns;
+}
+
 int64_t trk_tick_clock_ns(const struct trk_tick_clock *clock, int64_t ticks)
 {
+    int64_t scaled;
+    if (hl_i64_mul_checked(ticks, (int64_t)clock->period_num_ns, &scaled) != 0 ||
+        hl_i64_add_checked(scaled, (int64_t)(clock->period_den / 2), &scaled) != 0)
+        return ticks < 0 ? INT64_MIN : INT64_MAX;
     /* Exact rational period (Vive: 125/6 ns = 1/48 MHz) so long runs accumulate no drift. */
-    return floor_div(ticks * (int64_t)clock->period_num_ns + clock->period_den / 2, clock->period_den);
+    return floor_div(scaled, clock->period_den);
 }
 
 uint32_t trk_ns_to_counter(int64_t time_ns, uint32_t bits, uint32_t period_num_ns, uint32_t period_den,
                            int64_t offset_ticks)
 {
-    int64_t ticks = floor_div(time_ns * (int64_t)period_den + period_num_ns / 2, period_num_ns);
-    return (uint32_t)((uint64_t)(ticks + offset_ticks) & width_mask(bits));
+    /* In 128 bits: time_ns·den overflows int64 past 48 years for the Vive's den = 6, and the counter
+     * is taken modulo 2^bits anyway, which the wide result gives exactly. */
+    __int128 num = period_num_ns, scaled = (__int128)time_ns * period_den + num / 2;
+    __int128 ticks = scaled / num;
+    if (scaled % num != 0 && scaled < 0)
+        --ticks;
+    return (uint32_t)((unsigned __int128)(ticks + offset_ticks) & width_mask(bits));
 }
 
 int32_t trk_quantize(double value, double lsb, int32_t lo, int32_t hi)

@@ -23,17 +23,23 @@ void trk_encoder_init(struct trk_encoder *enc, enum trk_device_kind kind, const 
 }
 
 /* The counter offset expressed as time, so the per-device encoders need no offset argument. */
-static int64_t offset_ns(enum trk_device_kind kind, int64_t ticks)
+/* Checked: the offset is an option, any int64 — −1 when its time does not fit int64 ns. */
+static int offset_ns(enum trk_device_kind kind, int64_t ticks, int64_t *ns)
 {
+    int64_t scaled;
     switch (kind) {
-    case TRK_DEVICE_RIFT_DK1: return ticks * 1000000;
+    case TRK_DEVICE_RIFT_DK1: return hl_i64_mul_checked(ticks, 1000000, ns);
     case TRK_DEVICE_RIFT_DK2:
     case TRK_DEVICE_RIFT_CV1:
-    case TRK_DEVICE_PSVR: return ticks * 1000;
+    case TRK_DEVICE_PSVR: return hl_i64_mul_checked(ticks, 1000, ns);
     case TRK_DEVICE_VIVE:
-    case TRK_DEVICE_VIVE_PRO_INDEX: return (ticks * 125) / 6; /* exact when ticks is a multiple of 6 */
+    case TRK_DEVICE_VIVE_PRO_INDEX: /* exact when ticks is a multiple of 6 */
+        if (hl_i64_mul_checked(ticks, 125, &scaled) != 0)
+            return -1;
+        *ns = scaled / 6;
+        return 0;
     case TRK_DEVICE_HDK:
-    default: return 0;
+    default: *ns = 0; return 0;
     }
 }
 
@@ -43,7 +49,11 @@ int trk_encoder_push(struct trk_encoder *enc, const struct trk_imu_sample *sampl
     if (!sample || !out || out_size < 64)
         return hl_fail(err, "tracking encoder: output of %zu bytes, need 64", out_size);
     struct trk_imu_sample s = *sample;
-    s.device_time_ns += offset_ns(enc->kind, enc->opt.counter_offset_ticks);
+    int64_t off_ns;
+    if (offset_ns(enc->kind, enc->opt.counter_offset_ticks, &off_ns) != 0 ||
+        hl_i64_add_checked(s.device_time_ns, off_ns, &s.device_time_ns) != 0)
+        return hl_fail(err, "tracking encoder: counter offset %lld ticks at %lld ns: the time does not fit int64 ns",
+                       (long long)enc->opt.counter_offset_ticks, (long long)sample->device_time_ns);
     int length = 0;
     switch (enc->kind) {
     case TRK_DEVICE_RIFT_DK1:

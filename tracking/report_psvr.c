@@ -38,6 +38,12 @@ int trk_psvr_parse(struct trk_psvr_parser *p, const uint8_t *report, size_t leng
          * previous session's queue at start — come out as backward and are dropped. The open
          * drivers' clamp of odd deltas to 500 µs is a fusion policy, not applied here. */
         struct trk_imu_sample *o = trk_sample_begin_at_tick(&p->clock, &p->n, trk_rd_u32(s) & 0xFFFFFFu, &out[emitted]);
+        if (!o && p->clock.overflowed) {
+            --p->n.reports; /* counted as accepted above: it is refused after all */
+            trk_reject(&p->n);
+            return hl_fail(err, "psvr report: device counter passes %lld ticks, beyond int64 nanoseconds",
+                           (long long)trk_tick_clock_max_ticks(&p->clock));
+        }
         if (!o)
             continue;
         ++emitted;

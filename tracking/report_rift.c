@@ -78,6 +78,12 @@ int trk_rift_parse(struct trk_rift_parser *p, const uint8_t *report, size_t leng
 
     int64_t ticks;
     int step = trk_tick_clock_unwrap(&p->clock, raw_time, &ticks);
+    if (step == -2) {
+        --p->n.reports; /* counted as accepted above: it is refused after all */
+        trk_reject(&p->n);
+        return hl_fail(err, "rift report: device counter %lld + step passes %lld ticks, beyond int64 nanoseconds",
+                       (long long)p->clock.ticks, (long long)trk_tick_clock_max_ticks(&p->clock));
+    }
     if (step <= 0) {
         /* The same timestamp again is a repeated report; an older one is stale. */
         if (step == 0)

@@ -163,6 +163,12 @@ int trk_vive_parse(struct trk_vive_parser *p, const uint8_t *report, size_t leng
     for (int k = 0; k < count; ++k) {
         const uint8_t *s = slot[order[k]];
         struct trk_imu_sample *o = trk_sample_begin_at_tick(&p->clock, &p->n, trk_rd_u32(s + 12), &out[emitted]);
+        if (!o && p->clock.overflowed) {
+            --p->n.reports; /* counted as accepted above: it is refused after all */
+            trk_reject(&p->n);
+            return hl_fail(err, "vive report: device counter passes %lld ticks, beyond int64 nanoseconds",
+                           (long long)trk_tick_clock_max_ticks(&p->clock));
+        }
         if (!o)
             continue;
         ++emitted;

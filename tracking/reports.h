@@ -48,12 +48,18 @@ struct trk_tick_clock {
     int started;
     uint32_t last_raw;
     int64_t ticks; /* unwrapped count at last_raw */
+    int overflowed; /* sticky: a step was refused because its time would not fit int64 ns */
 };
 void trk_tick_clock_init(struct trk_tick_clock *clock, uint32_t bits, uint32_t period_num_ns, uint32_t period_den);
-/* Returns 1 (forward; clock advanced, *ticks_out set), 0 (same raw value as last; *ticks_out set)
- * or −1 (backward; clock untouched). raw is masked to the counter width. */
+/* Returns 1 (forward; clock advanced, *ticks_out set), 0 (same raw value as last; *ticks_out set),
+ * −1 (backward; clock untouched) or −2 (the step would take the count past trk_tick_clock_max_ticks,
+ * whose time no longer fits int64 ns: clock untouched, `overflowed` set; the parsers refuse the
+ * report with an error rather than wrap). raw is masked to the counter width. */
 int trk_tick_clock_unwrap(struct trk_tick_clock *clock, uint32_t raw, int64_t *ticks_out);
-int64_t trk_tick_clock_ns(const struct trk_tick_clock *clock, int64_t ticks); /* rounded to the ns */
+int64_t trk_tick_clock_max_ticks(const struct trk_tick_clock *clock); /* largest count whose ns fits */
+/* Rounded to the ns. Exact for |ticks| ≤ trk_tick_clock_max_ticks (all the unwrapper yields);
+ * beyond, saturates at INT64_MIN / INT64_MAX instead of wrapping. */
+int64_t trk_tick_clock_ns(const struct trk_tick_clock *clock, int64_t ticks);
 
 /* Rift 21-bit packed triple (§2b): 8 bytes, big-endian bit string x|y|z (21 bits each, two's
  * complement) + 1 unused bit. Raw LSB counts; Rift scale is 1e-4 per LSB. */

@@ -2,18 +2,18 @@
 # hmdlod live as a user meets it, under Xvfb (PLATFORM.md §3): the issue's acceptance command (120
 # frames, the summary's present intervals, a PNG of the window), a session stopped by SIGINT (the
 # summary printed, the head trace complete and replayable), --list-monitors, and a distorted DK2
-# capture whose lens border is black and whose centre is not. Skips (77) only when xvfb-run is absent.
+# capture whose lens border is black and whose centre is not. Skips (77) only when Xvfb is absent.
 set -u
 bin=${HMDLOD_BIN:?HMDLOD_BIN must point at the hmdlod program}
-command -v xvfb-run >/dev/null || { echo "skip: xvfb-run is absent (apt-get install xvfb xauth)"; exit 77; }
+command -v Xvfb >/dev/null || { echo "skip: Xvfb is absent (apt-get install xvfb xauth)"; exit 77; }
 tmp=$(mktemp -d /tmp/hmdlod-live-XXXXXX)
 trap 'rm -rf "$tmp"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 here=$(cd "$(dirname "$0")" && pwd)
-# xvfb-run -a takes the first free display number from 99 up, and two started at once (other test
-# programs, other users of the machine) can pick the same one: start the search at a random number.
-xvfb() { xvfb-run -a -n $((200 + RANDOM % 5000)) "$@"; }
+# Each session gets its own Xvfb, known to listen before the session starts (tests/with_xvfb.sh): the
+# acceptance command's xvfb-run -a now and then let a client meet no server ("Failed to open display").
+xvfb() { "$here/with_xvfb.sh" "$@"; }
 # probe FILE POINTS...: tests/png_probe.py's lines (RGB at points, distinct colours per half); empty
 # (and a note) without python3.
 probe() {

@@ -174,7 +174,7 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
     return 0;
 }
 
-int rpl_frame_warm_up(struct rpl_session *s, double time_s, struct hl_error *err)
+int rpl_frame_warm_up(struct rpl_session *s, struct hl_error *err)
 {
     const struct scn_scene *scene = &s->scene;
     uint32_t total = scene->instance_count + scene->impostor_instance_count;
@@ -197,10 +197,8 @@ int rpl_frame_warm_up(struct rpl_session *s, double time_s, struct hl_error *err
         for (int l = 0; l < scene->chains[c].lod_count && l < LOD_MAX_LEVELS; ++l)
             index[n] = i, lod[n++] = (uint8_t)l;
     }
-    struct trk_pose pose;
-    struct acu_head_state head;
-    if (rpl_frame_head_state(s, time_s, &pose, &head, err) != 0)
-        goto done;
+    struct trk_pose pose; /* any view does: what is warmed is the pipeline and the buffers */
+    trk_pose_init_still(&pose, 0.0);
     struct rnd_eye_view views[2];
     eye_views(s, &pose, views);
     struct rnd_draw_stats draw = {{0}, 0};
@@ -222,11 +220,11 @@ static double reddy_weight(double eccentricity_deg, void *user)
     return acu_eccentricity_factor(eccentricity_deg); /* Reddy 1998 eq. 3: error counts as it is seen */
 }
 
-int rpl_frame_reference(struct rpl_session *s, struct rpl_frame_record *rec, uint8_t *test, uint8_t *ref,
-                        struct rnd_image_error_work *w, struct hl_error *err)
+int rpl_frame_reference(struct rpl_session *s, struct rpl_frame_record *rec, uint8_t *test, int test_read,
+                        uint8_t *ref, struct rnd_image_error_work *w, struct hl_error *err)
 {
     struct rpl_frame_arrays *a = &s->arrays;
-    if (rnd_renderer_read_rgba(s->renderer, test, err) != 0)
+    if (!test_read && rnd_renderer_read_rgba(s->renderer, test, err) != 0)
         return -1;
     /* The same visible set at full detail (selector none's choice), no group impostors. */
     for (uint32_t k = 0; k < rec->visible; ++k) {

@@ -138,8 +138,6 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     long references = o->reference_every > 0 ? (frames - 1) / o->reference_every + 1 : 0;
     if (rpl_accumulator_init(&acc, frames, references, err) != 0)
         goto done;
-    if (rpl_frame_warm_up(&s, s.source->start_time_s, err) != 0)
-        goto done;
     struct hl_progress progress;
     hl_progress_begin(&progress, "replay", (uint64_t)frames);
     for (long f = 0; f < frames; ++f) {
@@ -148,14 +146,14 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
         struct rpl_frame_record rec;
         if (rpl_frame_run(&s, f, t_s, &rec, err) != 0)
             goto done;
-        if (o->capture_every > 0 && f % o->capture_every == 0 && capture_frame(&s, rgba, o->out_dir, f, err) != 0)
+        int captured = o->capture_every > 0 && f % o->capture_every == 0;
+        if (captured && capture_frame(&s, rgba, o->out_dir, f, err) != 0)
             goto done;
         if (o->reference_every > 0 && f % o->reference_every == 0) {
-            if (rpl_frame_reference(&s, &rec, rgba, ref_rgba, image_work, err) != 0)
+            if (rpl_frame_reference(&s, &rec, rgba, captured, ref_rgba, image_work, err) != 0)
                 goto done;
             /* A captured frame gets its reference beside it, for the eye to compare. */
-            if (o->capture_every > 0 && f % o->capture_every == 0 &&
-                write_png(&s, ref_rgba, o->out_dir, f, "_reference", err) != 0)
+            if (captured && write_png(&s, ref_rgba, o->out_dir, f, "_reference", err) != 0)
                 goto done;
         }
         rpl_output_row(&out, &rec, s.max_lods);

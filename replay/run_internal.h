@@ -90,17 +90,19 @@ int rpl_frame_head_state(struct rpl_session *s, double time_s, struct trk_pose *
 int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_frame_record *rec,
                   struct hl_error *err);
 
-/* Before the first frame: draws one instance of every chain at every level from the pose at time_s,
- * untimed, so that the driver's first-use work (shader compilation, buffer residency: tens of ms on
- * llvmpipe) is not measured as frame 0 and fed to the cost correction. */
-int rpl_frame_warm_up(struct rpl_session *s, double time_s, struct hl_error *err);
+/* Before the first frame (rpl_session_open calls it, for replay and live alike): draws one instance
+ * of every chain at every level from a still pose, untimed, so that the driver's first-use work
+ * (shader compilation, buffer residency: tens of ms on llvmpipe) is not measured as frame 0 and fed
+ * to the cost correction. */
+int rpl_frame_warm_up(struct rpl_session *s, struct hl_error *err);
 
-/* After rpl_frame_run (and any capture of it): reads the frame back into test, draws the same visible
+/* After rpl_frame_run (and any capture of it): reads the frame back into test (unless test_read: a
+ * capture has just read it there), draws the same visible
  * objects at their finest levels from the same eyes into ref, and compares them (render/image_error.h)
  * with the foveated weights M(E) around the frame's gaze; fills rec->image and has_image_error. Both
  * buffers hold the renderer's whole image; w fits it. Outside the frame's timing. */
-int rpl_frame_reference(struct rpl_session *s, struct rpl_frame_record *rec, uint8_t *test, uint8_t *ref,
-                        struct rnd_image_error_work *w, struct hl_error *err);
+int rpl_frame_reference(struct rpl_session *s, struct rpl_frame_record *rec, uint8_t *test, int test_read,
+                        uint8_t *ref, struct rnd_image_error_work *w, struct hl_error *err);
 
 /* Output files: written beside their final name and renamed when complete, so an interrupted run
  * never leaves a CSV or summary that looks finished. */

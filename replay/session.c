@@ -208,7 +208,9 @@ int rpl_session_open(struct rpl_session *s, const struct rpl_options *o, const s
     int eye_h = (int)lround(s->display.eye_height_px * o->render_scale);
     if (!s->renderer && rnd_renderer_create(eye_w > 0 ? eye_w : 1, eye_h > 0 ? eye_h : 1, &s->renderer, err) != 0)
         return -1;
-    return rnd_renderer_upload_scene(s->renderer, &s->scene, err);
+    if (rnd_renderer_upload_scene(s->renderer, &s->scene, err) != 0)
+        return -1;
+    return rpl_frame_warm_up(s, err);
 }
 
 void rpl_session_close(struct rpl_session *s)

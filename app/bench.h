@@ -18,6 +18,7 @@ int bench_gaze(int argc, char **argv, int full_argc, char **full_argv);     /* a
 int bench_suite(int argc, char **argv, int full_argc, char **full_argv);
 void bench_suite_usage(FILE *f);
 int bench_live(int argc, char **argv, int full_argc, char **full_argv);     /* app/bench_live.c */
+int bench_soak(int argc, char **argv, int full_argc, char **full_argv);     /* app/bench_soak.c */
 
 /* bench cull's generated scene, shared with bench optimizer's scaling table: n objects on a ground
  * grid 2 m apart around the origin, grouped as a quadtree of 4 × 4 (app/bench_cull.c). Allocates

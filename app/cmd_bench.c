@@ -20,6 +20,7 @@ static const struct bench benches[] = {
     {"cull", bench_cull, "culling time, flat vs hierarchical, on 1k/10k/100k-object scenes under real head motion"},
     {"optimizer", bench_optimizer, "fs vs from-scratch greedy per frame (1k/10k/100k objects), turn, budget, limit, scaling"},
     {"live", bench_live, "live session: distortion pass cost at the Vive's resolution, present intervals at 90 Hz"},
+    {"soak", bench_soak, "1 h (--duration-s) of looped replay at 90 Hz and a 1 kHz fake tracker: RSS growth, drift"},
     {"gaze", bench_gaze, "gaze models head/vor/tracked vs none on real traces: triangles, frame time, saccades"},
 };
 #define N_BENCHES (sizeof benches / sizeof benches[0])

@@ -13,6 +13,7 @@
 #include "replay/cost.h"
 #include "replay/bench.h"
 #include "replay/live.h"
+#include "replay/soak.h"
 
 /* ---- traces --------------------------------------------------------------------------------- */
 enum rpl_trace_format {

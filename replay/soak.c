@@ -1,0 +1,373 @@
+/* The soak (replay/soak.h; issue 17 item 7). One process, two threads: this one runs the replay
+ * frame (rpl_frame_run, the code `hmdlod replay` and `hmdlod live` use) over a looped trace, paced
+ * by the live loop's pacer (live_pace.c) on the wall clock at the display's refresh; the other is the
+ * fake tracker (soak_tracker.c). Threads rather than one loop that also drains the tracker, because
+ * a live tracker's reports arrive while a frame renders (tracking/hid.c reads on its own thread too),
+ * and 1 kHz pacing inside an 11 ms frame loop would bunch them. Everything the run keeps per frame is
+ * allocated and touched before the clock starts, so resident memory measures the session, not the
+ * bookkeeping. */
+#define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "replay/live_internal.h"
+#include "replay/soak_internal.h"
+
+void rpl_soak_options_defaults(struct rpl_soak_options *o)
+{
+    memset(o, 0, sizeof *o);
+    o->duration_s = 3600.0;
+    o->sample_s = 10.0;
+    o->render_scale = 0.5;
+}
+
+/* Resident set in KiB from /proc/self/statm (pages × page size); −1 when unreadable. */
+static long rss_kib(void)
+{
+    FILE *f = fopen("/proc/self/statm", "r");
+    long size = 0, resident = -1;
+    if (!f)
+        return -1;
+    if (fscanf(f, "%ld %ld", &size, &resident) != 2)
+        resident = -1;
+    fclose(f);
+    return resident < 0 ? -1 : resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+/* Open file descriptors: entries of /proc/self/fd less the one opendir holds; −1 when unreadable. */
+static long open_fds(void)
+{
+    DIR *d = opendir("/proc/self/fd");
+    if (!d)
+        return -1;
+    long n = 0;
+    for (struct dirent *e; (e = readdir(d));)
+        n += e->d_name[0] != '.';
+    closedir(d);
+    return n - 1;
+}
+
+static double process_cpu_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static int compare_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median and p99 (nearest rank) of v[0..n), sorted into scratch. */
+static struct rpl_soak_stats stretch_stats(const double *v, long n, double *scratch)
+{
+    struct rpl_soak_stats st = {NAN, NAN};
+    if (n <= 0)
+        return st;
+    memcpy(scratch, v, (size_t)n * sizeof *v);
+    qsort(scratch, (size_t)n, sizeof *scratch, compare_double);
+    st.median = scratch[(n - 1) / 2];
+    long r = (long)ceil(0.99 * (double)n);
+    st.p99 = scratch[(r < 1 ? 1 : r) - 1];
+    return st;
+}
+
+static double mean_of(const double *v, long n)
+{
+    double s = 0;
+    for (long i = 0; i < n; ++i)
+        s += v[i];
+    return n > 0 ? s / (double)n : NAN;
+}
+
+struct soak_run {
+    struct rpl_session session;
+    int session_open;
+    struct rpl_soak_tracker tracker;
+    struct trk_imu_csv_row *rows;
+    double *frame_ms, *cpu_ms, *triangles, *scratch;
+    long capacity;
+    FILE *csv;
+    char csv_path[4096], csv_tmp[4096];
+};
+
+static int open_csv(struct soak_run *r, const char *dir, struct hl_error *err)
+{
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return hl_fail(err, "%s: cannot create folder: %s", dir, strerror(errno));
+    struct stat st;
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+        return hl_fail(err, "%s: not a folder", dir);
+    if (snprintf(r->csv_path, sizeof r->csv_path, "%s/soak.csv", dir) >= (int)sizeof r->csv_path ||
+        snprintf(r->csv_tmp, sizeof r->csv_tmp, "%s/soak.csv.partial", dir) >= (int)sizeof r->csv_tmp)
+        return hl_fail(err, "%s: path too long", dir);
+    unlink(r->csv_tmp); /* a stale one, or a planted link: "wx" below never follows one */
+    r->csv = fopen(r->csv_tmp, "wx");
+    if (!r->csv)
+        return hl_fail(err, "%s: cannot write: %s", r->csv_tmp, strerror(errno));
+    fprintf(r->csv, "t_s,rss_kib,open_fds,frames,reports,missed_slots,frame_ms_mean,cpu_ms_mean,triangles_mean,"
+                    "fusion_nonfinite,trace_loops,imu_loops\n");
+    fflush(r->csv);
+    return 0;
+}
+
+static int write_summary_json(const char *dir, const struct rpl_soak_summary *s, struct hl_error *err)
+{
+    char path[4096], tmp[4096];
+    if (snprintf(path, sizeof path, "%s/summary.json", dir) >= (int)sizeof path ||
+        snprintf(tmp, sizeof tmp, "%s/summary.json.partial", dir) >= (int)sizeof tmp)
+        return hl_fail(err, "%s: path too long", dir);
+    unlink(tmp);
+    FILE *f = fopen(tmp, "wx");
+    if (!f)
+        return hl_fail(err, "%s: cannot write: %s", tmp, strerror(errno));
+    fprintf(f, "{\n  \"duration_s\": %.3f,\n  \"elapsed_s\": %.3f,\n  \"warmup_s\": %.3f,\n  \"rate_hz\": %.3f,\n",
+            s->duration_s, s->elapsed_s, s->warmup_s, s->rate_hz);
+    fprintf(f, "  \"renderer\": \"%s\",\n  \"selector\": \"%s\",\n  \"display\": \"%s\",\n  \"scene\": \"%s\",\n",
+            s->renderer, s->selector, s->display, s->scene);
+    fprintf(f, "  \"tracker\": \"%s\",\n  \"feed\": \"%s\",\n", s->tracker, s->feed);
+    fprintf(f, "  \"frames\": %ld,\n  \"missed_slots\": %ld,\n  \"samples\": %ld,\n  \"trace_loops\": %ld,\n"
+               "  \"imu_loops\": %ld,\n", s->frames, s->missed_slots, s->samples, s->trace_loops, s->imu_loops);
+    fprintf(f, "  \"reports\": %llu,\n  \"reports_rejected\": %llu,\n  \"fusion_nonfinite\": %llu,\n"
+               "  \"fusion_refused\": %llu,\n", (unsigned long long)s->reports, (unsigned long long)s->rejected,
+            (unsigned long long)s->fusion_nonfinite, (unsigned long long)s->fusion_refused);
+    fprintf(f, "  \"rss_start_kib\": %ld,\n  \"rss_end_kib\": %ld,\n  \"rss_growth_kib\": %ld,\n"
+               "  \"fds_start\": %ld,\n  \"fds_end\": %ld,\n", s->rss_start_kib, s->rss_end_kib,
+            s->rss_end_kib - s->rss_start_kib, s->fds_start, s->fds_end);
+    const char *part[2] = {"first", "last"};
+    for (int i = 0; i < 2; ++i)
+        fprintf(f, "  \"%s\": {\"frame_ms_median\": %.4f, \"frame_ms_p99\": %.4f, \"cpu_ms_median\": %.4f, "
+                   "\"cpu_ms_p99\": %.4f, \"triangles_mean\": %.1f, \"reports_per_s\": %.2f},\n", part[i],
+                s->frame_ms[i].median, s->frame_ms[i].p99, s->cpu_ms[i].median, s->cpu_ms[i].p99,
+                s->triangles_mean[i], s->reports_per_s[i]);
+    fprintf(f, "  \"frame_ms_median_ratio\": %.4f,\n  \"cpu_ms_median_ratio\": %.4f\n}\n", s->frame_ms_ratio,
+            s->cpu_ms_ratio);
+    if (ferror(f) | (fclose(f) != 0)) {
+        unlink(tmp);
+        return hl_fail(err, "%s: write failed", tmp);
+    }
+    if (rename(tmp, path) != 0) {
+        unlink(tmp);
+        return hl_fail(err, "%s: cannot rename: %s", path, strerror(errno));
+    }
+    return 0;
+}
+
+static int check_options(const struct rpl_soak_options *o, struct hl_error *err)
+{
+    if (!o->trace_path || !o->imu_path)
+        return hl_fail(err, "soak: a trace and an IMU stream are needed");
+    if (!o->out_dir || !*o->out_dir)
+        return hl_fail(err, "--out: an output folder is required");
+    if (!(o->duration_s >= 1.0 && o->duration_s <= 7.0 * 86400.0))
+        return hl_fail(err, "--duration-s: %g s is outside [1, 604800]", o->duration_s);
+    if (!(o->sample_s >= 0.1 && o->sample_s <= o->duration_s))
+        return hl_fail(err, "--sample-s: %g s is outside [0.1, the duration %g s]", o->sample_s, o->duration_s);
+    if (!(o->render_scale > 0.0 && o->render_scale <= 4.0))
+        return hl_fail(err, "--render-scale: %g is outside (0, 4]", o->render_scale);
+    return 0;
+}
+
+/* Opens the trace, the IMU stream and the session, and sizes the per-frame arrays. */
+static int soak_open(struct soak_run *r, const struct rpl_soak_options *o, double *rate_hz, struct hl_error *err)
+{
+    struct rpl_trace trace;
+    size_t n_rows = 0;
+    if (trk_imu_csv_read(o->imu_path, &r->rows, &n_rows, err) != 0 || rpl_trace_load(o->trace_path, &trace, err) != 0)
+        return -1;
+    struct rpl_session_made made = {NULL, NULL};
+    if (rpl_soak_source_create(&trace, hl_clock_now_s(), &made.source, err) != 0) {
+        rpl_trace_free(&trace);
+        return -1;
+    }
+    struct rpl_options so;
+    rpl_options_defaults(&so);
+    so.scene = "field";
+    so.display = "vive";
+    so.selector = "fs";
+    so.render_scale = o->render_scale;
+    so.quiet = 1;
+    enum rpl_selector sel;
+    enum rpl_freq_reading reading;
+    r->session_open = 1; /* rpl_session_open adopts the source even when it fails: close it then too */
+    if (rpl_session_check_options(&so, 0, &sel, &reading, err) != 0) {
+        trk_source_destroy(made.source);
+        r->session_open = 0;
+        return -1;
+    }
+    if (rpl_session_open(&r->session, &so, &made, err) != 0)
+        return -1;
+    *rate_hz = r->session.display.refresh_hz;
+    /* every frame the duration can hold at the refresh, plus a second of slack */
+    r->capacity = (long)ceil(o->duration_s * *rate_hz) + (long)ceil(*rate_hz) + 1;
+    size_t bytes = (size_t)r->capacity * sizeof(double);
+    r->frame_ms = malloc(bytes), r->cpu_ms = malloc(bytes), r->triangles = malloc(bytes), r->scratch = malloc(bytes);
+    if (!r->frame_ms || !r->cpu_ms || !r->triangles || !r->scratch)
+        return hl_fail(err, "soak: out of memory for %ld frames", r->capacity);
+    /* touched now, so their pages are resident before the start reading */
+    memset(r->frame_ms, 0, bytes), memset(r->cpu_ms, 0, bytes), memset(r->triangles, 0, bytes);
+    memset(r->scratch, 0, bytes);
+    return rpl_soak_tracker_start(&r->tracker, r->rows, n_rows, err);
+}
+
+static void soak_close(struct soak_run *r)
+{
+    rpl_soak_tracker_stop(&r->tracker);
+    if (r->session_open)
+        rpl_session_close(&r->session);
+    trk_imu_csv_free(r->rows);
+    free(r->frame_ms), free(r->cpu_ms), free(r->triangles), free(r->scratch);
+    if (r->csv) {
+        fclose(r->csv);
+        unlink(r->csv_tmp);
+    }
+}
+
+/* One soak.csv row: the state now and the means of the frames since the previous row. */
+static void sample_row(struct soak_run *r, double t_s, long frames, long from, long missed)
+{
+    struct rpl_soak_tracker *t = &r->tracker;
+    fprintf(r->csv, "%.3f,%ld,%ld,%ld,%llu,%ld,%.4f,%.4f,%.1f,%llu,%ld,%llu\n", t_s, rss_kib(), open_fds(), frames,
+            (unsigned long long)atomic_load(&t->reports), missed, mean_of(r->frame_ms + from, frames - from),
+            mean_of(r->cpu_ms + from, frames - from), mean_of(r->triangles + from, frames - from),
+            (unsigned long long)atomic_load(&t->nonfinite), rpl_soak_source_loops(r->session.source),
+            (unsigned long long)atomic_load(&t->loops));
+    fflush(r->csv); /* a long run can be watched (tail -f) */
+}
+
+static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, double rate_hz, struct rpl_soak_summary *s,
+                     struct hl_error *err)
+{
+    struct rpl_pacer pacer;
+    int64_t start_ns = hl_clock_now_ns();
+    rpl_pacer_init(&pacer, rate_hz, 1, start_ns);
+    const int64_t duration_ns = (int64_t)llround(o->duration_s * 1e9), sample_ns = (int64_t)llround(o->sample_s * 1e9);
+    const int64_t warmup_ns = (int64_t)llround(s->warmup_s * 1e9);
+    int64_t next_sample_ns = start_ns + sample_ns, last_work_ns = 0;
+    int64_t mark_ns[2] = {duration_ns / 10, duration_ns - duration_ns / 10}; /* 10 % and 90 % of the time */
+    uint64_t mark_reports[2] = {0, 0};
+    double mark_s[2] = {0, 0};
+    int warm = 0, marked[2] = {0, 0};
+    long f = 0, row_from = 0;
+    for (; f < r->capacity; ++f) {
+        int64_t now = hl_clock_now_ns();
+        if (now - start_ns >= duration_ns)
+            break;
+        if (atomic_load(&r->tracker.failed))
+            return hl_fail(err, "%s", r->tracker.error);
+        rpl_pacer_plan(&pacer, last_work_ns);
+        double display_s = (double)rpl_pacer_due_ns(&pacer) * 1e-9;
+        struct rpl_frame_record rec;
+        double cpu0 = process_cpu_s();
+        int64_t t0 = hl_clock_now_ns();
+        if (rpl_frame_run(&r->session, f, display_s, &rec, err) != 0)
+            return -1;
+        int64_t t1 = hl_clock_now_ns();
+        r->cpu_ms[f] = (process_cpu_s() - cpu0) * 1e3;
+        r->frame_ms[f] = (double)(t1 - t0) * 1e-6;
+        r->triangles[f] = (double)rec.triangles_per_eye;
+        last_work_ns = t1 - t0;
+        rpl_pacer_wait(&pacer);
+        now = hl_clock_now_ns();
+        rpl_pacer_presented(&pacer, now);
+        if (!warm && now - start_ns >= warmup_ns) {
+            s->rss_start_kib = rss_kib(), s->fds_start = open_fds();
+            warm = 1;
+        }
+        for (int m = 0; m < 2; ++m)
+            if (!marked[m] && now - start_ns >= mark_ns[m]) {
+                mark_reports[m] = atomic_load(&r->tracker.reports);
+                mark_s[m] = (double)(now - start_ns) * 1e-9;
+                marked[m] = 1;
+            }
+        if (now >= next_sample_ns) {
+            sample_row(r, (double)(now - start_ns) * 1e-9, f + 1, row_from, pacer.missed);
+            s->samples++;
+            row_from = f + 1;
+            next_sample_ns += sample_ns;
+        }
+    }
+    int64_t end_ns = hl_clock_now_ns();
+    if (row_from < f) { /* the stretch after the last full sample period */
+        sample_row(r, (double)(end_ns - start_ns) * 1e-9, f, row_from, pacer.missed);
+        s->samples++;
+    }
+    s->elapsed_s = (double)(end_ns - start_ns) * 1e-9;
+    uint64_t reports_end = atomic_load(&r->tracker.reports);
+    s->reports_per_s[0] = mark_s[0] > 0 ? (double)mark_reports[0] / mark_s[0] : NAN;
+    s->reports_per_s[1] = s->elapsed_s > mark_s[1] && marked[1]
+                              ? (double)(reports_end - mark_reports[1]) / (s->elapsed_s - mark_s[1]) : NAN;
+    s->rss_end_kib = rss_kib(), s->fds_end = open_fds();
+    if (!warm)
+        s->rss_start_kib = s->rss_end_kib, s->fds_start = s->fds_end;
+    s->frames = f;
+    s->missed_slots = pacer.missed;
+    return 0;
+}
+
+int rpl_soak_run(const struct rpl_soak_options *o, struct rpl_soak_summary *s, struct hl_error *err)
+{
+    memset(s, 0, sizeof *s);
+    if (check_options(o, err) != 0)
+        return -1;
+    struct soak_run r;
+    memset(&r, 0, sizeof r);
+    double rate_hz = 0;
+    s->duration_s = o->duration_s;
+    s->warmup_s = fmin(60.0, 0.1 * o->duration_s);
+    int rc = soak_open(&r, o, &rate_hz, err);
+    if (rc == 0)
+        rc = open_csv(&r, o->out_dir, err);
+    if (rc == 0) {
+        s->rate_hz = rate_hz;
+        snprintf(s->renderer, sizeof s->renderer, "%s", rnd_renderer_name(r.session.renderer));
+        snprintf(s->selector, sizeof s->selector, "fs");
+        snprintf(s->display, sizeof s->display, "%s", r.session.display.name);
+        snprintf(s->scene, sizeof s->scene, "field");
+        snprintf(s->tracker, sizeof s->tracker, "DK2");
+        snprintf(s->feed, sizeof s->feed, "reports straight into trk_stream_feed (no hidapi/umockdev)");
+        rc = soak_loop(&r, o, rate_hz, s, err);
+    }
+    rpl_soak_tracker_stop(&r.tracker);
+    if (rc == 0) {
+        s->reports = atomic_load(&r.tracker.reports);
+        s->rejected = atomic_load(&r.tracker.rejected);
+        s->fusion_nonfinite = atomic_load(&r.tracker.nonfinite);
+        s->fusion_refused = atomic_load(&r.tracker.refused);
+        s->imu_loops = (long)atomic_load(&r.tracker.loops);
+        s->trace_loops = rpl_soak_source_loops(r.session.source);
+        long tenth = s->frames / 10 > 0 ? s->frames / 10 : (s->frames > 0 ? 1 : 0);
+        const double *series[2] = {r.frame_ms, r.cpu_ms};
+        struct rpl_soak_stats *out[2] = {s->frame_ms, s->cpu_ms};
+        for (int k = 0; k < 2; ++k) {
+            out[k][0] = stretch_stats(series[k], tenth, r.scratch);
+            out[k][1] = stretch_stats(series[k] + s->frames - tenth, tenth, r.scratch);
+        }
+        s->triangles_mean[0] = mean_of(r.triangles, tenth);
+        s->triangles_mean[1] = mean_of(r.triangles + s->frames - tenth, tenth);
+        s->frame_ms_ratio = s->frame_ms[1].median / s->frame_ms[0].median;
+        s->cpu_ms_ratio = s->cpu_ms[1].median / s->cpu_ms[0].median;
+        int bad = ferror(r.csv);
+        bad |= fclose(r.csv) != 0;
+        r.csv = NULL;
+        if (bad)
+            rc = hl_fail(err, "%s: write failed", r.csv_tmp);
+        else if (rename(r.csv_tmp, r.csv_path) != 0)
+            rc = hl_fail(err, "%s: cannot rename: %s", r.csv_path, strerror(errno));
+        if (rc == 0)
+            rc = write_summary_json(o->out_dir, s, err);
+        if (rc != 0)
+            unlink(r.csv_path); /* no soak.csv posing as complete beside a missing summary */
+    }
+    soak_close(&r);
+    return rc;
+}

@@ -1,0 +1,38 @@
+/* Internal to replay/: the two inputs of the soak (soak.c): the looped trace as a pose source and
+ * the fake tracker thread. */
+#ifndef HMDLOD_REPLAY_SOAK_INTERNAL_H
+#define HMDLOD_REPLAY_SOAK_INTERNAL_H
+
+#include <pthread.h>
+#include <stdatomic.h>
+
+#include "replay/replay.h"
+#include "tracking/tracking.h"
+
+/* A pose source over a trace looped end to end on the wall clock (soak_source.c): time t maps to
+ * the trace at (t − t0_s) mod span, and loop k is turned by D^k, D = q_end ⊗ q_start*, so each loop
+ * starts where the last ended — no jump in orientation, no frame dropped at the wrap. Takes the
+ * trace's arrays (zeroes *trace). Positions are dropped (a looped walk would jump). */
+int rpl_soak_source_create(struct rpl_trace *trace, double t0_s, struct trk_pose_source **out, struct hl_error *err);
+long rpl_soak_source_loops(const struct trk_pose_source *src); /* wraps passed so far */
+
+/* The fake tracker (soak_tracker.c): its own thread feeds one DK2 report per millisecond of the
+ * wall clock (absolute sleeps; late ones are fed at once, as a kernel queue would hand them over),
+ * made by trk_encoder from the looped IMU rows (device clock continuous across loops, so the 32-bit
+ * µs counter wraps as a DK2's does after 71.6 min), through trk_stream_feed (parser + fusion) and
+ * trk_stream_pose. Counters are atomics the frame loop reads. */
+struct rpl_soak_tracker {
+    const struct trk_imu_csv_row *rows;
+    size_t n;
+    int64_t period_ns;
+    pthread_t thread;
+    int started;
+    atomic_int stop, failed;
+    atomic_uint_fast64_t reports, rejected, nonfinite, refused, loops;
+    char error[600]; /* "soak tracker: " + an hl_error message */
+};
+int rpl_soak_tracker_start(struct rpl_soak_tracker *t, const struct trk_imu_csv_row *rows, size_t n,
+                           struct hl_error *err);
+void rpl_soak_tracker_stop(struct rpl_soak_tracker *t);
+
+#endif

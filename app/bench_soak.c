@@ -23,7 +23,7 @@ static const char soak_usage[] =
     "its own thread. Writes DIR/soak.csv (a row per sample) and DIR/summary.json and prints resident\n"
     "memory growth, frame-time and CPU-per-frame drift, tracker rate and fd growth with the verdicts.\n"
     "  --duration-s S    wall-clock length, 1 ... 604800 s (default 3600)\n"
-    "  --sample-s S      one soak.csv row every S seconds (default 10)\n"
+    "  --sample-s S      one soak.csv row every S seconds (default 10, or the duration if shorter)\n"
     "  --render-scale F  per-eye resolution factor of the Vive's pixels (default 0.5)\n"
     "  --out DIR         output folder (default hmdlod-soak)\n"
     "Needs the shared data folder: $HMDLOD_SHARED, else ../shared, else next to the executable's checkout.\n";
@@ -72,6 +72,7 @@ int bench_soak(int argc, char **argv, int full_argc, char **full_argv)
     struct rpl_soak_options o;
     rpl_soak_options_defaults(&o);
     o.out_dir = "hmdlod-soak";
+    int sample_given = 0;
     for (int i = 1; i < argc; ++i) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             fputs(soak_usage, stdout);
@@ -92,10 +93,18 @@ int bench_soak(int argc, char **argv, int full_argc, char **full_argv)
             o.out_dir = val;
             continue;
         }
+        sample_given |= !strcmp(opt, "--sample-s");
         double *dst = !strcmp(opt, "--duration-s") ? &o.duration_s : !strcmp(opt, "--sample-s") ? &o.sample_s
                                                                                                : &o.render_scale;
         if (app_parse_double(opt, val, dst))
             return 1;
+    }
+    if (!sample_given && o.sample_s > o.duration_s)
+        o.sample_s = o.duration_s; /* a short run still gets its one row without being told */
+    struct hl_error err;
+    if (rpl_soak_check_options(&o, &err) != 0) { /* before the shared folder: bad arguments say so first */
+        fprintf(stderr, "hmdlod bench soak: %s\n", err.msg);
+        return 1;
     }
     char shared[4096], trace[4200], imu[4200];
     if (bench_find_shared(shared, sizeof shared) != 0) {
@@ -108,7 +117,6 @@ int bench_soak(int argc, char **argv, int full_argc, char **full_argv)
     o.trace_path = trace;
     o.imu_path = imu;
     struct rpl_soak_summary s;
-    struct hl_error err;
     if (rpl_soak_run(&o, &s, &err) != 0) {
         fprintf(stderr, "hmdlod bench soak: %s\n", err.msg);
         return 1;

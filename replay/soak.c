@@ -120,6 +120,15 @@ static int open_csv(struct soak_run *r, const char *dir, struct hl_error *err)
     return 0;
 }
 
+/* A JSON number, or null where it is not finite (a stretch with no frames): JSON has no NaN. */
+static void json_num(FILE *f, const char *key, double v, const char *tail)
+{
+    if (isfinite(v))
+        fprintf(f, "\"%s\": %.4f%s", key, v, tail);
+    else
+        fprintf(f, "\"%s\": null%s", key, tail);
+}
+
 static int write_summary_json(const char *dir, const struct rpl_soak_summary *s, struct hl_error *err)
 {
     char path[4096], tmp[4096];
@@ -144,13 +153,18 @@ static int write_summary_json(const char *dir, const struct rpl_soak_summary *s,
                "  \"fds_start\": %ld,\n  \"fds_end\": %ld,\n", s->rss_start_kib, s->rss_end_kib,
             s->rss_end_kib - s->rss_start_kib, s->fds_start, s->fds_end);
     const char *part[2] = {"first", "last"};
-    for (int i = 0; i < 2; ++i)
-        fprintf(f, "  \"%s\": {\"frame_ms_median\": %.4f, \"frame_ms_p99\": %.4f, \"cpu_ms_median\": %.4f, "
-                   "\"cpu_ms_p99\": %.4f, \"triangles_mean\": %.1f, \"reports_per_s\": %.2f},\n", part[i],
-                s->frame_ms[i].median, s->frame_ms[i].p99, s->cpu_ms[i].median, s->cpu_ms[i].p99,
-                s->triangles_mean[i], s->reports_per_s[i]);
-    fprintf(f, "  \"frame_ms_median_ratio\": %.4f,\n  \"cpu_ms_median_ratio\": %.4f\n}\n", s->frame_ms_ratio,
-            s->cpu_ms_ratio);
+    for (int i = 0; i < 2; ++i) {
+        fprintf(f, "  \"%s\": {", part[i]);
+        json_num(f, "frame_ms_median", s->frame_ms[i].median, ", ");
+        json_num(f, "frame_ms_p99", s->frame_ms[i].p99, ", ");
+        json_num(f, "cpu_ms_median", s->cpu_ms[i].median, ", ");
+        json_num(f, "cpu_ms_p99", s->cpu_ms[i].p99, ", ");
+        json_num(f, "triangles_mean", s->triangles_mean[i], ", ");
+        json_num(f, "reports_per_s", s->reports_per_s[i], "},\n");
+    }
+    fputs("  ", f);
+    json_num(f, "frame_ms_median_ratio", s->frame_ms_ratio, ",\n  ");
+    json_num(f, "cpu_ms_median_ratio", s->cpu_ms_ratio, "\n}\n");
     if (ferror(f) | (fclose(f) != 0)) {
         unlink(tmp);
         return hl_fail(err, "%s: write failed", tmp);
@@ -162,10 +176,8 @@ static int write_summary_json(const char *dir, const struct rpl_soak_summary *s,
     return 0;
 }
 
-static int check_options(const struct rpl_soak_options *o, struct hl_error *err)
+int rpl_soak_check_options(const struct rpl_soak_options *o, struct hl_error *err)
 {
-    if (!o->trace_path || !o->imu_path)
-        return hl_fail(err, "soak: a trace and an IMU stream are needed");
     if (!o->out_dir || !*o->out_dir)
         return hl_fail(err, "--out: an output folder is required");
     if (!(o->duration_s >= 1.0 && o->duration_s <= 7.0 * 86400.0))
@@ -317,16 +329,18 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
 int rpl_soak_run(const struct rpl_soak_options *o, struct rpl_soak_summary *s, struct hl_error *err)
 {
     memset(s, 0, sizeof *s);
-    if (check_options(o, err) != 0)
+    if (rpl_soak_check_options(o, err) != 0)
         return -1;
+    if (!o->trace_path || !o->imu_path)
+        return hl_fail(err, "soak: a trace and an IMU stream are needed");
     struct soak_run r;
     memset(&r, 0, sizeof r);
     double rate_hz = 0;
     s->duration_s = o->duration_s;
     s->warmup_s = fmin(60.0, 0.1 * o->duration_s);
-    int rc = soak_open(&r, o, &rate_hz, err);
+    int rc = open_csv(&r, o->out_dir, err); /* first: a bad --out fails before the session loads */
     if (rc == 0)
-        rc = open_csv(&r, o->out_dir, err);
+        rc = soak_open(&r, o, &rate_hz, err);
     if (rc == 0) {
         s->rate_hz = rate_hz;
         snprintf(s->renderer, sizeof s->renderer, "%s", rnd_renderer_name(r.session.renderer));

@@ -20,6 +20,9 @@ struct rpl_soak_options {
     double render_scale;    /* per-eye resolution factor of the Vive's pixels */
 };
 void rpl_soak_options_defaults(struct rpl_soak_options *o); /* 3600 s, 10 s, 0.5 */
+/* The ranges (duration 1 s … 7 days, sample 0.1 s … the duration, render scale (0, 4], an output
+ * folder named); the paths are checked when read. 0, or −1 with err naming the option. */
+int rpl_soak_check_options(const struct rpl_soak_options *o, struct hl_error *err);
 
 /* Median and p99 (nearest rank) of a stretch of frames. */
 struct rpl_soak_stats {

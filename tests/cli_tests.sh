@@ -208,6 +208,21 @@ expect_ok "bench replay --quick" "\| \*\*none/reddy\*\* \| \| \*\*×[0-9.]+\*\*"
   "$bin" bench replay --quick --frames 20 --render-scale 0.25
 expect_error "bench replay bad --frames" "--frames: 'x' is not a whole number" -- "$bin" bench replay --frames x
 
+# bench soak: bad arguments are refused at once with the option named, and a --out that is a file
+# fails before the session loads, leaving nothing (the run itself: tests/soak_smoke.sh).
+expect_error "bench soak bad --duration-s" "--duration-s: 'x' is not a number" -- "$bin" bench soak --duration-s x
+expect_error "bench soak zero --duration-s" "--duration-s: 0 s is outside \[1, 604800\]" -- \
+  "$bin" bench soak --duration-s 0
+expect_error "bench soak --sample-s past the duration" "--sample-s: 20 s is outside" -- \
+  "$bin" bench soak --duration-s 10 --sample-s 20
+expect_error "bench soak --render-scale 9" "--render-scale: 9 is outside \(0, 4\]" -- "$bin" bench soak --render-scale 9
+expect_error "bench soak unknown option" "unknown option '--frames'" -- "$bin" bench soak --frames 10
+expect_error "bench soak --out without a value" "--out needs a value" -- "$bin" bench soak --out
+: >"$tmp/soak-file"
+expect_error "bench soak --out a file" "soak-file: not a folder" -- \
+  timeout 20 "$bin" bench soak --duration-s 2 --out "$tmp/soak-file"
+[ ! -e "$tmp/soak-file.partial" ] && [ ! -s "$tmp/soak-file" ] || fail "bench soak --out a file wrote something"
+
 # bench tracking --quick: every table has OpenHMD's row, measured (or said not to be, without libopenhmd).
 if [ -f "$shared/data/imu/still_desk_tilt10.csv" ]; then
   expect_ok "bench tracking --quick OpenHMD row" \

@@ -1,0 +1,148 @@
+/* The soak's pieces (replay/soak_internal.h) without a renderer: the looped trace source (the wrap
+ * is seamless: the pose just before and just after each wrap agree, and loop k is loop 0 turned by
+ * D^k), the fake tracker thread (reports at about 1 kHz, fusion finite, the IMU stream wraps), and the
+ * option ranges. The whole run is tests/soak_smoke.sh. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "replay/soak_internal.h"
+#include "test_util.h"
+
+/* Angle between two orientations, radians (atan2 of the relative quaternion's parts). */
+static double angle_between(hl_quatd a, hl_quatd b)
+{
+    hl_quatd d = hl_q_mul(a, hl_q_conj(b));
+    double s = sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    return 2.0 * atan2(s, fabs(d.w));
+}
+
+/* 3 s at 100 Hz: yaw at 30 deg/s with a pitch wobble, so the end differs from the start. */
+static int make_trace(struct rpl_trace *t, struct hl_error *err)
+{
+    size_t cap = 64 + 301 * 96, len = 0;
+    char *text = malloc(cap);
+    if (!text)
+        return -1;
+    len += (size_t)snprintf(text + len, cap - len, "t_s,qw,qx,qy,qz\n");
+    for (int i = 0; i <= 300; ++i) {
+        double t_s = i * 0.01, yaw = 30.0 * HL_RAD_PER_DEG * t_s, pitch = 0.2 * sin(2.0 * t_s);
+        hl_quatd q = hl_q_mul(hl_q_from_axis_angle(hl_v3(0, 1, 0), yaw), hl_q_from_axis_angle(hl_v3(1, 0, 0), pitch));
+        len += (size_t)snprintf(text + len, cap - len, "%.3f,%.12f,%.12f,%.12f,%.12f\n", t_s, q.w, q.x, q.y, q.z);
+    }
+    int rc = rpl_trace_parse(text, len, "synthetic", t, err);
+    free(text);
+    return rc;
+}
+
+static void test_loop_source(void)
+{
+    struct rpl_trace trace;
+    struct hl_error err;
+    CHECK(make_trace(&trace, &err) == 0);
+    hl_quatd q_start = trace.orientation[0], q_end = trace.orientation[trace.count - 1];
+    struct trk_pose_source *src = NULL;
+    const double t0 = 1000.0, span = 3.0;
+    CHECK(rpl_soak_source_create(&trace, t0, &src, &err) == 0);
+    if (!src)
+        return;
+    CHECK(trace.count == 0); /* ownership moved */
+    struct trk_pose a, b, c;
+    /* before t0: held at the start */
+    CHECK(trk_source_pose_at(src, t0 - 5.0, &a, &err) == 0);
+    CHECK_NEAR(angle_between(a.orientation, q_start), 0.0, 1e-9);
+    /* each wrap: 1 ms before and after are 1 ms of a 30 deg/s turn apart, not a jump */
+    for (int k = 1; k <= 5; ++k) {
+        double w = t0 + k * span;
+        CHECK(trk_source_pose_at(src, w - 0.001, &a, &err) == 0);
+        CHECK(trk_source_pose_at(src, w + 0.001, &b, &err) == 0);
+        CHECK(angle_between(a.orientation, b.orientation) < 0.002 * 40.0 * HL_RAD_PER_DEG);
+        CHECK(trk_source_pose_at(src, w, &c, &err) == 0);
+        CHECK(c.time_s == w);
+        CHECK(isfinite(c.angular_velocity_radps.y) && c.angular_velocity_radps.y > 0.0);
+    }
+    /* the first wrap lands on the trace's last orientation */
+    CHECK(trk_source_pose_at(src, t0 + span, &c, &err) == 0);
+    CHECK_NEAR(angle_between(c.orientation, q_end), 0.0, 1e-6);
+    /* loop 2 is loop 0 turned twice by D = q_end q_start* (the same instant within the loop) */
+    hl_quatd d = hl_q_mul(q_end, hl_q_conj(q_start));
+    CHECK(trk_source_pose_at(src, t0 + 0.7, &a, &err) == 0);
+    CHECK(trk_source_pose_at(src, t0 + 2.0 * span + 0.7, &b, &err) == 0);
+    CHECK_NEAR(angle_between(b.orientation, hl_q_mul(d, hl_q_mul(d, a.orientation))), 0.0, 1e-6);
+    CHECK(rpl_soak_source_loops(src) == 5);
+    /* after a day of loops the pose is still unit and finite */
+    CHECK(trk_source_pose_at(src, t0 + 86400.0 + 0.25, &a, &err) == 0);
+    CHECK_NEAR(sqrt(a.orientation.w * a.orientation.w + a.orientation.x * a.orientation.x +
+                    a.orientation.y * a.orientation.y + a.orientation.z * a.orientation.z), 1.0, 1e-12);
+    CHECK(trk_source_pose_at(src, NAN, &a, &err) == -1);
+    CHECK(strstr(err.msg, "non-finite") != NULL);
+    trk_source_destroy(src);
+    /* a one-sample trace cannot loop */
+    struct rpl_trace one;
+    const char *text = "t_s,qw,qx,qy,qz\n0,1,0,0,0\n";
+    CHECK(rpl_trace_parse(text, strlen(text), "one", &one, &err) == 0);
+    CHECK(rpl_soak_source_create(&one, 0.0, &src, &err) == -1 && src == NULL);
+    rpl_trace_free(&one);
+}
+
+static void test_tracker(void)
+{
+    enum { N = 150 }; /* 150 ms of an upright, slowly turning IMU at 1 kHz: wraps twice in 0.4 s */
+    struct trk_imu_csv_row rows[N];
+    for (int i = 0; i < N; ++i) {
+        memset(&rows[i], 0, sizeof rows[i]);
+        rows[i].t_s = i * 0.001;
+        rows[i].gyro_radps = hl_v3(0.0, 0.3, 0.0);
+        rows[i].accel_mps2 = hl_v3(0.0, 9.81, 0.0);
+        rows[i].truth = hl_q_from_axis_angle(hl_v3(0, 1, 0), 0.3 * rows[i].t_s);
+    }
+    struct rpl_soak_tracker t;
+    struct hl_error err;
+    CHECK(rpl_soak_tracker_start(&t, rows, N, &err) == 0);
+    struct timespec ts = {0, 400000000};
+    nanosleep(&ts, NULL);
+    rpl_soak_tracker_stop(&t);
+    uint64_t reports = atomic_load(&t.reports);
+    CHECK(reports >= 200 && reports <= 420); /* 1 kHz for 0.4 s; loose for a loaded machine */
+    CHECK(atomic_load(&t.rejected) == 0);
+    CHECK(atomic_load(&t.nonfinite) == 0);
+    CHECK(atomic_load(&t.refused) == 0);
+    CHECK(atomic_load(&t.failed) == 0);
+    CHECK(atomic_load(&t.loops) >= 1);
+    rpl_soak_tracker_stop(&t); /* twice: harmless */
+    /* a stream whose rows do not advance is refused before a thread starts */
+    rows[N - 1].t_s = 0.0;
+    CHECK(rpl_soak_tracker_start(&t, rows, N, &err) == -1);
+    CHECK(strstr(err.msg, "IMU stream") != NULL);
+}
+
+static void test_options(void)
+{
+    struct rpl_soak_options o;
+    struct hl_error err;
+    rpl_soak_options_defaults(&o);
+    CHECK(o.duration_s == 3600.0 && o.sample_s == 10.0 && o.render_scale == 0.5);
+    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--out"));
+    o.out_dir = "x";
+    CHECK(rpl_soak_check_options(&o, &err) == 0);
+    o.duration_s = 0.5;
+    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--duration-s"));
+    o.duration_s = INFINITY;
+    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--duration-s"));
+    o.duration_s = 60.0, o.sample_s = 61.0;
+    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--sample-s"));
+    o.sample_s = NAN;
+    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--sample-s"));
+    o.sample_s = 1.0, o.render_scale = 0.0;
+    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--render-scale"));
+}
+
+int main(void)
+{
+    test_loop_source();
+    test_tracker();
+    test_options();
+    return tu_finish("soak");
+}

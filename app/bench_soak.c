@@ -41,6 +41,8 @@ static void print_table(const struct rpl_soak_summary *s)
                s->scene, s->selector, s->display, s->rate_hz, s->duration_s, s->elapsed_s, s->warmup_s, s->frames,
                s->missed_slots, s->trace_loops, s->imu_loops);
     bench_emit("Tracker: fake %s, %s.\n\n", s->tracker, s->feed);
+    bench_emit("First 10 %%: the 10 %% of the frames that follow the warm-up (frames %ld on); last 10 %%: the run's "
+               "last 10 %% of the frames.\n\n", s->first_frame);
     bench_emit("| measure | start / first 10 %% | end / last 10 %% | change | verdict |\n|---|---:|---:|---:|---|\n");
     bench_emit("| RSS kB (after warm-up / at end) | %ld | %ld | %+ld | %s |\n", s->rss_start_kib, s->rss_end_kib, growth,
                growth <= SOAK_GROWTH_LIMIT_KIB ? "PASS (growth ≤ 1 MB)" : "FAIL (growth > 1 MB)");

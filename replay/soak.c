@@ -144,6 +144,7 @@ static int write_summary_json(const char *dir, const struct rpl_soak_summary *s,
     fprintf(f, "  \"renderer\": \"%s\",\n  \"selector\": \"%s\",\n  \"display\": \"%s\",\n  \"scene\": \"%s\",\n",
             s->renderer, s->selector, s->display, s->scene);
     fprintf(f, "  \"tracker\": \"%s\",\n  \"feed\": \"%s\",\n", s->tracker, s->feed);
+    fprintf(f, "  \"warm_frames\": %ld,\n  \"first_stretch_frame\": %ld,\n", s->warm_frames, s->first_frame);
     fprintf(f, "  \"frames\": %ld,\n  \"missed_slots\": %ld,\n  \"samples\": %ld,\n  \"trace_loops\": %ld,\n"
                "  \"imu_loops\": %ld,\n", s->frames, s->missed_slots, s->samples, s->trace_loops, s->imu_loops);
     fprintf(f, "  \"reports\": %llu,\n  \"reports_rejected\": %llu,\n  \"fusion_nonfinite\": %llu,\n"
@@ -293,6 +294,7 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
         rpl_pacer_presented(&pacer, now);
         if (!warm && now - start_ns >= warmup_ns) {
             s->rss_start_kib = rss_kib(), s->fds_start = open_fds();
+            s->warm_frames = f + 1;
             warm = 1;
         }
         for (int m = 0; m < 2; ++m)
@@ -360,13 +362,17 @@ int rpl_soak_run(const struct rpl_soak_options *o, struct rpl_soak_summary *s, s
         s->imu_loops = (long)atomic_load(&r.tracker.loops);
         s->trace_loops = rpl_soak_source_loops(r.session.source);
         long tenth = s->frames / 10 > 0 ? s->frames / 10 : (s->frames > 0 ? 1 : 0);
+        /* the first stretch starts after the warm-up (the driver's and the cost correction's settling
+         * is not drift), unless that leaves no room before the last stretch */
+        long first = s->warm_frames + tenth <= s->frames - tenth ? s->warm_frames : 0;
+        s->first_frame = first;
         const double *series[2] = {r.frame_ms, r.cpu_ms};
         struct rpl_soak_stats *out[2] = {s->frame_ms, s->cpu_ms};
         for (int k = 0; k < 2; ++k) {
-            out[k][0] = stretch_stats(series[k], tenth, r.scratch);
+            out[k][0] = stretch_stats(series[k] + first, tenth, r.scratch);
             out[k][1] = stretch_stats(series[k] + s->frames - tenth, tenth, r.scratch);
         }
-        s->triangles_mean[0] = mean_of(r.triangles, tenth);
+        s->triangles_mean[0] = mean_of(r.triangles + first, tenth);
         s->triangles_mean[1] = mean_of(r.triangles + s->frames - tenth, tenth);
         s->frame_ms_ratio = s->frame_ms[1].median / s->frame_ms[0].median;
         s->cpu_ms_ratio = s->cpu_ms[1].median / s->cpu_ms[0].median;

@@ -32,13 +32,15 @@ struct rpl_soak_stats {
 struct rpl_soak_summary {
     double duration_s, warmup_s, rate_hz, elapsed_s;
     long frames, missed_slots, samples;
+    long warm_frames;                /* frames done when the warm-up ended */
+    long first_frame;                /* where the first 10 % starts: warm_frames, or 0 in a run too short */
     long trace_loops, imu_loops;     /* times each input wrapped */
     uint64_t reports, rejected;      /* tracker reports fed; refused by the parser */
     uint64_t fusion_nonfinite;       /* fused poses with a non-finite component (0 when healthy) */
     uint64_t fusion_refused;         /* samples the fusion refused (trk_stream) */
     long rss_start_kib, rss_end_kib; /* /proc/self/statm after the warm-up, at the end */
     long fds_start, fds_end;         /* entries of /proc/self/fd at the same two moments */
-    /* [0]: the first 10 % of the frames, [1]: the last 10 % */
+    /* [0]: 10 % of the frames from the warm-up's end, [1]: the last 10 % */
     struct rpl_soak_stats frame_ms[2], cpu_ms[2];
     double triangles_mean[2];
     double reports_per_s[2];          /* over the first and the last 10 % of the wall time */

@@ -229,7 +229,7 @@ static int soak_open(struct soak_run *r, const struct rpl_soak_options *o, doubl
     /* touched now, so their pages are resident before the start reading */
     memset(r->frame_ms, 0, bytes), memset(r->cpu_ms, 0, bytes), memset(r->triangles, 0, bytes);
     memset(r->scratch, 0, bytes);
-    return rpl_soak_tracker_start(&r->tracker, r->rows, n_rows, err);
+    return rpl_soak_tracker_start(&r->tracker, r->rows, n_rows, o->duration_s, err);
 }
 
 static void soak_close(struct soak_run *r)
@@ -266,10 +266,7 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
     const int64_t duration_ns = (int64_t)llround(o->duration_s * 1e9), sample_ns = (int64_t)llround(o->sample_s * 1e9);
     const int64_t warmup_ns = (int64_t)llround(s->warmup_s * 1e9);
     int64_t next_sample_ns = start_ns + sample_ns, last_work_ns = 0;
-    int64_t mark_ns[2] = {duration_ns / 10, duration_ns - duration_ns / 10}; /* 10 % and 90 % of the time */
-    uint64_t mark_reports[2] = {0, 0};
-    double mark_s[2] = {0, 0};
-    int warm = 0, marked[2] = {0, 0};
+    int warm = 0;
     long f = 0, row_from = 0;
     for (; f < r->capacity; ++f) {
         int64_t now = hl_clock_now_ns();
@@ -297,12 +294,6 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
             s->warm_frames = f + 1;
             warm = 1;
         }
-        for (int m = 0; m < 2; ++m)
-            if (!marked[m] && now - start_ns >= mark_ns[m]) {
-                mark_reports[m] = atomic_load(&r->tracker.reports);
-                mark_s[m] = (double)(now - start_ns) * 1e-9;
-                marked[m] = 1;
-            }
         if (now >= next_sample_ns) {
             sample_row(r, (double)(now - start_ns) * 1e-9, f + 1, row_from, pacer.missed);
             s->samples++;
@@ -316,10 +307,6 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
         s->samples++;
     }
     s->elapsed_s = (double)(end_ns - start_ns) * 1e-9;
-    uint64_t reports_end = atomic_load(&r->tracker.reports);
-    s->reports_per_s[0] = mark_s[0] > 0 ? (double)mark_reports[0] / mark_s[0] : NAN;
-    s->reports_per_s[1] = s->elapsed_s > mark_s[1] && marked[1]
-                              ? (double)(reports_end - mark_reports[1]) / (s->elapsed_s - mark_s[1]) : NAN;
     s->rss_end_kib = rss_kib(), s->fds_end = open_fds();
     if (!warm)
         s->rss_start_kib = s->rss_end_kib, s->fds_start = s->fds_end;
@@ -360,6 +347,7 @@ int rpl_soak_run(const struct rpl_soak_options *o, struct rpl_soak_summary *s, s
         s->fusion_nonfinite = atomic_load(&r.tracker.nonfinite);
         s->fusion_refused = atomic_load(&r.tracker.refused);
         s->imu_loops = (long)atomic_load(&r.tracker.loops);
+        rpl_soak_tracker_rates(&r.tracker, s->reports_per_s);
         s->trace_loops = rpl_soak_source_loops(r.session.source);
         long tenth = s->frames / 10 > 0 ? s->frames / 10 : (s->frames > 0 ? 1 : 0);
         /* the first stretch starts after the warm-up (the driver's and the cost correction's settling

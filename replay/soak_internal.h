@@ -29,10 +29,18 @@ struct rpl_soak_tracker {
     int started;
     atomic_int stop, failed;
     atomic_uint_fast64_t reports, rejected, nonfinite, refused, loops;
+    /* The rate first and last: reports and the time (ns after the thread's start) when 10 % and 90 %
+     * of the duration had passed, taken by this thread between its own reports (1 ms resolution,
+     * whatever the frames do), and at its stop. */
+    int64_t mark_after_ns[2];
+    atomic_uint_fast64_t mark_reports[2];
+    atomic_int_fast64_t mark_ns[2], stop_ns;
     char error[600]; /* "soak tracker: " + an hl_error message */
 };
 int rpl_soak_tracker_start(struct rpl_soak_tracker *t, const struct trk_imu_csv_row *rows, size_t n,
-                           struct hl_error *err);
+                           double duration_s, struct hl_error *err);
+/* Reports per second over the first and the last 10 % of the duration (after stop); NaN if unknown. */
+void rpl_soak_tracker_rates(const struct rpl_soak_tracker *t, double out[2]);
 void rpl_soak_tracker_stop(struct rpl_soak_tracker *t);
 
 #endif

@@ -70,13 +70,20 @@ static void *tracker_main(void *arg)
         if (!pose_finite(&pose))
             atomic_fetch_add(&t->nonfinite, 1);
         atomic_store(&t->refused, stream.fusion_refused);
-        atomic_fetch_add(&t->reports, 1);
+        uint64_t done = atomic_fetch_add(&t->reports, 1) + 1;
+        int64_t since = hl_clock_now_ns() - t0;
+        for (int m = 0; m < 2; ++m)
+            if (atomic_load(&t->mark_ns[m]) == 0 && since >= t->mark_after_ns[m]) {
+                atomic_store(&t->mark_reports[m], done);
+                atomic_store(&t->mark_ns[m], since);
+            }
+        atomic_store(&t->stop_ns, since);
     }
     return NULL;
 }
 
 int rpl_soak_tracker_start(struct rpl_soak_tracker *t, const struct trk_imu_csv_row *rows, size_t n,
-                           struct hl_error *err)
+                           double duration_s, struct hl_error *err)
 {
     memset(t, 0, sizeof *t);
     if (n < 2 || !(rows[n - 1].t_s > rows[0].t_s))
@@ -94,6 +101,14 @@ int rpl_soak_tracker_start(struct rpl_soak_tracker *t, const struct trk_imu_csv_
     atomic_init(&t->nonfinite, 0);
     atomic_init(&t->refused, 0);
     atomic_init(&t->loops, 0);
+    int64_t duration_ns = (int64_t)llround(duration_s * 1e9); /* ≤ 7 days: fits */
+    t->mark_after_ns[0] = duration_ns / 10 > 1 ? duration_ns / 10 : 1;
+    t->mark_after_ns[1] = duration_ns - duration_ns / 10 > 1 ? duration_ns - duration_ns / 10 : 1;
+    for (int m = 0; m < 2; ++m) {
+        atomic_init(&t->mark_reports[m], 0);
+        atomic_init(&t->mark_ns[m], 0);
+    }
+    atomic_init(&t->stop_ns, 0);
     int rc = pthread_create(&t->thread, NULL, tracker_main, t);
     if (rc != 0)
         return hl_fail(err, "soak: cannot start the tracker thread: %s", strerror(rc));
@@ -108,4 +123,13 @@ void rpl_soak_tracker_stop(struct rpl_soak_tracker *t)
     atomic_store(&t->stop, 1);
     pthread_join(t->thread, NULL);
     t->started = 0;
+}
+
+void rpl_soak_tracker_rates(const struct rpl_soak_tracker *t, double out[2])
+{
+    int64_t m0 = atomic_load(&t->mark_ns[0]), m1 = atomic_load(&t->mark_ns[1]), end = atomic_load(&t->stop_ns);
+    uint64_t r0 = atomic_load(&t->mark_reports[0]), r1 = atomic_load(&t->mark_reports[1]);
+    uint64_t total = atomic_load(&t->reports);
+    out[0] = m0 > 0 ? (double)r0 / ((double)m0 * 1e-9) : NAN;
+    out[1] = m1 > 0 && end > m1 ? (double)(total - r1) / ((double)(end - m1) * 1e-9) : NAN;
 }

@@ -101,7 +101,7 @@ static void test_tracker(void)
     struct rpl_soak_tracker t;
     struct hl_error err;
     int64_t t0 = hl_clock_now_ns();
-    CHECK(rpl_soak_tracker_start(&t, rows, N, &err) == 0);
+    CHECK(rpl_soak_tracker_start(&t, rows, N, 0.4, &err) == 0);
     /* until 400 reports (the stream wraps twice), or 20 s on a machine that starves the thread */
     struct timespec ts = {0, 5000000};
     while (atomic_load(&t.reports) < 400 && hl_clock_now_ns() - t0 < 20000000000LL)
@@ -111,6 +111,9 @@ static void test_tracker(void)
     uint64_t reports = atomic_load(&t.reports);
     CHECK(reports >= 400);
     CHECK((double)reports <= elapsed_ms + 2.0); /* paced by the clock: never faster than 1 kHz */
+    double rates[2];
+    rpl_soak_tracker_rates(&t, rates);
+    CHECK(rates[0] > 0.0 && rates[0] <= 1100.0 && rates[1] > 0.0 && rates[1] <= 1100.0);
     CHECK(atomic_load(&t.rejected) == 0);
     CHECK(atomic_load(&t.nonfinite) == 0);
     CHECK(atomic_load(&t.refused) == 0);
@@ -119,7 +122,7 @@ static void test_tracker(void)
     rpl_soak_tracker_stop(&t); /* twice: harmless */
     /* a stream whose rows do not advance is refused before a thread starts */
     rows[N - 1].t_s = 0.0;
-    CHECK(rpl_soak_tracker_start(&t, rows, N, &err) == -1);
+    CHECK(rpl_soak_tracker_start(&t, rows, N, 0.4, &err) == -1);
     CHECK(strstr(err.msg, "IMU stream") != NULL);
 }
 

@@ -277,6 +277,13 @@ static void test_silence(struct trk_pose_source *src, int master, struct trk_enc
     CHECK(src->pose_at(src, t_last - 10.0, &p0, &err) == 0);
     CHECK(src->pose_at(src, t_last + 10.0, &far, &err) == 0);
     CHECK(fabs(yaw_deg(far.orientation) - yaw_deg(p0.orientation)) <= YAW_RATE_DEG_S * 0.040 + 0.2);
+    /* A caller whose clock jumped an hour either way: the horizon is clamped to [0, 40 ms]. */
+    struct trk_pose back_1h, ahead_1h;
+    CHECK(src->pose_at(src, t_last - 3600.0, &back_1h, &err) == 0);
+    CHECK(src->pose_at(src, t_last + 3600.0, &ahead_1h, &err) == 0);
+    CHECK(hl_q_angle_rad(back_1h.orientation, p0.orientation) < 1e-9);
+    CHECK(fabs(yaw_deg(ahead_1h.orientation) - yaw_deg(p0.orientation)) <= YAW_RATE_DEG_S * 0.040 + 0.2);
+    CHECK(back_1h.time_s == t_last - 3600.0 && ahead_1h.time_s == t_last + 3600.0);
     double lost_s = wait_health(src, TRK_HEALTH_LOST, reason, sizeof reason);
     double detect_s = hl_clock_now_s() - t_last;
     CHECK(lost_s >= 0);

@@ -704,6 +704,7 @@ int main(int argc, char **argv)
     if (argc > 1 && strcmp(argv[1], "hard-cases") == 0) { /* ctest -L hard-cases */
         test_host_time_extremes();
         test_truncation();
+        test_counter_jumps();
     } else {
         test_host_time_extremes();
         test_crc_and_round_trip();

@@ -19,7 +19,7 @@ struct rpl_pacer {
     long missed;
     int self_paced;
     /* The clock slots are on, Monado style (os_monotonic_get_ns): hl_clock_now_ns unless a test
-     * sets another after init. The pacer never sleeps on an absolute time, so any clock works. */
+     * sets another after init; on another clock it sleeps relative to it, so any clock works. */
     int64_t (*clock_ns)(void);
     /* Times the clock moved by more than RPL_PACER_JUMP_NS against the schedule: backward (the slot
      * is re-anchored one period ahead; no sleep of the jump's length) or forward (the slots that

@@ -41,12 +41,17 @@ void rpl_pacer_plan(struct rpl_pacer *p, int64_t expected_work_ns)
     }
 }
 
-/* Relative, so that an injected clock (tests) and the monotonic one behave alike. */
-static void sleep_for_ns(int64_t ns)
+/* On the monotonic clock, an absolute deadline (a preemption before the call does not lengthen the
+ * sleep); on an injected clock (tests), a relative one, since its times mean nothing to the kernel. */
+static void sleep_until_ns(const struct rpl_pacer *p, int64_t t_ns, int64_t now_ns)
 {
+    int absolute = p->clock_ns == hl_clock_now_ns;
+    int64_t ns = absolute ? t_ns : t_ns - now_ns;
     struct timespec ts = {(time_t)(ns / 1000000000), (long)(ns % 1000000000)}, rem;
-    while (clock_nanosleep(CLOCK_MONOTONIC, 0, &ts, &rem) == EINTR)
-        ts = rem;
+    while (clock_nanosleep(CLOCK_MONOTONIC, absolute ? TIMER_ABSTIME : 0, &ts, &rem) == EINTR) {
+        if (!absolute)
+            ts = rem;
+    }
 }
 
 void rpl_pacer_wait(struct rpl_pacer *p)
@@ -71,7 +76,7 @@ void rpl_pacer_wait(struct rpl_pacer *p)
         return;
     }
     if (due - now > RPL_SPIN_NS)
-        sleep_for_ns(due - now - RPL_SPIN_NS);
+        sleep_until_ns(p, due - RPL_SPIN_NS, now);
     while (p->clock_ns() < due) {
     }
 }

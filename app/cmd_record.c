@@ -131,6 +131,8 @@ int cmd_record(int argc, char **argv)
     int failed = 0;
     char lost[sizeof err.msg] = "";
     uint8_t buf[TRK_RECORDING_MAX_REPORT];
+    int64_t last_report_ns = start_ns;
+    int silent = 0;
     while (!stop_requested && (seconds <= 0 || hl_clock_now_ns() < deadline_ns)) {
         int64_t host_ns = 0;
         int n = record_device_read(&dev, buf, sizeof buf, &host_ns, &err);
@@ -140,8 +142,18 @@ int cmd_record(int argc, char **argv)
             snprintf(lost, sizeof lost, "%s", err.msg); /* unplugged or read error: keep what we have */
             break;
         }
-        if (n == 0)
+        if (n == 0) {
+            /* Silence is said once, as the live source says it (tracking/hid.h), and recording goes on. */
+            if (!silent && hl_clock_now_ns() - last_report_ns > 1000000000LL) {
+                fprintf(stderr, "hmdlod: %s: no reports for 1000 ms (still recording)\n", dev.name);
+                silent = 1;
+            }
             continue;
+        }
+        if (silent)
+            fprintf(stderr, "hmdlod: %s: reports again after %.0f ms\n", dev.name, (double)(host_ns - last_report_ns) * 1e-6);
+        silent = 0;
+        last_report_ns = host_ns;
         if (trk_recording_append(rec, host_ns, buf, (size_t)n, &err) != 0) {
             fprintf(stderr, "hmdlod: %s\n", err.msg);
             failed = 1;

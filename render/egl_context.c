@@ -19,14 +19,39 @@ static int rnd_egl_has(const char *list, const char *name)
     return 0;
 }
 
+/* The EGL error's name: a bare 0x3001 tells a user nothing. */
+static const char *rnd_egl_error_name(EGLint e)
+{
+    switch (e) {
+    case EGL_SUCCESS: return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
+    default: return "an EGL error";
+    }
+}
+
+/* Which of the three steps failed decides the message (docs/HARD_CASES.md "Faults"): no EGL driver
+ * at all (glvnd found no vendor library: __EGL_VENDOR_LIBRARY_FILENAMES, a missing Mesa), a display
+ * the driver cannot initialise (no usable Gallium/DRI driver: GALLIUM_DRIVER,
+ * MESA_LOADER_DRIVER_OVERRIDE), or a context of the version we need (rnd_egl_create). */
 static EGLDisplay rnd_egl_open_display(struct hl_error *err)
 {
     const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-    EGLint major = 0, minor = 0;
+    EGLint major = 0, minor = 0, why = EGL_SUCCESS;
+    const char *tried = NULL;
     if (rnd_egl_has(client, "EGL_MESA_platform_surfaceless")) {
+        tried = "the surfaceless platform";
         EGLDisplay d = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
         if (d != EGL_NO_DISPLAY && eglInitialize(d, &major, &minor))
             return d;
+        why = eglGetError();
     }
     /* Fallback: the first EGL device (e.g. a driver without the surfaceless platform). */
     PFNEGLQUERYDEVICESEXTPROC query = (PFNEGLQUERYDEVICESEXTPROC)eglGetProcAddress("eglQueryDevicesEXT");
@@ -34,15 +59,23 @@ static EGLDisplay rnd_egl_open_display(struct hl_error *err)
         EGLDeviceEXT dev[4];
         EGLint n = 0;
         if (query(4, dev, &n) && n > 0) {
+            tried = tried ? "the surfaceless platform and the EGL devices" : "the EGL devices";
             for (EGLint i = 0; i < n; ++i) {
                 EGLDisplay d = eglGetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, dev[i], NULL);
                 if (d != EGL_NO_DISPLAY && eglInitialize(d, &major, &minor))
                     return d;
+                why = eglGetError();
             }
         }
     }
-    hl_fail(err, "renderer: no headless EGL display (neither EGL_MESA_platform_surfaceless nor "
-                 "EGL_EXT_platform_device worked; EGL error 0x%x; is Mesa installed?)", (unsigned)eglGetError());
+    if (!tried)
+        hl_fail(err, "renderer: no EGL driver loaded (EGL offers neither EGL_MESA_platform_surfaceless nor an EGL "
+                     "device; is Mesa's libEGL installed, and does __EGL_VENDOR_LIBRARY_FILENAMES, if set, name "
+                     "its vendor file?)");
+    else
+        hl_fail(err, "renderer: EGL cannot initialise a headless display on %s (%s, 0x%x): no usable GPU or "
+                     "software driver (is Mesa installed? GALLIUM_DRIVER or MESA_LOADER_DRIVER_OVERRIDE set wrong?)",
+                tried, rnd_egl_error_name(why), (unsigned)why);
     return EGL_NO_DISPLAY;
 }
 
@@ -66,12 +99,15 @@ int rnd_egl_create(struct rnd_egl *e, struct hl_error *err)
                                      EGL_NONE};
     EGLContext c = eglCreateContext(d, EGL_NO_CONFIG_KHR, EGL_NO_CONTEXT, attribs);
     if (c == EGL_NO_CONTEXT) {
-        hl_fail(err, "renderer: cannot create an OpenGL 4.5 core context (EGL error 0x%x)", (unsigned)eglGetError());
+        EGLint why = eglGetError();
+        hl_fail(err, "renderer: cannot create an OpenGL 4.5 core context (%s, 0x%x): the driver offers an older "
+                     "OpenGL (is MESA_GL_VERSION_OVERRIDE set?)", rnd_egl_error_name(why), (unsigned)why);
         goto fail;
     }
     rnd_window_release_current();
     if (!eglMakeCurrent(d, EGL_NO_SURFACE, EGL_NO_SURFACE, c)) {
-        hl_fail(err, "renderer: eglMakeCurrent failed (EGL error 0x%x)", (unsigned)eglGetError());
+        EGLint why = eglGetError();
+        hl_fail(err, "renderer: eglMakeCurrent failed (%s, 0x%x)", rnd_egl_error_name(why), (unsigned)why);
         eglDestroyContext(d, c);
         goto fail;
     }

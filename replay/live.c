@@ -294,6 +294,9 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
         }
     }
     sum->missed_frames = pacer.missed;
+    if (pacer.clock_jumps > 0)
+        fprintf(stderr, "hmdlod: the frame clock jumped or stalled by more than 1 s %ld times: pacing re-anchored, "
+                        "those presents not counted as intervals\n", pacer.clock_jumps);
     return 0;
 }
 
@@ -394,6 +397,9 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     if (live_interrupted)
         fprintf(stderr, "hmdlod: interrupted: finishing the session\n");
     finish_summary(&st, rate_hz, sum);
+    if (st.record.dropped_rows > 0)
+        fprintf(stderr, "hmdlod: --record %s: %ld rows dropped: their pose time did not move forward\n",
+                st.record.path, st.record.dropped_rows);
     if (rpl_live_record_commit(&st.record, err) != 0 || rpl_live_record_commit(&st.log, err) != 0 ||
         (sum->raw_record[0] && trk_tracker_source_record(st.s.source, NULL, err) != 0))
         goto done;

@@ -18,7 +18,15 @@ struct rpl_pacer {
     long slot;            /* the slot the next frame is due in */
     long missed;
     int self_paced;
+    /* The clock slots are on, Monado style (os_monotonic_get_ns): hl_clock_now_ns unless a test
+     * sets another after init; on another clock it sleeps relative to it, so any clock works. */
+    int64_t (*clock_ns)(void);
+    /* Times the clock moved by more than RPL_PACER_JUMP_NS against the schedule: backward (the slot
+     * is re-anchored one period ahead; no sleep of the jump's length) or forward (the slots that
+     * passed are counted as missed, and the present interval is not a sample). */
+    long clock_jumps;
 };
+#define RPL_PACER_JUMP_NS 1000000000LL /* 1 s: no frame's work or slot lies that far from now */
 void rpl_pacer_init(struct rpl_pacer *p, double rate_hz, int self_paced, int64_t now_ns);
 int64_t rpl_pacer_due_ns(const struct rpl_pacer *p); /* the next frame's display time */
 /* Before a frame (self-paced): when now + expected_work_ns (the last frame's work) is past the due
@@ -27,7 +35,9 @@ int64_t rpl_pacer_due_ns(const struct rpl_pacer *p); /* the next frame's display
 void rpl_pacer_plan(struct rpl_pacer *p, int64_t expected_work_ns);
 /* Before the swap: waits (self-paced) until the slot, counts missed slots when late. */
 void rpl_pacer_wait(struct rpl_pacer *p);
-/* After the swap returned at present_ns: the interval since the previous present (0 for the first). */
+/* After the swap returned at present_ns: the interval since the previous present (0 for the first;
+ * also 0 after a present more than RPL_PACER_JUMP_NS before or after the previous one: a clock
+ * jump or a stall is not a present interval, and is counted in clock_jumps). */
 double rpl_pacer_presented(struct rpl_pacer *p, int64_t present_ns);
 
 /* Bookkeeping (live_io.c). A growing series of per-frame values, and its statistics: mean,
@@ -40,13 +50,17 @@ int rpl_live_series_push(struct rpl_live_series *s, double x); /* 0, or −1 out
 void rpl_live_series_stats(struct rpl_live_series *s, double *mean, double *stddev, double *median, double *p99,
                            double *max);
 /* A CSV written beside its name (".partial") and renamed by commit; abort removes it. path NULL:
- * nothing is opened (rows are dropped). record_row writes a head-trace row (t from the first). */
+ * nothing is opened (rows are dropped). record_row writes a head-trace row (t from the first); a row
+ * whose time is not after the last row's is dropped and counted (dropped_rows), so the file stays a
+ * valid trace (docs/trace-format.md: time never goes back) whatever the clock did. */
 struct rpl_live_record {
     FILE *f;
     char path[4096], tmp[4096];
     double t0_s;
     long rows;
     int paused; /* key R: rows are not written while paused */
+    double last_t_s;   /* pose time of the last row written */
+    long dropped_rows; /* rows not written because their time did not move forward (a clock jump) */
 };
 int rpl_live_record_open(struct rpl_live_record *r, const char *path, const char *header, struct hl_error *err);
 void rpl_live_record_row(struct rpl_live_record *r, const struct trk_pose *p);

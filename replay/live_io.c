@@ -69,8 +69,13 @@ void rpl_live_record_row(struct rpl_live_record *r, const struct trk_pose *p)
 {
     if (!r->f || r->paused)
         return;
+    if (r->rows > 0 && !(p->time_s > r->last_t_s)) {
+        r->dropped_rows++;
+        return;
+    }
     if (r->t0_s < 0)
         r->t0_s = p->time_s;
+    r->last_t_s = p->time_s;
     hl_quatd q = p->orientation;
     fprintf(r->f, "%.6f,%.9f,%.9f,%.9f,%.9f\n", p->time_s - r->t0_s, q.w, q.x, q.y, q.z);
     r->rows++;

@@ -19,6 +19,8 @@ void rpl_pacer_init(struct rpl_pacer *p, double rate_hz, int self_paced, int64_t
     p->slot = 0;
     p->missed = 0;
     p->self_paced = self_paced;
+    p->clock_ns = hl_clock_now_ns;
+    p->clock_jumps = 0;
 }
 
 int64_t rpl_pacer_due_ns(const struct rpl_pacer *p) { return p->t0_ns + p->slot * p->period_ns; }
@@ -27,7 +29,9 @@ void rpl_pacer_plan(struct rpl_pacer *p, int64_t expected_work_ns)
 {
     if (!p->self_paced)
         return; /* the display decides; rpl_pacer_presented follows it */
-    int64_t due = rpl_pacer_due_ns(p), ready = hl_clock_now_ns() + (expected_work_ns > 0 ? expected_work_ns : 0);
+    int64_t due = rpl_pacer_due_ns(p), ready = p->clock_ns() + (expected_work_ns > 0 ? expected_work_ns : 0);
+    if (ready - due > RPL_PACER_JUMP_NS)
+        p->clock_jumps++; /* a stall or a forward jump: the slots it passed are missed below */
     if (ready > due) {
         /* It cannot make its slot: aim at the first one it can (its pose predicted to that), as a
          * display with vsync would show it; the slots skipped are missed. */
@@ -37,10 +41,16 @@ void rpl_pacer_plan(struct rpl_pacer *p, int64_t expected_work_ns)
     }
 }
 
-static void sleep_until_ns(int64_t t_ns)
+/* On the monotonic clock, an absolute deadline (a preemption before the call does not lengthen the
+ * sleep); on an injected clock (tests), a relative one, since its times mean nothing to the kernel. */
+static void sleep_until_ns(const struct rpl_pacer *p, int64_t t_ns, int64_t now_ns)
 {
-    struct timespec ts = {(time_t)(t_ns / 1000000000), (long)(t_ns % 1000000000)};
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR) {
+    int absolute = p->clock_ns == hl_clock_now_ns;
+    int64_t ns = absolute ? t_ns : t_ns - now_ns;
+    struct timespec ts = {(time_t)(ns / 1000000000), (long)(ns % 1000000000)}, rem;
+    while (clock_nanosleep(CLOCK_MONOTONIC, absolute ? TIMER_ABSTIME : 0, &ts, &rem) == EINTR) {
+        if (!absolute)
+            ts = rem;
     }
 }
 
@@ -48,23 +58,43 @@ void rpl_pacer_wait(struct rpl_pacer *p)
 {
     if (!p->self_paced)
         return; /* the swap waits for the display; rpl_pacer_presented counts what it skipped */
-    int64_t due = rpl_pacer_due_ns(p), now = hl_clock_now_ns();
+    int64_t due = rpl_pacer_due_ns(p), now = p->clock_ns();
+    if (due - now > RPL_PACER_JUMP_NS + p->period_ns) {
+        /* The clock went back: waiting for the old schedule would hang for the jump's length.
+         * Re-anchor: this frame is due one period from now. */
+        p->clock_jumps++;
+        p->t0_ns = now + p->period_ns - p->slot * p->period_ns;
+        due = rpl_pacer_due_ns(p);
+    }
     if (now > due) {
         /* Late: present at once; the slots that went by without a new frame are missed. */
+        if (now - due > RPL_PACER_JUMP_NS)
+            p->clock_jumps++; /* a stall or a forward jump: its slots were missed all the same */
         long late = (long)((now - due) / p->period_ns) + 1;
         p->missed += late;
         p->slot += late;
         return;
     }
     if (due - now > RPL_SPIN_NS)
-        sleep_until_ns(due - RPL_SPIN_NS);
-    while (hl_clock_now_ns() < due) {
+        sleep_until_ns(p, due - RPL_SPIN_NS, now);
+    while (p->clock_ns() < due) {
     }
 }
 
 double rpl_pacer_presented(struct rpl_pacer *p, int64_t present_ns)
 {
     double interval_ms = p->last_present_ns ? (double)(present_ns - p->last_present_ns) * 1e-6 : 0.0;
+    if (p->last_present_ns && (interval_ms < 0 || interval_ms > RPL_PACER_JUMP_NS * 1e-6)) {
+        /* A clock jump (or a stall) between presents: not an interval. Throttled pacing follows
+         * the display's phase from this present on; self-paced slots were fixed by wait. */
+        if (!p->self_paced) {
+            p->clock_jumps++;
+            p->t0_ns = present_ns - p->slot * p->period_ns;
+        }
+        p->last_present_ns = present_ns;
+        p->slot++;
+        return 0.0;
+    }
     if (!p->self_paced && p->last_present_ns) {
         /* Throttled: a present more than 1.5 periods after the last skipped refreshes. */
         long slots = (long)llround((double)(present_ns - p->last_present_ns) / (double)p->period_ns);

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "replay/live_internal.h"
 #include "test_util.h"
@@ -109,8 +110,131 @@ static void test_series(void)
     free(s.v);
 }
 
+/* An injected clock (rpl_pacer.clock_ns) that jumps: the monotonic one plus an offset. */
+static int64_t clock_offset_ns;
+static int64_t jumping_clock_ns(void) { return hl_clock_now_ns() + clock_offset_ns; }
+
+/* One self-paced frame: plan, wait, present. Returns the present interval; *wait_ms the real time
+ * wait took. */
+static double paced_frame(struct rpl_pacer *p, double *wait_ms)
+{
+    rpl_pacer_plan(p, 0);
+    int64_t t0 = hl_clock_now_ns();
+    rpl_pacer_wait(p);
+    *wait_ms = (double)(hl_clock_now_ns() - t0) * 1e-6;
+    return rpl_pacer_presented(p, p->clock_ns());
+}
+
+/* The pacer's clock jumping ±1 h (docs/HARD_CASES.md "Faults"): no hang (a backward jump must not
+ * become an hour's sleep), no interval of ±1 h in the statistics, slots and display times finite
+ * and increasing again from the next frame, the jump counted. */
+static void test_pacer_clock_jumps(void)
+{
+    const int64_t hour_ns = 3600LL * 1000000000LL;
+    struct rpl_pacer p;
+    clock_offset_ns = 0;
+    rpl_pacer_init(&p, 200.0, 1, jumping_clock_ns()); /* 5 ms slots */
+    p.clock_ns = jumping_clock_ns;
+    double wait_ms, iv;
+    for (int i = 0; i < 5; ++i)
+        paced_frame(&p, &wait_ms);
+    CHECK(p.clock_jumps == 0);
+    long missed0 = p.missed;
+
+    clock_offset_ns -= hour_ns; /* backward */
+    iv = paced_frame(&p, &wait_ms);
+    CHECK(wait_ms < 1000.0); /* not an hour (nor a second, even on a loaded machine) */
+    CHECK(iv == 0.0);
+    CHECK(p.clock_jumps == 1);
+    CHECK(p.missed == missed0);
+    int64_t due = rpl_pacer_due_ns(&p);
+    /* Re-anchored to the jumped clock: within a second of it (an hour off before), whatever the
+     * machine's load did to this thread since. */
+    CHECK(llabs(due - jumping_clock_ns()) < RPL_PACER_JUMP_NS);
+    int ok = 1;
+    for (int i = 0; i < 5; ++i) {
+        int64_t before = rpl_pacer_due_ns(&p);
+        iv = paced_frame(&p, &wait_ms);
+        ok &= iv > 0 && iv < RPL_PACER_JUMP_NS * 1e-6 && rpl_pacer_due_ns(&p) > before;
+    }
+    CHECK(ok);
+    printf("pacer, clock 1 h back: wait %.2f ms, jumps %ld, intervals after it %.2f ms\n", wait_ms, p.clock_jumps, iv);
+
+    clock_offset_ns += 2 * hour_ns; /* forward, 1 h past where it was */
+    long missed1 = p.missed;
+    iv = paced_frame(&p, &wait_ms);
+    CHECK(wait_ms < 1000.0); /* not an hour (nor a second, even on a loaded machine) */
+    CHECK(iv == 0.0);
+    CHECK(p.clock_jumps == 2);
+    /* Two hours of slots (the schedule was re-anchored an hour back) passed without a frame: missed,
+     * as a stall would have them (finite). */
+    CHECK(labs(p.missed - missed1 - 2 * 3600L * 200) <= 200); /* ± a second of slots for a loaded machine */
+    ok = 1;
+    for (int i = 0; i < 5; ++i) {
+        int64_t before = rpl_pacer_due_ns(&p);
+        iv = paced_frame(&p, &wait_ms);
+        ok &= iv > 0 && iv < RPL_PACER_JUMP_NS * 1e-6 && rpl_pacer_due_ns(&p) > before;
+    }
+    CHECK(ok);
+    printf("pacer, clock 1 h forward: %ld slots missed, jumps %ld, intervals after it %.2f ms\n", p.missed - missed1,
+           p.clock_jumps, iv);
+
+    /* Throttled by the display: the swap's return times jump. */
+    rpl_pacer_init(&p, 100.0, 0, 0);
+    CHECK(rpl_pacer_presented(&p, 2 * hour_ns) == 0.0);
+    CHECK_NEAR(rpl_pacer_presented(&p, 2 * hour_ns + 10000000), 10.0, 1e-9);
+    CHECK(rpl_pacer_presented(&p, hour_ns) == 0.0);
+    CHECK(p.clock_jumps == 1);
+    CHECK_NEAR(rpl_pacer_presented(&p, hour_ns + 10000000), 10.0, 1e-9);
+    CHECK(rpl_pacer_presented(&p, 3 * hour_ns) == 0.0);
+    CHECK(p.clock_jumps == 2 && p.missed == 0);
+    CHECK(rpl_pacer_due_ns(&p) > 3 * hour_ns && rpl_pacer_due_ns(&p) <= 3 * hour_ns + 10000000);
+}
+
+/* The head trace stays a valid trace when the pose times jump back: rows that do not move forward
+ * are dropped and counted, never written out of order. */
+static void test_record_order(void)
+{
+    char dir[] = "/tmp/hmdlod-live-record-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[256];
+    snprintf(path, sizeof path, "%s/head.csv", dir);
+    struct rpl_live_record r;
+    struct hl_error err;
+    CHECK(rpl_live_record_open(&r, path, "t_s,qw,qx,qy,qz\n", &err) == 0);
+    const double times[] = {5000.0, 5000.1, 5000.1 - 3600.0, 5000.1, 5000.2, 8600.2};
+    for (size_t i = 0; i < sizeof times / sizeof times[0]; ++i) {
+        struct trk_pose pose;
+        trk_pose_init_still(&pose, times[i]);
+        rpl_live_record_row(&r, &pose);
+    }
+    CHECK(r.rows == 4 && r.dropped_rows == 2);
+    CHECK(rpl_live_record_commit(&r, &err) == 0);
+    size_t size = 0;
+    char *text = tu_read_file(path, &size);
+    CHECK(text != NULL);
+    if (text) {
+        double last = -1.0, t;
+        int rows = 0, ordered = 1;
+        for (char *line = strchr(text, '\n'); line && line[1]; line = strchr(line + 1, '\n')) {
+            if (sscanf(line + 1, "%lf,", &t) == 1) {
+                ordered &= t > last;
+                last = t;
+                ++rows;
+            }
+        }
+        CHECK(rows == 4 && ordered);
+        CHECK_NEAR(last, 3600.2, 1e-6);
+        free(text);
+    }
+    remove(path);
+    rmdir(dir);
+}
+
 int main(void)
 {
+    test_pacer_clock_jumps();
+    test_record_order();
     test_series();
     test_pacer();
     test_desk_source();

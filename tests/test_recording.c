@@ -383,6 +383,87 @@ static void test_stream_basics(void)
     CHECK_NEAR(hl_q_angle_rad(pose.orientation, h.orientation), 0.1, 3e-3);
 }
 
+/* Feeds DK2 reports of a constant yaw rate (one sample each) from device time *t_ns; returns the
+ * samples fused. */
+static int feed_dk2(struct trk_stream *s, struct trk_encoder *enc, int64_t *t_ns, int count, double yaw_degps)
+{
+    int fused = 0;
+    for (int i = 0; i < count; ++i) {
+        struct trk_imu_sample x;
+        memset(&x, 0, sizeof x);
+        x.device_time_ns = *t_ns;
+        x.gyro_radps = hl_v3(0, yaw_degps * HL_RAD_PER_DEG, 0);
+        x.accel_mps2 = hl_v3(0, 9.80665, 0);
+        x.orientation = hl_q_identity();
+        x.has_gyro = x.has_accel = 1;
+        *t_ns += 1000000;
+        uint8_t r[64];
+        int len = trk_encoder_push(enc, &x, r, sizeof r, &err);
+        int k = len > 0 ? trk_stream_feed(s, r, (size_t)len, 0, &err) : 0;
+        fused += k > 0 ? k : 0;
+    }
+    return fused;
+}
+
+/* Device counters that jump (docs/HARD_CASES.md "Faults"): back and staying back (the device
+ * restarted its clock without re-enumerating) — resynchronised after TRK_STREAM_RESYNC_REPORTS
+ * reports, times still increasing, counted; forward by 10 min — a gap the fusion clamps; forward by
+ * 1 h on the DK2's 32-bit µs counter — modularly 11.6 min back, so the same resync. Output finite. */
+static void test_counter_jumps(void)
+{
+    struct trk_stream s;
+    trk_stream_init(&s, TRK_DEVICE_RIFT_DK2, NULL);
+    struct trk_encoder enc;
+    trk_encoder_init(&enc, TRK_DEVICE_RIFT_DK2, NULL);
+    int64_t t = 5000000000LL;
+    CHECK(feed_dk2(&s, &enc, &t, 200, 90.0) == 200);
+    int64_t newest = s.newest_time_ns;
+    hl_quatd q0 = s.fusion.orientation;
+
+    /* Reset: the counter starts again at 1 ms. */
+    struct trk_encoder enc2;
+    trk_encoder_init(&enc2, TRK_DEVICE_RIFT_DK2, NULL);
+    int64_t t2 = 1000000;
+    int fused = feed_dk2(&s, &enc2, &t2, 300, 90.0);
+    CHECK(s.counter_resets == 1);
+    CHECK(fused == 300 - TRK_STREAM_RESYNC_REPORTS);
+    CHECK(s.parser.rift.n.backward == (uint64_t)TRK_STREAM_RESYNC_REPORTS); /* dropped, and said so */
+    /* Continues 1 ms after the newest sample before the reset. */
+    CHECK(s.newest_time_ns == newest + (int64_t)fused * 1000000);
+    double turned_deg = hl_q_angle_rad(q0, s.fusion.orientation) * HL_DEG_PER_RAD;
+    CHECK_NEAR(turned_deg, 90.0 * fused * 1e-3, 0.5); /* the first after the reset is 1 ms after the last: it turns too */
+    printf("counter reset: %d of 300 samples fused after %d dropped, time %.3f s → %.3f s, turned %.2f deg\n", fused,
+           TRK_STREAM_RESYNC_REPORTS, newest * 1e-9, s.newest_time_ns * 1e-9, turned_deg);
+
+    /* Forward by 10 min: one clamped gap, no reset. */
+    uint64_t gaps = s.fusion.stats.clamped_gaps;
+    t2 += 600LL * 1000000000LL;
+    newest = s.newest_time_ns;
+    CHECK(feed_dk2(&s, &enc2, &t2, 50, 90.0) == 50);
+    CHECK(s.fusion.stats.clamped_gaps == gaps + 1 && s.counter_resets == 1);
+    CHECK(s.newest_time_ns > newest + 599LL * 1000000000LL);
+
+    /* Forward by 1 h: past half the 32-bit µs range, read as a step back, then resynchronised. */
+    t2 += 3600LL * 1000000000LL;
+    newest = s.newest_time_ns;
+    fused = feed_dk2(&s, &enc2, &t2, 100, 90.0);
+    CHECK(s.counter_resets == 2 && fused == 100 - TRK_STREAM_RESYNC_REPORTS);
+    CHECK(s.newest_time_ns > newest);
+    struct trk_pose pose;
+    trk_stream_pose(&s, 0.02, &pose);
+    CHECK(isfinite(pose.time_s) && isfinite(pose.orientation.w) && fabs(hl_q_norm(pose.orientation) - 1.0) < 1e-9);
+
+    /* A short run of stale reports (fewer than the threshold) is dropped, not a reset. */
+    trk_stream_init(&s, TRK_DEVICE_RIFT_DK2, NULL);
+    trk_encoder_init(&enc, TRK_DEVICE_RIFT_DK2, NULL);
+    t = 5000000000LL;
+    CHECK(feed_dk2(&s, &enc, &t, 100, 0.0) == 100);
+    int64_t back = 4000000000LL;
+    trk_encoder_init(&enc2, TRK_DEVICE_RIFT_DK2, NULL);
+    CHECK(feed_dk2(&s, &enc2, &back, TRK_STREAM_RESYNC_REPORTS - 1, 0.0) == 0);
+    CHECK(feed_dk2(&s, &enc, &t, 10, 0.0) == 10 && s.counter_resets == 0);
+}
+
 /* ---- end to end on the shared IMU stream ------------------------------------------------------- */
 static double tilt_err_rad(hl_quatd est, hl_quatd truth)
 {
@@ -623,6 +704,7 @@ int main(int argc, char **argv)
     if (argc > 1 && strcmp(argv[1], "hard-cases") == 0) { /* ctest -L hard-cases */
         test_host_time_extremes();
         test_truncation();
+        test_counter_jumps();
     } else {
         test_host_time_extremes();
         test_crc_and_round_trip();
@@ -630,6 +712,7 @@ int main(int argc, char **argv)
         test_corruption();
         test_sigkill();
         test_stream_basics();
+        test_counter_jumps();
         test_end_to_end();
     }
     if (tu_failures == 0) {

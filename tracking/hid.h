@@ -102,8 +102,11 @@ void trk_hotplug_destroy(struct trk_hotplug *h);
  * keep-alives on the device's own schedule, independent of rendering. pose_at(t, host monotonic
  * seconds as hl_clock_now_s) predicts the newest pose to t, the horizon capped at max_prediction_s
  * (≤ 0: 0.040 s, where the fusion's constant-rate prediction stays good); time_s is set to t.
- * Health: OK while reports flow; LOST with the reason on unplug, read error or a 1 s silence —
- * then pose_at returns the last pose with zero angular velocity (no prediction). The thread watches
+ * Health: OK while reports flow; LOST with the reason on unplug, read error or a 1 s silence
+ * (noticed within 1.02 s of the last report: "no reports for 1000 ms") — then pose_at returns the
+ * last pose with zero angular velocity (no prediction). While reports flow, or in the silence before
+ * it is noticed, prediction never reaches past the newest report's host time + max_prediction_s. A
+ * silent device that speaks again returns to OK with its next fused report (same stream). The thread watches
  * hot-plug and reopens a matching device when one is added (any node name; same serial when known),
  * re-sends the start reports, re-initialises the stream (timestamp unwrapping, fusion start-up;
  * heading restarts at 0, and a magnetometer's reference, being relative, is captured anew), drains
@@ -118,6 +121,7 @@ struct trk_tracker_stats {
     uint64_t rejected;         /* of those, refused by the parser */
     uint64_t samples_fused;
     uint64_t disconnects;      /* losses of the device (read error, remove event) */
+    uint64_t stalls;           /* silences of 1 s while open ("no reports for 1000 ms"; not a disconnect) */
     uint64_t reconnects;       /* successful reopens after a loss (start reports sent, drained) */
     uint64_t keepalives;       /* keep-alive reports sent */
     uint64_t drained;          /* stale reports dropped after (re)opening */

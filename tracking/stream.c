@@ -89,6 +89,43 @@ static int take_hdk_orientation(struct trk_stream *s, const struct trk_imu_sampl
     return 0;
 }
 
+/* The parser's counters and clock, for the resync (HDK has no device clock: NULL). */
+static struct trk_report_counters *parser_counters(struct trk_stream *s, struct trk_tick_clock **clock)
+{
+    switch (s->kind) {
+    case TRK_DEVICE_RIFT_DK1:
+    case TRK_DEVICE_RIFT_DK2:
+    case TRK_DEVICE_RIFT_CV1:
+        *clock = &s->parser.rift.clock;
+        return &s->parser.rift.n;
+    case TRK_DEVICE_PSVR:
+        *clock = &s->parser.psvr.clock;
+        return &s->parser.psvr.n;
+    case TRK_DEVICE_VIVE:
+    case TRK_DEVICE_VIVE_PRO_INDEX:
+        *clock = &s->parser.vive.clock;
+        return &s->parser.vive.n;
+    case TRK_DEVICE_HDK:
+        break;
+    }
+    *clock = NULL;
+    return NULL;
+}
+
+/* Restarts the device clock's unwrapping (keeping the parser's calibration) after a counter reset. */
+static void resync_clock(struct trk_stream *s, struct trk_tick_clock *clock)
+{
+    clock->started = 0;
+    clock->overflowed = 0;
+    if (s->kind == TRK_DEVICE_RIFT_DK1 || s->kind == TRK_DEVICE_RIFT_DK2 || s->kind == TRK_DEVICE_RIFT_CV1)
+        s->parser.rift.has_last = 0;
+    if (s->kind == TRK_DEVICE_VIVE || s->kind == TRK_DEVICE_VIVE_PRO_INDEX)
+        s->parser.vive.has_seq = 0;
+    s->counter_resets++;
+    s->backward_run = 0;
+    s->offset_pending = s->has_sample;
+}
+
 int trk_stream_feed(struct trk_stream *s, const uint8_t *report, size_t length, int64_t host_time_ns,
                     struct hl_error *err)
 {
@@ -98,10 +135,37 @@ int trk_stream_feed(struct trk_stream *s, const uint8_t *report, size_t length, 
         ++s->rejected;
         return hl_fail(err, "stream: no report bytes");
     }
+    struct trk_tick_clock *clock;
+    struct trk_report_counters *pc = parser_counters(s, &clock);
+    uint64_t backward0 = pc ? pc->backward : 0;
     int n = parse(s, report, length, host_time_ns, samples, err);
     if (n < 0) {
         ++s->rejected;
         return -1;
+    }
+    if (n == 0 && pc && pc->backward > backward0) {
+        if (++s->backward_run >= TRK_STREAM_RESYNC_REPORTS)
+            resync_clock(s, clock);
+    } else if (n > 0) {
+        s->backward_run = 0;
+    }
+    if (n > 0 && s->offset_pending) {
+        /* Go on 1 ms after the newest fused sample (the devices' sample period, §2). */
+        int64_t t;
+        if (hl_i64_add_checked(s->newest_time_ns, 1000000, &t) != 0 ||
+            hl_i64_sub_checked(t, samples[0].device_time_ns, &s->time_offset_ns) != 0) {
+            ++s->rejected;
+            return hl_fail(err, "stream: device counter reset at %lld ns: the new time base does not fit int64 ns",
+                           (long long)s->newest_time_ns);
+        }
+        s->offset_pending = 0;
+    }
+    for (int i = 0; i < n && s->time_offset_ns != 0 && s->kind != TRK_DEVICE_HDK; ++i) {
+        if (hl_i64_add_checked(samples[i].device_time_ns, s->time_offset_ns, &samples[i].device_time_ns) != 0) {
+            ++s->rejected;
+            return hl_fail(err, "stream: device time %lld ns + counter-reset offset %lld ns passes int64",
+                           (long long)samples[i].device_time_ns, (long long)s->time_offset_ns);
+        }
     }
     int fused = 0;
     for (int i = 0; i < n; ++i) {

@@ -27,8 +27,20 @@ struct trk_stream {
     uint64_t fusion_refused;   /* samples the fusion refused (non-finite) */
     int64_t newest_time_ns;    /* device time of the newest fused sample (HDK: host time) */
     int has_sample;
+    /* A device counter that jumps back and stays back (the device restarted its clock without
+     * re-enumerating) would make every later sample "backward" for up to half the counter's range
+     * (36 min on a DK2). After TRK_STREAM_RESYNC_REPORTS reports in a row that gave only backward
+     * samples the parser's clock restarts and the new counter is offset (time_offset_ns) to go on
+     * 1 ms after the newest fused sample: times stay increasing, the fusion continues, and
+     * counter_resets says it happened. A forward jump needs nothing: the fusion clamps the gap. */
+    uint64_t counter_resets;
+    int backward_run;          /* consecutive reports that gave only backward samples */
+    int offset_pending;        /* the next sample sets time_offset_ns */
+    int64_t time_offset_ns;    /* added to every device time from the parser */
     hl_quatd hdk_last_q;       /* HDK: previous on-device orientation (ω from differences, v1) */
 };
+
+#define TRK_STREAM_RESYNC_REPORTS 32 /* 32 ms at 1 kHz; PSVR's stale replay is drained before (§2c) */
 
 /* Resets s for a tracker of `kind`. cfg NULL: fusion defaults. */
 void trk_stream_init(struct trk_stream *s, enum trk_device_kind kind, const struct trk_fusion_config *cfg_or_null);

@@ -18,7 +18,9 @@
 
 #define READ_TIMEOUT_MS 20                  /* bounds stop latency and keep-alive jitter */
 #define HOTPLUG_CHECK_NS 20000000LL         /* look at udev events every 20 ms while streaming */
-#define SILENCE_NS 1000000000LL             /* no report for 1 s while open: LOST (keep trying) */
+#define SILENCE_MS 1000                     /* no report for 1 s while open: LOST (keep trying); noticed
+                                             * within SILENCE_MS + READ_TIMEOUT_MS (tracking/hid.h) */
+#define SILENCE_NS (SILENCE_MS * 1000000LL)
 #define LOST_POLL_MS 100                    /* wait for udev events this long per loop while lost */
 #define RESCAN_FAST_NS 50000000LL           /* after an add event: retry opening every 50 ms … */
 #define RESCAN_FAST_WINDOW_NS 5000000000LL  /* … for 5 s: the event may come before the device is
@@ -235,9 +237,10 @@ static void streaming_step(struct tracker_source *s, uint8_t *buf, size_t cap)
     } else if (host_ns - s->last_report_ns > SILENCE_NS && s->health == TRK_HEALTH_OK) {
         freeze_locked(s);
         s->has_pose = 0; /* OK again with the next fused report */
-        set_state_locked(s, TRK_HEALTH_LOST, "%s at %s sent no report for %.1f s (keep-alive not honoured?); "
-                         "holding the last orientation", s->info->name, trk_hid_desc(s->dev)->path,
-                         SILENCE_NS * 1e-9);
+        s->stats.stalls++;
+        set_state_locked(s, TRK_HEALTH_LOST, "%s at %s: no reports for %d ms (keep-alive not honoured?); "
+                         "holding the last orientation, no prediction", s->info->name, trk_hid_desc(s->dev)->path,
+                         SILENCE_MS);
     }
     pthread_mutex_unlock(&s->mu);
 

@@ -418,11 +418,11 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
 done:
     rpl_live_record_abort(&st.record);
     rpl_live_record_abort(&st.log);
-    free(st.present_ms.v);
-    free(st.frame_ms.v);
-    free(st.distortion_ms.v);
-    free(st.to_present_ms.v);
-    free(st.on_time_ms.v);
+    rpl_live_series_free(&st.present_ms);
+    rpl_live_series_free(&st.frame_ms);
+    rpl_live_series_free(&st.distortion_ms);
+    rpl_live_series_free(&st.to_present_ms);
+    rpl_live_series_free(&st.on_time_ms);
     rnd_distortion_destroy(st.distortion);
     rpl_session_close(&st.s); /* the renderer before the window it draws in */
     rnd_window_destroy(st.window);

@@ -2,6 +2,7 @@
 #ifndef HMDLOD_REPLAY_LIVE_INTERNAL_H
 #define HMDLOD_REPLAY_LIVE_INTERNAL_H
 
+#include <stdint.h>
 #include "replay/run_internal.h"
 #include "tracking/tracking.h"
 
@@ -42,13 +43,21 @@ double rpl_pacer_presented(struct rpl_pacer *p, int64_t present_ns);
 
 /* Bookkeeping (live_io.c). A growing series of per-frame values, and its statistics: mean,
  * population stddev, median, p99 (nearest rank), max (any may be NULL; sorts in place). */
+/* Per-frame times of a session that may run for hours in bounded memory: the first
+ * RPL_LIVE_SERIES_EXACT values are kept exactly (statistics exact); beyond that they are folded into
+ * log-spaced bins 0.1 % wide from 1 µs to 100 s (median and p99 then within 0.1 %; mean, stddev and
+ * max stay exact, by Welford's update). Memory is fixed after the first push. */
+#define RPL_LIVE_SERIES_EXACT 65536
 struct rpl_live_series {
-    double *v;
-    long n, cap;
+    double *v;      /* exact values while n <= RPL_LIVE_SERIES_EXACT */
+    uint32_t *bins; /* NULL until the exact buffer is full */
+    long n;         /* values pushed */
+    double mean, m2, max;
 };
 int rpl_live_series_push(struct rpl_live_series *s, double x); /* 0, or −1 out of memory */
 void rpl_live_series_stats(struct rpl_live_series *s, double *mean, double *stddev, double *median, double *p99,
                            double *max);
+void rpl_live_series_free(struct rpl_live_series *s);
 /* A CSV written beside its name (".partial") and renamed by commit; abort removes it. path NULL:
  * nothing is opened (rows are dropped). record_row writes a head-trace row (t from the first); a row
  * whose time is not after the last row's is dropped and counted (dropped_rows), so the file stays a

@@ -1,52 +1,94 @@
-/* The live session's bookkeeping (live.c): growing series of per-frame times and their statistics,
+/* The live session's bookkeeping (live.c): per-frame times and their statistics in bounded memory,
  * and CSV files written beside their name and renamed when complete (the head trace, the log). */
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/base.h"
 #include "replay/live_internal.h"
 
-/* Growing arrays of per-frame times (a session without --frames runs until stopped). */
+/* Log-spaced bins: bin k holds [LO·R^k, LO·R^(k+1)); the first also takes everything below LO, the
+ * last everything above. R = 1.001, so a bin's centre is within 0.05 % of any value in it. */
+#define SERIES_LO_MS 1e-3
+#define SERIES_RATIO 1.001
+#define SERIES_BINS 18432 /* ceil(ln(1e8) / ln(1.001)) = 18430: 1 µs … 100 s */
+
+static long bin_of(double x_ms)
+{
+    if (!(x_ms > SERIES_LO_MS))
+        return 0;
+    double k = floor(log(x_ms / SERIES_LO_MS) / log(SERIES_RATIO));
+    return k >= SERIES_BINS - 1 ? SERIES_BINS - 1 : (long)k;
+}
+static double bin_centre_ms(long k) { return SERIES_LO_MS * pow(SERIES_RATIO, (double)k + 0.5); }
+
+static void fold_into_bins(struct rpl_live_series *s, double x) { s->bins[bin_of(x)]++; }
+
 int rpl_live_series_push(struct rpl_live_series *s, double x)
 {
-    if (s->n == s->cap) {
-        long cap = s->cap ? 2 * s->cap : 1024;
-        double *v = realloc(s->v, (size_t)cap * sizeof *v);
-        if (!v)
+    if (!s->v && !(s->v = malloc(RPL_LIVE_SERIES_EXACT * sizeof *s->v)))
+        return -1;
+    if (s->n == RPL_LIVE_SERIES_EXACT && !s->bins) { /* a long session: from here on, bins */
+        if (!(s->bins = calloc(SERIES_BINS, sizeof *s->bins)))
             return -1;
-        s->v = v, s->cap = cap;
+        for (long i = 0; i < s->n; ++i)
+            fold_into_bins(s, s->v[i]);
     }
-    s->v[s->n++] = x;
+    if (s->bins)
+        fold_into_bins(s, x);
+    else
+        s->v[s->n] = x;
+    s->n++;
+    double d = x - s->mean; /* Welford: exact mean and variance in one pass */
+    s->mean += d / (double)s->n;
+    s->m2 += d * (x - s->mean);
+    if (s->n == 1 || x > s->max)
+        s->max = x;
     return 0;
 }
-static int compare_double(const void *a, const void *b)
+
+/* The value of nearest rank `rank` (1-based) from the bins, clamped to the exact maximum. */
+static double binned_rank(const struct rpl_live_series *s, long rank)
 {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
+    long seen = 0;
+    for (long k = 0; k < SERIES_BINS; ++k) {
+        seen += s->bins[k];
+        if (seen >= rank)
+            return fmin(bin_centre_ms(k), s->max);
+    }
+    return s->max;
 }
-/* Mean, stddev (population), median, p99 (nearest rank) and max; sorts in place. */
+
+/* Mean, stddev (population), median, p99 (nearest rank) and max. Exact values are sorted in place. */
 void rpl_live_series_stats(struct rpl_live_series *s, double *mean, double *stddev, double *median, double *p99, double *max)
 {
-    double sum = 0, sq = 0;
-    for (long i = 0; i < s->n; ++i)
-        sum += s->v[i];
-    double m = s->n ? sum / (double)s->n : 0;
-    for (long i = 0; i < s->n; ++i)
-        sq += (s->v[i] - m) * (s->v[i] - m);
-    qsort(s->v, (size_t)s->n, sizeof *s->v, compare_double);
-    if (mean)
-        *mean = m;
-    if (stddev)
-        *stddev = s->n ? sqrt(sq / (double)s->n) : 0;
-    if (median)
-        *median = s->n ? (s->n % 2 ? s->v[s->n / 2] : 0.5 * (s->v[s->n / 2 - 1] + s->v[s->n / 2])) : 0;
-    if (p99) {
-        long k = (long)ceil(0.99 * (double)s->n) - 1;
-        *p99 = s->n ? s->v[k < 0 ? 0 : k] : 0;
+    long n = s->n, k99 = (long)ceil(0.99 * (double)n);
+    double med = 0, q99 = 0;
+    if (n > 0 && s->bins) {
+        med = n % 2 ? binned_rank(s, n / 2 + 1) : 0.5 * (binned_rank(s, n / 2) + binned_rank(s, n / 2 + 1));
+        q99 = binned_rank(s, k99 < 1 ? 1 : k99);
+    } else if (n > 0) {
+        hl_sort_doubles(s->v, (size_t)n);
+        med = n % 2 ? s->v[n / 2] : 0.5 * (s->v[n / 2 - 1] + s->v[n / 2]);
+        q99 = s->v[k99 < 1 ? 0 : k99 - 1];
     }
+    if (mean)
+        *mean = n ? s->mean : 0;
+    if (stddev)
+        *stddev = n ? sqrt(fmax(s->m2, 0.0) / (double)n) : 0;
+    if (median)
+        *median = med;
+    if (p99)
+        *p99 = q99;
     if (max)
-        *max = s->n ? s->v[s->n - 1] : 0;
+        *max = n ? s->max : 0;
+}
+
+void rpl_live_series_free(struct rpl_live_series *s)
+{
+    free(s->v), free(s->bins);
+    memset(s, 0, sizeof *s);
 }
 
 /* The head trace of the session, written beside its name and renamed when complete. */

@@ -107,7 +107,51 @@ static void test_series(void)
     CHECK_NEAR(median, 750.5, 1e-12);
     CHECK_NEAR(p99, 1485.0, 1e-12); /* ceil(0.99·1500) = the 1485th smallest */
     CHECK_NEAR(max, 1500.0, 1e-12);
-    free(s.v);
+    rpl_live_series_free(&s);
+}
+
+/* An hours-long session: past RPL_LIVE_SERIES_EXACT values the series folds into bins, its memory
+ * stays what it was, mean, stddev and max stay exact and median and p99 come within 0.1 %. */
+static void test_series_long(void)
+{
+    struct rpl_live_series s = {0};
+    const long n = 3 * RPL_LIVE_SERIES_EXACT + 7; /* about 36 min at 90 Hz */
+    int ok = 1;
+    double *exact_v = NULL;
+    uint32_t *bins = NULL;
+    for (long i = 0; i < n; ++i) {
+        ok &= rpl_live_series_push(&s, 1.0 + (double)(i % 1000) * 0.02) == 0; /* 1 … 20.98 ms */
+        if (i == RPL_LIVE_SERIES_EXACT)
+            exact_v = s.v, bins = s.bins;
+    }
+    CHECK(ok && s.n == n && bins != NULL && s.v == exact_v && s.bins == bins);
+    double sum = 0, sq = 0, mean, sd, median, p99, max;
+    for (long i = 0; i < n; ++i)
+        sum += 1.0 + (double)(i % 1000) * 0.02;
+    double m = sum / (double)n;
+    for (long i = 0; i < n; ++i) {
+        double d = 1.0 + (double)(i % 1000) * 0.02 - m;
+        sq += d * d;
+    }
+    rpl_live_series_stats(&s, &mean, &sd, &median, &p99, &max);
+    CHECK_NEAR(mean, m, 1e-9 * m);
+    CHECK_NEAR(sd, sqrt(sq / (double)n), 1e-9);
+    CHECK_NEAR(max, 20.98, 1e-12);
+    /* Exact order statistics: the values are 1 + 0.02·j, j = 0 … 999, nearly uniformly repeated. */
+    double *all = malloc((size_t)n * sizeof *all);
+    CHECK(all != NULL);
+    if (all) {
+        for (long i = 0; i < n; ++i)
+            all[i] = 1.0 + (double)(i % 1000) * 0.02;
+        hl_sort_doubles(all, (size_t)n);
+        double exact_median = n % 2 ? all[n / 2] : 0.5 * (all[n / 2 - 1] + all[n / 2]);
+        double exact_p99 = all[(long)ceil(0.99 * (double)n) - 1];
+        CHECK_NEAR(median, exact_median, 1e-3 * exact_median);
+        CHECK_NEAR(p99, exact_p99, 1e-3 * exact_p99);
+        free(all);
+    }
+    rpl_live_series_free(&s);
+    CHECK(s.v == NULL && s.bins == NULL && s.n == 0);
 }
 
 /* An injected clock (rpl_pacer.clock_ns) that jumps: the monotonic one plus an offset. */
@@ -236,6 +280,7 @@ int main(void)
     test_pacer_clock_jumps();
     test_record_order();
     test_series();
+    test_series_long();
     test_pacer();
     test_desk_source();
     return tu_finish("live");

@@ -308,23 +308,11 @@ int rpl_cost_profile_write(const char *path, const struct rpl_cost_profile *p, s
     cJSON_Delete(root);
     if (!text)
         return hl_fail(err, "%s: out of memory", path);
-    char tmp[4200];
-    snprintf(tmp, sizeof tmp, "%s.partial", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) {
-        int e = errno;
-        free(text);
-        return hl_fail(err, "%s: cannot create: %s", tmp, strerror(e));
-    }
-    int failed = fputs(text, f) < 0 || fputc('\n', f) == EOF;
-    failed |= fclose(f) != 0;
+    size_t n = strlen(text);
+    text[n] = '\n'; /* the NUL becomes the final newline: written by length */
+    int rc = hl_out_write_all(path, text, n + 1, err);
     free(text);
-    if (failed || rename(tmp, path) != 0) {
-        int e = errno;
-        remove(tmp);
-        return hl_fail(err, "%s: cannot write: %s", path, strerror(e));
-    }
-    return 0;
+    return rc;
 }
 
 /* ---- the built-in reference ------------------------------------------------------------------- */

@@ -42,14 +42,18 @@ void rpl_live_series_stats(struct rpl_live_series *s, double *mean, double *stdd
 /* A CSV written beside its name (".partial") and renamed by commit; abort removes it. path NULL:
  * nothing is opened (rows are dropped). record_row writes a head-trace row (t from the first). */
 struct rpl_live_record {
-    FILE *f;
-    char path[4096], tmp[4096];
+    FILE *f; /* out.f while open, NULL otherwise */
+    struct hl_out out;
+    char path[4096];
     double t0_s;
     long rows;
     int paused; /* key R: rows are not written while paused */
 };
 int rpl_live_record_open(struct rpl_live_record *r, const char *path, const char *header, struct hl_error *err);
 void rpl_live_record_row(struct rpl_live_record *r, const struct trk_pose *p);
+/* After each row: flushes it. On a failed write (disk full) the file is cut back to its complete rows,
+ * renamed into place, and −1 says so ("incomplete"); the session then stops (docs/live.md). */
+int rpl_live_record_end_row(struct rpl_live_record *r, struct hl_error *err);
 int rpl_live_record_commit(struct rpl_live_record *r, struct hl_error *err);
 void rpl_live_record_abort(struct rpl_live_record *r);
 

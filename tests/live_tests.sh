@@ -57,7 +57,7 @@ rc=$?
 [ $rc -eq 0 ] || fail "SIGINT: exit $rc: $(tail -3 "$tmp/int.err")"
 grep -q "interrupted" "$tmp/int.err" || fail "SIGINT: no 'interrupted' note: $(cat "$tmp/int.err")"
 grep -q "present interval ms" "$tmp/int.out" || fail "SIGINT: no summary: $(cat "$tmp/int.out")"
-[ -e "$tmp/head.csv" ] && [ ! -e "$tmp/head.csv.partial" ] || fail "SIGINT: the head trace is missing or partial"
+[ -e "$tmp/head.csv" ] && [ ! -e "$tmp/head.csv.partial" ] && [ -z "$(find "$tmp" -maxdepth 1 -name '*.tmp.*')" ] || fail "SIGINT: the head trace is missing or partial"
 rows=$(($(wc -l <"$tmp/head.csv") - 1))
 frames=$(grep -o "frames [0-9]*" "$tmp/int.out" | awk '{ print $2 }')
 [ "$rows" -ge 2 ] && [ "$rows" = "$frames" ] || fail "SIGINT: $rows trace rows for $frames frames"

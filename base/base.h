@@ -41,6 +41,14 @@ FILE *hl_file_open_read(const char *path, uint64_t *size_out, struct hl_error *e
  * max_bytes 0 means hl_file_max_bytes(); a larger file is an error naming the limit. */
 int hl_file_read_all(const char *path, uint64_t max_bytes, char **buf_out, size_t *len_out, struct hl_error *err);
 
+/* ---- allocation in libraries ------------------------------------------------------------------
+ * For a library that reports a failed allocation as something else (cJSON: "not valid JSON"): its
+ * allocator hooks, which count failures, so the caller compares the count before and after a call
+ * and says "out of memory" instead. Plain malloc and free otherwise. */
+void *hl_lib_malloc(size_t n);
+void hl_lib_free(void *p);
+uint64_t hl_lib_alloc_failures(void);
+
 /* ---- output files ----------------------------------------------------------------------------
  * Every output file of the project is written here, so that none is ever seen half-written, none
  * follows a symlink planted in an output folder, and a full disk is an error naming the file:

@@ -70,7 +70,7 @@ static int domes_full_cost(const char *out_dir, enum rpl_bench_mode mode, const 
     o.out_dir = dir;
     o.quiet = 1;
     rpl_bench_plan_free(&probe);
-    if (hl_dir_make(calib, err) != 0)
+    if (hl_dir_make(calib, err) != 0 || hl_dir_make(dir, err) != 0)
         return -1;
     struct rpl_summary sum;
     if (rpl_run(&o, &sum, err) != 0)
@@ -100,16 +100,6 @@ int rpl_bench_prepare(const char *out_dir, enum rpl_bench_mode mode, const char 
         return -1;
     if (rpl_bench_plan_make(mode, only, shared, out_dir, full_ms, plan, err) != 0)
         return -1;
-    /* Every run's folder made here, not by the replay that fills it: a link planted at DIR/runs/ID is
-     * refused before any run writes through it. */
-    for (size_t i = 0; i < plan->count; ++i) {
-        char run_dir[4400];
-        snprintf(run_dir, sizeof run_dir, "%s/%s", runs, plan->runs[i].id);
-        if (hl_dir_make(run_dir, err) != 0) {
-            rpl_bench_plan_free(plan);
-            return -1;
-        }
-    }
     snprintf(path, sizeof path, "%s/suite.txt", out_dir);
     struct hl_out out;
     if (hl_out_open(&out, path, err) != 0) {

@@ -12,6 +12,14 @@
 #define COST_FORMAT_TAG "hmdlod-cost-profile-1"
 enum { COST_PROFILE_MAX_BYTES = 1 << 20 };
 
+/* cJSON allocates through base's counting hooks, so a parse that fails for want of memory is told from
+ * bad text (base.h, "allocation in libraries"). */
+__attribute__((constructor)) static void cost_profile_json_hooks(void)
+{
+    cJSON_Hooks hooks = {hl_lib_malloc, hl_lib_free};
+    cJSON_InitHooks(&hooks);
+}
+
 static const char *const coefficient_keys[5] = {"c0_ms", "c1_ms_per_triangle", "c2_ms_per_vertex",
                                                  "c3_ms_per_pixel", "c4_ms_per_draw"};
 
@@ -164,8 +172,13 @@ int rpl_cost_profile_read(const char *path, struct rpl_cost_profile *out, struct
     if (!text)
         return -1;
     const char *end = NULL;
+    uint64_t failed_before = hl_lib_alloc_failures();
     cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
     int rc = -1;
+    if (!root && hl_lib_alloc_failures() != failed_before) {
+        hl_fail(err, "%s: out of memory parsing the JSON", path);
+        goto done;
+    }
     if (!root) {
         hl_fail(err, "%s: not valid JSON near byte %td", path, end ? end - text : 0);
         goto done;

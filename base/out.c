@@ -59,9 +59,9 @@ static void out_free(struct hl_out *o)
 /* A name no one else uses beside path: pid, clock and a counter (O_EXCL settles any collision). */
 static void tmp_name(char *tmp, size_t size, const char *path, unsigned attempt)
 {
-    static unsigned counter;
-    uint64_t x = (uint64_t)hl_clock_now_ns() ^ ((uint64_t)getpid() << 32) ^ (uint64_t)(++counter * 2654435761u) ^
-                 attempt;
+    static unsigned counter; /* atomic: outputs may be opened on several threads */
+    unsigned c = __atomic_add_fetch(&counter, 1, __ATOMIC_RELAXED);
+    uint64_t x = (uint64_t)hl_clock_now_ns() ^ ((uint64_t)getpid() << 32) ^ (uint64_t)(c * 2654435761u) ^ attempt;
     snprintf(tmp, size, "%s.tmp.%06llx", path, (unsigned long long)(x & 0xffffff));
 }
 
@@ -214,8 +214,7 @@ int hl_out_mark(struct hl_out *o, struct hl_error *err)
 {
     errno = 0;
     if (!o->f || fflush(o->f) != 0 || ferror(o->f))
-        return hl_fail(err, "%s: write failed after %llu complete records: %s", o->path,
-                       (unsigned long long)o->records, strerror(out_errno(o, errno)));
+        return hl_fail(err, "%s: write failed: %s", o->path, strerror(out_errno(o, errno)));
     o->marked = ((const struct out_state *)o->state_)->written;
     o->records++;
     return 0;

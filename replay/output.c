@@ -450,10 +450,10 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     size_t n = strlen(text);
     text[n] = '\n'; /* cJSON's NUL becomes the final newline: the buffer is written by length */
     int rc = hl_out_open(out, path, err);
-    if (rc == 0 && fwrite(text, 1, n + 1, out->f) != n + 1)
-        (void)0; /* the close below reports the failed write with its reason */
-    if (rc == 0)
+    if (rc == 0) {
+        (void)fwrite(text, 1, n + 1, out->f); /* a failed write is the close's error, with its reason */
         rc = hl_out_close(out, err);
+    }
     free(text);
     return rc;
 }

@@ -192,7 +192,7 @@ static int child(const char *what, const char *path)
         fputs("i,value\n", o.f);
         for (int i = 0; i < 400; ++i) {
             if (hl_out_mark(&o, &err) != 0) {
-                fprintf(stderr, "%s\n", err.msg);
+                fprintf(stderr, "%s; kept %llu complete records\n", err.msg, (unsigned long long)o.records);
                 struct hl_error perr;
                 if (hl_out_commit_prefix(&o, &perr) != 0)
                     fprintf(stderr, "%s\n", perr.msg);
@@ -329,6 +329,13 @@ static void test_disk_full(const char *shim)
         } else {
             CHECK(text && n > 0 && (long)n <= stream_budgets[b] && text[n - 1] == '\n' && !memcmp(text, "i,value\n", 8));
         }
+        long lines = 0, kept = -1; /* the header and every row are one record each */
+        for (size_t i = 0; text && i < n; ++i)
+            lines += text[i] == '\n';
+        const char *k = strstr(msg, "kept ");
+        if (k)
+            kept = strtol(k + 5, NULL, 10);
+        CHECK(kept == lines);
         free(text);
         CHECK(temporaries_in(dir) == 0);
     }

@@ -248,14 +248,13 @@ int bench_write_results_section(const char *path, const char *heading, const cha
         }
         old = NULL, old_len = 0;
     }
-    char tmp[4200];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *o = fopen(tmp, "wb");
-    if (!o) {
-        fprintf(stderr, "hmdlod bench: cannot write %s\n", tmp);
+    struct hl_out out;
+    if (hl_out_open(&out, path, &rerr) != 0) {
+        fprintf(stderr, "hmdlod bench: %s\n", rerr.msg);
         free(old);
         return -1;
     }
+    FILE *o = out.f;
     const char *start = NULL;
     if (old) { /* the heading at the start of a line */
         for (const char *p = strstr(old, heading); p; p = strstr(p + 1, heading))
@@ -284,9 +283,8 @@ int bench_write_results_section(const char *path, const char *heading, const cha
         fputs(body, o);
     }
     free(old);
-    if (fclose(o) != 0 || rename(tmp, path) != 0) {
-        fprintf(stderr, "hmdlod bench: cannot write %s\n", path);
-        remove(tmp);
+    if (hl_out_commit(&out, &rerr) != 0) {
+        fprintf(stderr, "hmdlod bench: %s\n", rerr.msg);
         return -1;
     }
     return 0;

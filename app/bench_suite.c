@@ -77,6 +77,14 @@ static int run_serial(const struct rpl_bench_plan *plan, const char *dir)
         char storage[RPL_BENCH_MAX_ARGS][RPL_BENCH_ARG_SIZE];
         const char *argv[RPL_BENCH_MAX_ARGS];
         int argc = rpl_bench_run_argv(plan, &plan->runs[i], out, storage, argv, RPL_BENCH_MAX_ARGS);
+        /* The run's folder made here, not by the replay: a link planted at DIR/runs/ID is refused
+         * before anything is written through it (hl_dir_make). */
+        struct hl_error err;
+        if (hl_dir_make(out, &err) != 0) {
+            hl_progress_end(&bar);
+            fprintf(stderr, "hmdlod bench: %s\n", err.msg);
+            return 1;
+        }
         if (cmd_replay(argc, (char **)argv) != 0) {
             hl_progress_end(&bar);
             fprintf(stderr, "hmdlod bench: run %s failed (its message is above); the runs before it are in %s/runs\n",

@@ -73,19 +73,17 @@ static int parse_args(int argc, char **argv, struct calibrate_args *a)
     return 0;
 }
 
-/* Before seconds of rendering: can the profile be written at all? (Its .partial is what the
- * writer creates, so this checks the same folder and permission, and leaves nothing behind.) */
+/* Before seconds of rendering: can the profile be written at all? (The same temporary beside it that
+ * the writer creates, through hl_out, given back at once: nothing is left behind.) */
 static int check_writable(const char *path)
 {
-    char tmp[4200];
-    snprintf(tmp, sizeof tmp, "%s.partial", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) {
-        fprintf(stderr, "hmdlod calibrate: %s: cannot create: %s\n", tmp, strerror(errno));
+    struct hl_out o;
+    struct hl_error err;
+    if (hl_out_open(&o, path, &err) != 0) {
+        fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
         return -1;
     }
-    fclose(f);
-    remove(tmp);
+    hl_out_abort(&o);
     return 0;
 }
 
@@ -101,11 +99,13 @@ static void print_fit(const char *name, const struct lod_cost_model *m, const st
 static int write_csv(const char *path, const struct rnd_calibration *cal, const uint32_t *order, size_t train,
                      const struct lod_cost_model fits[2])
 {
-    FILE *f = fopen(path, "w");
-    if (!f) {
-        fprintf(stderr, "hmdlod calibrate: %s: cannot create: %s\n", path, strerror(errno));
+    struct hl_out out;
+    struct hl_error err;
+    if (hl_out_open(&out, path, &err) != 0) {
+        fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
         return -1;
     }
+    FILE *f = out.f;
     fprintf(f, "point,objects,triangles,vertices,pixels_px,draws,measured_ms,predicted_max_ms,predicted_additive_ms,"
                "held_out\n");
     for (size_t n = 0; n < cal->frame_count; ++n) {
@@ -119,8 +119,8 @@ static int write_csv(const char *path, const struct rnd_calibration *cal, const 
                 fr->measured_ms, rpl_cost_predict_frame_ms(&fits[0], fr, cal->objects),
                 rpl_cost_predict_frame_ms(&fits[1], fr, cal->objects), n >= train);
     }
-    if (fclose(f) != 0) {
-        fprintf(stderr, "hmdlod calibrate: %s: cannot write\n", path);
+    if (hl_out_commit(&out, &err) != 0) {
+        fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
         return -1;
     }
     return 0;

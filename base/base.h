@@ -41,6 +41,66 @@ FILE *hl_file_open_read(const char *path, uint64_t *size_out, struct hl_error *e
  * max_bytes 0 means hl_file_max_bytes(); a larger file is an error naming the limit. */
 int hl_file_read_all(const char *path, uint64_t max_bytes, char **buf_out, size_t *len_out, struct hl_error *err);
 
+/* ---- allocation in libraries ------------------------------------------------------------------
+ * For a library that reports a failed allocation as something else (cJSON: "not valid JSON"): its
+ * allocator hooks, which count failures, so the caller compares the count before and after a call
+ * and says "out of memory" instead. Plain malloc and free otherwise. */
+void *hl_lib_malloc(size_t n);
+void hl_lib_free(void *p);
+uint64_t hl_lib_alloc_failures(void);
+
+/* ---- output files ----------------------------------------------------------------------------
+ * Every output file of the project is written here, so that none is ever seen half-written, none
+ * follows a symlink planted in an output folder, and a full disk is an error naming the file:
+ *
+ *     struct hl_out o;
+ *     if (hl_out_open(&o, "run/summary.json", &err) != 0) return -1;
+ *     fputs(text, o.f);                         // or write(o.fd, ...) for unbuffered records
+ *     if (hl_out_commit(&o, &err) != 0) return -1;   // or hl_out_abort(&o) to give up
+ *
+ * hl_out_open creates a fresh temporary file beside path (same folder, so the final rename is atomic)
+ * with O_CREAT|O_EXCL|O_NOFOLLOW, mode 0644 less the umask: nothing that already exists there, link or
+ * not, is ever opened. hl_out_commit flushes, checks every write and the close, fsyncs the data and
+ * renames the temporary over path; rename replaces a symlink at path instead of following it, and a
+ * previous file at path stays whole until then. Any failure unlinks the temporary and leaves path as it
+ * was ("path: write failed: No space left on device"). hl_out_abort unlinks it too. Both free o.
+ *
+ * Streams written over a long time (a live session's --record and --log) mark each complete record
+ * with hl_out_mark, which flushes it: on a failed write the stream stops, and hl_out_commit_prefix
+ * cuts the file back to its last marked record and renames that valid prefix into place. The caller
+ * then says the file is incomplete (docs/HARD_CASES.md, "Faults"). */
+struct hl_out {
+    FILE *f;           /* the temporary file, to write to (NULL once committed or aborted) */
+    int fd;            /* its descriptor (for write(); do not mix with unflushed stdio output) */
+    char *path;        /* the final name */
+    char *tmp;         /* the temporary's name */
+    uint64_t marked;   /* bytes up to the last hl_out_mark: complete records */
+    uint64_t records;  /* hl_out_mark calls */
+    int published;     /* hl_out_publish done: path already names the file */
+    int closed;        /* hl_out_close done: written, synced and closed, not yet renamed */
+    void *state_;      /* private */
+};
+int hl_out_open(struct hl_out *o, const char *path, struct hl_error *err);
+int hl_out_commit(struct hl_out *o, struct hl_error *err);
+void hl_out_abort(struct hl_out *o);
+/* Everything hl_out_commit does but the rename: for outputs that belong together (frames.csv and
+ * summary.json), each closed first, then all renamed, so a full disk never leaves a new one beside an
+ * old one. hl_out_commit then only renames; hl_out_abort still unlinks. */
+int hl_out_close(struct hl_out *o, struct hl_error *err);
+/* The end of one complete record: flushes it; -1 with err (naming path and why) on a failed write. */
+int hl_out_mark(struct hl_out *o, struct hl_error *err);
+/* After a failed write: keeps the first o->marked bytes (o->records complete records) under path. */
+int hl_out_commit_prefix(struct hl_out *o, struct hl_error *err);
+/* Renames the temporary into place now and keeps writing to it (an append-only recording that must be
+ * found under its name even if the process dies): after this, commit only syncs and closes, and abort
+ * leaves the file. */
+int hl_out_publish(struct hl_out *o, struct hl_error *err);
+/* The whole of data[0..size) as path, through the steps above. */
+int hl_out_write_all(const char *path, const void *data, size_t size, struct hl_error *err);
+/* Makes a folder the program creates inside an output folder (DIR/runs, DIR/runs/ID, DIR/plots): mkdir,
+ * then checked without following links; a symlink (or anything not a folder) there is refused. */
+int hl_dir_make(const char *path, struct hl_error *err);
+
 /* ---- checked time and counter arithmetic ------------------------------------------------------
  * Timestamps, tick counters and counts come from files and devices, so any value is possible. Each
  * function returns 0 with the exact result in *out, or -1 (leaving *out untouched) when the result

@@ -16,6 +16,14 @@ enum field_id {
     F_FORMAT, F_NAME, F_DESCRIPTION, F_EYE_PIXELS, F_FOV_DEG, F_FOV_TANGENTS, F_REFRESH, F_IPD,
     F_DISTORTION, F_ABERRATION, F_XI, F_NECK, F_COUNT
 };
+/* cJSON allocates through base's counting hooks, so a parse that fails for want of memory is told from
+ * bad text (base.h, "allocation in libraries"). */
+__attribute__((constructor)) static void profile_json_hooks(void)
+{
+    cJSON_Hooks hooks = {hl_lib_malloc, hl_lib_free};
+    cJSON_InitHooks(&hooks);
+}
+
 static const char *const g_keys[F_COUNT] = {
     "format", "name", "description", "eye_pixels", "fov_deg", "fov_tangents", "refresh_hz", "ipd_m",
     "distortion_k", "aberration", "xi_cpd", "neck_to_eye_m",
@@ -193,7 +201,12 @@ int hmd_profile_load_json(const char *path, struct hmd_profile *out, struct hl_e
         return -1;
     const char *end = NULL;
     /* Length includes the terminating NUL: with require_null_terminated cJSON must see it in range. */
+    uint64_t failed_before = hl_lib_alloc_failures();
     cJSON *root = cJSON_ParseWithLengthOpts(buf, len + 1, &end, 1);
+    if (!root && hl_lib_alloc_failures() != failed_before) {
+        free(buf);
+        return hl_fail(err, "%s: out of memory parsing the JSON", path);
+    }
     if (!root) {
         size_t at = (end && end >= buf && end <= buf + len) ? (size_t)(end - buf) : len;
         hl_fail(err, "%s: not valid JSON near byte %zu", path, at);

@@ -1,5 +1,5 @@
-/* PNG capture. Written to a temporary file in the destination folder and renamed into place, so a
- * reader (or a crash) never sees half a PNG: rename within one file system is atomic. */
+/* PNG capture. Written through hl_out (base.h): a temporary file in the destination folder renamed into
+ * place, so a reader (or a crash) never sees half a PNG and a planted symlink is replaced, not followed. */
 #include "render/render_internal.h"
 
 #include <errno.h>
@@ -64,45 +64,15 @@ int rnd_png_write(const char *path, const uint8_t *rgba, int width_px, int heigh
         return hl_fail(err, "png: empty path");
     if (!rgba || width_px < 1 || height_px < 1 || width_px > 1000000 || height_px > 1000000)
         return hl_fail(err, "%s: bad image (%d×%d)", path, width_px, height_px);
-    size_t n = strlen(path) + 16;
-    char *tmp = malloc(n);
-    if (!tmp)
-        return hl_fail(err, "%s: out of memory", path);
-    snprintf(tmp, n, "%s.tmp.XXXXXX", path);
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        int e = errno;
-        free(tmp);
-        return hl_fail(err, "%s: cannot create a temporary file: %s", path, strerror(e));
-    }
-    fchmod(fd, 0644); /* mkstemp's 0600 would make captures private to the user */
-    FILE *f = fdopen(fd, "wb");
-    if (!f) {
-        int e = errno;
-        close(fd);
-        unlink(tmp);
-        free(tmp);
-        return hl_fail(err, "%s: %s", path, strerror(e));
-    }
+    struct hl_out o;
+    if (hl_out_open(&o, path, err) != 0)
+        return -1;
     struct rnd_png_state st = {""};
-    int rc = rnd_png_encode(f, rgba, width_px, height_px, &st);
-    if (rc == 0 && (fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0)) {
-        snprintf(st.reason, sizeof st.reason, "write failed: %s", strerror(errno));
-        rc = -1;
-    }
-    if (fclose(f) != 0 && rc == 0) {
-        snprintf(st.reason, sizeof st.reason, "close failed: %s", strerror(errno));
-        rc = -1;
-    }
-    if (rc == 0 && rename(tmp, path) != 0) {
-        snprintf(st.reason, sizeof st.reason, "cannot rename the temporary file into place: %s", strerror(errno));
-        rc = -1;
-    }
-    if (rc != 0) {
-        unlink(tmp);
-        free(tmp);
+    if (rnd_png_encode(o.f, rgba, width_px, height_px, &st) != 0) {
+        if (ferror(o.f)) /* libpng's "Write Error": the commit fails, naming why (a full disk) */
+            return hl_out_commit(&o, err) != 0 ? -1 : hl_fail(err, "%s: %s", path, st.reason);
+        hl_out_abort(&o);
         return hl_fail(err, "%s: %s", path, st.reason);
     }
-    free(tmp);
-    return 0;
+    return hl_out_commit(&o, err);
 }

@@ -230,7 +230,7 @@ int rpl_cache_make_dir(const char *dir)
 /* Temporary file + rename: a reader never sees half a table. 0, or −1 with errno's reason. */
 static int rpl_cache_write(const char *dir, const char *path, uint64_t key, const struct scn_lodset *set)
 {
-    char buf[RPL_CACHE_FILE_MAX], tmp[4200];
+    char buf[RPL_CACHE_FILE_MAX];
     int len = rpl_cache_format(buf, sizeof buf, key, set);
     if (len < 0) {
         errno = ENOSPC;
@@ -238,20 +238,9 @@ static int rpl_cache_write(const char *dir, const char *path, uint64_t key, cons
     }
     if (rpl_cache_make_dir(dir) != 0)
         return -1;
-    snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
-    FILE *f = fopen(tmp, "wb");
-    if (!f)
-        return -1;
-    int ok = fwrite(buf, 1, (size_t)len, f) == (size_t)len;
-    ok = fflush(f) == 0 && ok;
-    ok = fsync(fileno(f)) == 0 && ok;
-    ok = fclose(f) == 0 && ok;
-    if (!ok || rename(tmp, path) != 0) {
-        int e = errno;
-        remove(tmp);
-        errno = e;
-        return -1;
-    }
+    struct hl_error werr;
+    if (hl_out_write_all(path, buf, (size_t)len, &werr) != 0)
+        return -1; /* errno still says why (the caller names the file) */
     return 0;
 }
 

@@ -7,9 +7,6 @@
 
 #include "replay/bench.h"
 
-/* fclose f, then rename tmp to path (removing tmp on failure). 0, or −1 with err. */
-int rpl_bench_commit_file(FILE *f, const char *tmp, const char *path, struct hl_error *err);
-
 /* A run read back from DIR/runs/ID: summary.json's error figures and frames.csv's columns. Numbers
  * absent from the files are NaN (the report prints "—"). */
 struct rpl_bench_result {
@@ -40,8 +37,9 @@ double rpl_bench_stddev_from(const struct rpl_bench_result *r, const double *col
 /* ---- tables: one Markdown table in report.md, the same rows in DIR/NAME.csv ----------------------- */
 enum { RPL_BENCH_MAX_COLS = 20, RPL_BENCH_CELL = 48 };
 struct rpl_bench_table {
-    FILE *md, *csv, *echo; /* echo NULL: not printed */
-    char csv_tmp[4300], csv_path[4300];
+    FILE *md, *csv, *echo; /* echo NULL: not printed; csv is csv_out.f */
+    struct hl_out csv_out;
+    char csv_path[4300];
     int cols;
     int has_deterministic;
 };
@@ -85,8 +83,9 @@ int rpl_bench_tables_t6(struct rpl_bench_ctx *c, struct hl_error *err);
  * placeholder that says so. Appends the image link to md. 0, or −1 when writing failed. */
 int rpl_bench_plot(struct rpl_bench_ctx *c, const char *name, const char *title, const char *body, int has_data,
                    struct hl_error *err);
-/* Opens DIR/plots/NAME (a data file) for writing; NULL with err. */
-FILE *rpl_bench_plot_data(struct rpl_bench_ctx *c, const char *name, struct hl_error *err);
+/* Opens DIR/plots/NAME (a data file) for writing through *out (base.h: commit it with hl_out_commit,
+ * or hl_out_abort); out->f, or NULL with err. */
+FILE *rpl_bench_plot_data(struct rpl_bench_ctx *c, const char *name, struct hl_out *out, struct hl_error *err);
 int rpl_bench_have_gnuplot(void);
 
 #endif

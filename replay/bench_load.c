@@ -10,6 +10,14 @@
 
 #include "replay/bench_internal.h"
 
+/* cJSON allocates through base's counting hooks, so a parse that fails for want of memory is told from
+ * bad text (base.h, "allocation in libraries"). */
+__attribute__((constructor)) static void bench_load_json_hooks(void)
+{
+    cJSON_Hooks hooks = {hl_lib_malloc, hl_lib_free};
+    cJSON_InitHooks(&hooks);
+}
+
 static char *slurp(const char *path, struct hl_error *err)
 {
     FILE *f = fopen(path, "rb");
@@ -58,8 +66,11 @@ static int load_summary(const char *dir, struct rpl_bench_result *r, struct hl_e
     char *text = slurp(path, err);
     if (!text)
         return -1;
+    uint64_t failed_before = hl_lib_alloc_failures();
     cJSON *root = cJSON_Parse(text);
     free(text);
+    if (!root && hl_lib_alloc_failures() != failed_before)
+        return hl_fail(err, "%s: out of memory parsing the JSON", path);
     if (!cJSON_IsObject(root)) {
         cJSON_Delete(root);
         return hl_fail(err, "%s: not a JSON object", path);

@@ -479,14 +479,13 @@ void rpl_bench_run_line(const struct rpl_bench_plan *plan, const struct rpl_benc
 int rpl_bench_plan_write(const struct rpl_bench_plan *plan, const char *exe, const char *out_dir, const char *path,
                          struct hl_error *err)
 {
-    char tmp[4200];
-    snprintf(tmp, sizeof tmp, "%s.partial", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f)
-        return hl_fail(err, "%s: cannot create the plan file", tmp);
+    struct hl_out out;
+    if (hl_out_open(&out, path, err) != 0)
+        return -1;
+    FILE *f = out.f;
     for (size_t i = 0; i < plan->count; ++i) {
         rpl_bench_run_line(plan, &plan->runs[i], exe, out_dir, f);
         fputc('\n', f);
     }
-    return rpl_bench_commit_file(f, tmp, path, err);
+    return hl_out_commit(&out, err);
 }

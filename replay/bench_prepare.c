@@ -10,17 +10,6 @@
 #include "replay/bench_internal.h"
 #include "replay/replay.h"
 
-int rpl_bench_commit_file(FILE *f, const char *tmp, const char *path, struct hl_error *err)
-{
-    int failed = ferror(f);
-    failed |= fclose(f) != 0;
-    if (failed || rename(tmp, path) != 0) {
-        unlink(tmp);
-        return hl_fail(err, "%s: cannot write: %s", path, failed ? "write failed (disk full?)" : strerror(errno));
-    }
-    return 0;
-}
-
 static int make_dir(const char *path, struct hl_error *err)
 {
     if (mkdir(path, 0777) == 0 || errno == EEXIST) {
@@ -81,7 +70,7 @@ static int domes_full_cost(const char *out_dir, enum rpl_bench_mode mode, const 
     o.out_dir = dir;
     o.quiet = 1;
     rpl_bench_plan_free(&probe);
-    if (make_dir(calib, err) != 0)
+    if (hl_dir_make(calib, err) != 0 || hl_dir_make(dir, err) != 0)
         return -1;
     struct rpl_summary sum;
     if (rpl_run(&o, &sum, err) != 0)
@@ -99,9 +88,9 @@ static int domes_full_cost(const char *out_dir, enum rpl_bench_mode mode, const 
 int rpl_bench_prepare(const char *out_dir, enum rpl_bench_mode mode, const char *only, const char *shared,
                       const char *command, struct rpl_bench_plan *plan, struct hl_error *err)
 {
-    char runs[4300], path[4300], tmp[4400];
+    char runs[4300], path[4300];
     snprintf(runs, sizeof runs, "%s/runs", out_dir);
-    if (make_dir(out_dir, err) != 0 || make_dir(runs, err) != 0)
+    if (make_dir(out_dir, err) != 0 || hl_dir_make(runs, err) != 0)
         return -1;
     snprintf(path, sizeof path, "%s/still-head.csv", out_dir);
     if (write_still_trace(path, 600.0 / 90.0 + 1.0, err) != 0) /* the longest run: 600 frames at 90 Hz */
@@ -112,15 +101,15 @@ int rpl_bench_prepare(const char *out_dir, enum rpl_bench_mode mode, const char 
     if (rpl_bench_plan_make(mode, only, shared, out_dir, full_ms, plan, err) != 0)
         return -1;
     snprintf(path, sizeof path, "%s/suite.txt", out_dir);
-    snprintf(tmp, sizeof tmp, "%s.partial", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) {
+    struct hl_out out;
+    if (hl_out_open(&out, path, err) != 0) {
         rpl_bench_plan_free(plan);
-        return hl_fail(err, "%s: cannot create: %s", tmp, strerror(errno));
+        return -1;
     }
+    FILE *f = out.f;
     fprintf(f, "format hmdlod-bench-suite-1\nmode %s\nonly %s\nshared %s\nout %s\ndomes_full_ms %.17g\ncommand %s\n",
             rpl_bench_mode_name(mode), plan->only, shared, out_dir, full_ms, command);
-    if (rpl_bench_commit_file(f, tmp, path, err) != 0) {
+    if (hl_out_commit(&out, err) != 0) {
         rpl_bench_plan_free(plan);
         return -1;
     }

@@ -46,10 +46,9 @@ int rpl_bench_table_begin(struct rpl_bench_table *t, const char *dir, const char
     memset(t, 0, sizeof *t);
     t->md = md, t->echo = echo, t->cols = cols;
     snprintf(t->csv_path, sizeof t->csv_path, "%s/%s.csv", dir, name);
-    snprintf(t->csv_tmp, sizeof t->csv_tmp, "%s/.%s.csv.partial", dir, name);
-    t->csv = fopen(t->csv_tmp, "w");
-    if (!t->csv)
-        return hl_fail(err, "%s: cannot create: %s", t->csv_tmp, strerror(errno));
+    if (hl_out_open(&t->csv_out, t->csv_path, err) != 0)
+        return -1;
+    t->csv = t->csv_out.f;
     fprintf(det, "%s.csv:", name);
     int first_det = 1;
     both(t, "\n|");
@@ -100,7 +99,8 @@ int rpl_bench_table_end(struct rpl_bench_table *t, struct hl_error *err)
     if (t->echo)
         fputs(strrchr(t->csv_path, '/') + 1, t->echo);
     both(t, "` holds the rows.\n");
-    return rpl_bench_commit_file(t->csv, t->csv_tmp, t->csv_path, err);
+    t->csv = NULL;
+    return hl_out_commit(&t->csv_out, err);
 }
 
 /* ---- plots ------------------------------------------------------------------------------------- */
@@ -121,14 +121,11 @@ int rpl_bench_have_gnuplot(void)
     return 0;
 }
 
-FILE *rpl_bench_plot_data(struct rpl_bench_ctx *c, const char *name, struct hl_error *err)
+FILE *rpl_bench_plot_data(struct rpl_bench_ctx *c, const char *name, struct hl_out *out, struct hl_error *err)
 {
     char path[4400];
     snprintf(path, sizeof path, "%s/plots/%s", c->dir, name);
-    FILE *f = fopen(path, "w");
-    if (!f)
-        hl_fail(err, "%s: cannot create: %s", path, strerror(errno));
-    return f;
+    return hl_out_open(out, path, err) == 0 ? out->f : NULL;
 }
 
 /* gnuplot NAME.gp run in DIR/plots (the scripts name their files relatively); its messages (range
@@ -141,7 +138,7 @@ static int run_gnuplot(const char *plots_dir, const char *script)
     if (pid == 0) {
         if (chdir(plots_dir) != 0)
             _exit(127);
-        int log = open("gnuplot.log", O_WRONLY | O_CREAT | O_APPEND, 0666);
+        int log = open("gnuplot.log", O_WRONLY | O_CREAT | O_APPEND | O_NOFOLLOW | O_CLOEXEC, 0666);
         if (log >= 0)
             dup2(log, STDERR_FILENO), close(log);
         execlp("gnuplot", "gnuplot", script, (char *)NULL);
@@ -160,9 +157,10 @@ int rpl_bench_plot(struct rpl_bench_ctx *c, const char *name, const char *title,
     snprintf(plots, sizeof plots, "%s/plots", c->dir);
     snprintf(script, sizeof script, "%s.gp", name);
     snprintf(gp, sizeof gp, "%s/%s", plots, script);
-    FILE *f = fopen(gp, "w");
-    if (!f)
-        return hl_fail(err, "%s: cannot create: %s", gp, strerror(errno));
+    struct hl_out out;
+    if (hl_out_open(&out, gp, err) != 0)
+        return -1;
+    FILE *f = out.f;
     fprintf(f, "# %s (hmdlod bench; run in this folder: gnuplot %s)\n", title, script);
     fprintf(f, "set terminal pngcairo size 900,600 noenhanced\nset output '%s.png'\nset title '%s'\n", name, title);
     fprintf(f, "set datafile missing 'NaN'\nset grid\n");
@@ -172,8 +170,8 @@ int rpl_bench_plot(struct rpl_bench_ctx *c, const char *name, const char *title,
         fputs("set label 1 'not measured in these runs' at graph 0.5, graph 0.5 center\n"
               "plot [0:1][0:1] -1 notitle\n",
               f);
-    if (fclose(f) != 0)
-        return hl_fail(err, "%s: write failed", gp);
+    if (hl_out_commit(&out, err) != 0)
+        return -1;
     fprintf(c->md, "\n![%s](plots/%s.png) (`plots/%s`)\n", title, name, script);
     if (c->gnuplot && run_gnuplot(plots, script) != 0)
         fprintf(c->md, "\n(gnuplot failed on plots/%s; its message is in plots/gnuplot.log)\n", script);
@@ -235,12 +233,12 @@ static int load_all(const struct rpl_bench_report_options *o, struct rpl_bench_r
 static int write_runs_csv(const struct rpl_bench_report_options *o, const struct rpl_bench_result *results,
                           struct hl_error *err)
 {
-    char path[4300], tmp[4400];
+    char path[4300];
     snprintf(path, sizeof path, "%s/runs.csv", o->out_dir);
-    snprintf(tmp, sizeof tmp, "%s/.runs.csv.partial", o->out_dir);
-    FILE *f = fopen(tmp, "w");
-    if (!f)
-        return hl_fail(err, "%s: cannot create: %s", tmp, strerror(errno));
+    struct hl_out out;
+    if (hl_out_open(&out, path, err) != 0)
+        return -1;
+    FILE *f = out.f;
     fputs("id,table,present,frames,renderer,command\n", f);
     for (size_t i = 0; i < o->plan->count; ++i) {
         const struct rpl_bench_run *r = &o->plan->runs[i];
@@ -258,9 +256,11 @@ static int write_runs_csv(const struct rpl_bench_report_options *o, const struct
         }
         fputs("\"\n", f);
     }
-    return rpl_bench_commit_file(f, tmp, path, err);
+    return hl_out_commit(&out, err);
 }
 
+/* The report's folder (given) may be reached through a link; plots/ inside it is made here, so a link
+ * planted there is refused (hl_dir_make). */
 static int make_dir(const char *path, struct hl_error *err)
 {
     if (mkdir(path, 0777) != 0 && errno != EEXIST)
@@ -273,25 +273,23 @@ static int make_dir(const char *path, struct hl_error *err)
 static int write_report(const struct rpl_bench_report_options *o, struct rpl_bench_result *results, size_t n_missing,
                         const char *missing, struct hl_error *err)
 {
-    char plots[4300], md_path[4300], md_tmp[4400], det_path[4300], det_tmp[4400];
+    char plots[4300], md_path[4300], det_path[4300];
     snprintf(plots, sizeof plots, "%s/plots", o->out_dir);
-    if (make_dir(o->out_dir, err) != 0 || make_dir(plots, err) != 0)
+    if (make_dir(o->out_dir, err) != 0 || hl_dir_make(plots, err) != 0)
         return -1;
     char log[4400];
     snprintf(log, sizeof log, "%s/gnuplot.log", plots);
     unlink(log); /* this report's messages only */
     snprintf(md_path, sizeof md_path, "%s/report.md", o->out_dir);
-    snprintf(md_tmp, sizeof md_tmp, "%s/.report.md.partial", o->out_dir);
     snprintf(det_path, sizeof det_path, "%s/deterministic.txt", o->out_dir);
-    snprintf(det_tmp, sizeof det_tmp, "%s/.deterministic.txt.partial", o->out_dir);
-    FILE *md = fopen(md_tmp, "w"), *det = fopen(det_tmp, "w");
-    if (!md || !det) {
-        if (md)
-            fclose(md), unlink(md_tmp);
-        if (det)
-            fclose(det), unlink(det_tmp);
-        return hl_fail(err, "%s: cannot create the report's files: %s", o->out_dir, strerror(errno));
+    struct hl_out md_out, det_out;
+    if (hl_out_open(&md_out, md_path, err) != 0)
+        return -1;
+    if (hl_out_open(&det_out, det_path, err) != 0) {
+        hl_out_abort(&md_out);
+        return -1;
     }
+    FILE *md = md_out.f, *det = det_out.f;
     fputs("# Deterministic columns of each table (on rows whose `deterministic` is 1)\n", det);
     const char *renderer = "unknown";
     for (size_t i = 0; i < o->plan->count; ++i)
@@ -323,15 +321,15 @@ static int write_report(const struct rpl_bench_report_options *o, struct rpl_ben
     for (int k = 0; k < 6 && rc == 0; ++k)
         rc = tables[k](&c, err);
     if (rc != 0) {
-        fclose(md), unlink(md_tmp);
-        fclose(det), unlink(det_tmp);
+        hl_out_abort(&md_out);
+        hl_out_abort(&det_out);
         return -1;
     }
-    if (rpl_bench_commit_file(det, det_tmp, det_path, err) != 0) {
-        fclose(md), unlink(md_tmp);
+    if (hl_out_commit(&det_out, err) != 0) {
+        hl_out_abort(&md_out);
         return -1;
     }
-    if (rpl_bench_commit_file(md, md_tmp, md_path, err) != 0)
+    if (hl_out_commit(&md_out, err) != 0)
         return -1;
     return write_runs_csv(o, results, err);
 }

@@ -103,7 +103,8 @@ int rpl_bench_tables_t1(struct rpl_bench_ctx *c, struct hl_error *err)
                 frames = c->results[i].n > frames ? c->results[i].n : frames;
             }
         }
-        FILE *f = rpl_bench_plot_data(c, data, err);
+        struct hl_out plot;
+        FILE *f = rpl_bench_plot_data(c, data, &plot, err);
         if (!f)
             return -1;
         fputs("frame", f);
@@ -116,7 +117,8 @@ int rpl_bench_tables_t1(struct rpl_bench_ctx *c, struct hl_error *err)
                 fprintf(f, " %.3f", fr < cols[k]->n ? 100.0 * cols[k]->frame_ms[fr] / cols[k]->budget_ms : NAN);
             fputc('\n', f);
         }
-        fclose(f);
+        if (hl_out_commit(&plot, err) != 0)
+            return -1;
         snprintf(body, sizeof body,
                  "set xlabel 'frame'\nset ylabel 'frame time, %% of the target'\nset key outside right\n"
                  "set yrange [0:*]\nplot for [i=2:%d] '%s' using 1:i with lines title columnheader(i), "
@@ -168,7 +170,8 @@ static int t2_plot(struct rpl_bench_ctx *c, const char *gaze, struct hl_error *e
     for (int s = 0; s < 5; ++s) {
         char data[64];
         snprintf(data, sizeof data, "t2_%s_%s.dat", gaze, t2_selectors[s]);
-        FILE *f = rpl_bench_plot_data(c, data, err);
+        struct hl_out plot;
+        FILE *f = rpl_bench_plot_data(c, data, &plot, err);
         if (!f)
             return -1;
         fputs("# frame_ms fssim ssim psnr_db visible_error\n", f);
@@ -183,7 +186,8 @@ static int t2_plot(struct rpl_bench_ctx *c, const char *gaze, struct hl_error *e
                 has[k] |= isfinite(v[0]) && isfinite(v[k + 1]);
             fprintf(f, "%.4f %.6f %.6f %.4f %.6f\n", v[0], v[1], v[2], v[3], v[4]);
         }
-        fclose(f);
+        if (hl_out_commit(&plot, err) != 0)
+            return -1;
     }
     static const char *const ylabels[4] = {"foveated SSIM", "SSIM", "PSNR, dB", "predicted visible error"};
     char body[8192];

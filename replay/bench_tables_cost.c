@@ -25,7 +25,8 @@ int rpl_bench_tables_t4(struct rpl_bench_ctx *c, struct hl_error *err)
     struct rpl_bench_table t;
     if (rpl_bench_table_begin(&t, c->dir, "t4_nirenstein", c->md, NULL, c->det, h, 7 + bands, err) != 0)
         return -1;
-    FILE *f = rpl_bench_plot_data(c, "t4_turn.dat", err);
+    struct hl_out plot;
+    FILE *f = rpl_bench_plot_data(c, "t4_turn.dat", &plot, err);
     if (!f) {
         rpl_bench_table_end(&t, err);
         return -1;
@@ -68,7 +69,11 @@ int rpl_bench_tables_t4(struct rpl_bench_ctx *c, struct hl_error *err)
         ++n_series;
         rpl_bench_table_row(&t, cells);
     }
-    fclose(f);
+    if (hl_out_commit(&plot, err) != 0) {
+        struct hl_error table_err;
+        rpl_bench_table_end(&t, &table_err);
+        return -1;
+    }
     if (rpl_bench_table_end(&t, err) != 0)
         return -1;
     char body[4096];
@@ -195,11 +200,12 @@ int rpl_bench_tables_t6(struct rpl_bench_ctx *c, struct hl_error *err)
     for (size_t i = 0; i < c->plan->count; ++i)
         total += (size_t)c->results[i].n;
     double *rel = malloc((total ? total : 1) * sizeof *rel);
-    FILE *f = rpl_bench_plot_data(c, "t6_cost.dat", err);
+    struct hl_out plot;
+    FILE *f = rpl_bench_plot_data(c, "t6_cost.dat", &plot, err);
     if (!rel || !f) {
         free(rel);
         if (f)
-            fclose(f);
+            hl_out_abort(&plot);
         rpl_bench_table_end(&t, err);
         return rel ? -1 : hl_fail(err, "bench report: out of memory");
     }
@@ -237,7 +243,11 @@ int rpl_bench_tables_t6(struct rpl_bench_ctx *c, struct hl_error *err)
             rpl_bench_table_row(&t, cells);
         }
     free(rel);
-    fclose(f);
+    if (hl_out_commit(&plot, err) != 0) {
+        struct hl_error table_err;
+        rpl_bench_table_end(&t, &table_err);
+        return -1;
+    }
     if (rpl_bench_table_end(&t, err) != 0)
         return -1;
     static const char body[] = "set xlabel 'predicted, ms'\nset ylabel 'measured, ms'\nset key left top\n"

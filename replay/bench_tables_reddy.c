@@ -38,7 +38,8 @@ static int speedup_table(struct rpl_bench_ctx *c, struct hl_error *err)
     struct rpl_bench_table t;
     if (rpl_bench_table_begin(&t, c->dir, "t3_reddy_speedup", c->md, c->echo, c->det, h, 10, err) != 0)
         return -1;
-    FILE *f = rpl_bench_plot_data(c, "t3_speedup.dat", err);
+    struct hl_out plot;
+    FILE *f = rpl_bench_plot_data(c, "t3_speedup.dat", &plot, err);
     if (!f) {
         rpl_bench_table_end(&t, err);
         return -1;
@@ -84,7 +85,11 @@ static int speedup_table(struct rpl_bench_ctx *c, struct hl_error *err)
         }
         fputc('\n', f);
     }
-    fclose(f);
+    if (hl_out_commit(&plot, err) != 0) {
+        struct hl_error table_err;
+        rpl_bench_table_end(&t, &table_err);
+        return -1;
+    }
     if (rpl_bench_table_end(&t, err) != 0)
         return -1;
     char body[2048];

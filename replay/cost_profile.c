@@ -12,6 +12,14 @@
 #define COST_FORMAT_TAG "hmdlod-cost-profile-1"
 enum { COST_PROFILE_MAX_BYTES = 1 << 20 };
 
+/* cJSON allocates through base's counting hooks, so a parse that fails for want of memory is told from
+ * bad text (base.h, "allocation in libraries"). */
+__attribute__((constructor)) static void cost_profile_json_hooks(void)
+{
+    cJSON_Hooks hooks = {hl_lib_malloc, hl_lib_free};
+    cJSON_InitHooks(&hooks);
+}
+
 static const char *const coefficient_keys[5] = {"c0_ms", "c1_ms_per_triangle", "c2_ms_per_vertex",
                                                  "c3_ms_per_pixel", "c4_ms_per_draw"};
 
@@ -164,8 +172,13 @@ int rpl_cost_profile_read(const char *path, struct rpl_cost_profile *out, struct
     if (!text)
         return -1;
     const char *end = NULL;
+    uint64_t failed_before = hl_lib_alloc_failures();
     cJSON *root = cJSON_ParseWithOpts(text, &end, 1);
     int rc = -1;
+    if (!root && hl_lib_alloc_failures() != failed_before) {
+        hl_fail(err, "%s: out of memory parsing the JSON", path);
+        goto done;
+    }
     if (!root) {
         hl_fail(err, "%s: not valid JSON near byte %td", path, end ? end - text : 0);
         goto done;
@@ -308,23 +321,11 @@ int rpl_cost_profile_write(const char *path, const struct rpl_cost_profile *p, s
     cJSON_Delete(root);
     if (!text)
         return hl_fail(err, "%s: out of memory", path);
-    char tmp[4200];
-    snprintf(tmp, sizeof tmp, "%s.partial", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) {
-        int e = errno;
-        free(text);
-        return hl_fail(err, "%s: cannot create: %s", tmp, strerror(e));
-    }
-    int failed = fputs(text, f) < 0 || fputc('\n', f) == EOF;
-    failed |= fclose(f) != 0;
+    size_t n = strlen(text);
+    text[n] = '\n'; /* the NUL becomes the final newline: written by length */
+    int rc = hl_out_write_all(path, text, n + 1, err);
     free(text);
-    if (failed || rename(tmp, path) != 0) {
-        int e = errno;
-        remove(tmp);
-        return hl_fail(err, "%s: cannot write: %s", path, strerror(e));
-    }
-    return 0;
+    return rc;
 }
 
 /* ---- the built-in reference ------------------------------------------------------------------- */

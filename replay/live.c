@@ -269,6 +269,8 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
         struct trk_pose pose;
         if (st->record.f && trk_source_pose_at(s->source, display_s, &pose, err) == 0)
             rpl_live_record_row(&st->record, &pose);
+        if (rpl_live_record_end_row(&st->record, err) != 0)
+            return -1;
         int on_time = pacer.missed == missed_before;
         if (st->log.f) {
             if (st->log.t0_s < 0)
@@ -277,6 +279,8 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
                     rec.frame_ms, dist_ms, interval_ms, to_present_ms, pacer.missed, on_time,
                     (unsigned long long)rec.triangles_per_eye, rec.head_speed_degps, !st->tracker_lost);
             st->log.rows++;
+            if (rpl_live_record_end_row(&st->log, err) != 0)
+                return -1;
         }
         if ((f > 0 && on_time && prev_on_time && rpl_live_series_push(&st->on_time_ms, interval_ms) != 0) ||
             (f > 0 && rpl_live_series_push(&st->present_ms, interval_ms) != 0) || rpl_live_series_push(&st->frame_ms, rec.frame_ms) != 0 ||

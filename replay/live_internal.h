@@ -63,8 +63,9 @@ void rpl_live_series_free(struct rpl_live_series *s);
  * whose time is not after the last row's is dropped and counted (dropped_rows), so the file stays a
  * valid trace (docs/trace-format.md: time never goes back) whatever the clock did. */
 struct rpl_live_record {
-    FILE *f;
-    char path[4096], tmp[4096];
+    FILE *f; /* out.f while open, NULL otherwise */
+    struct hl_out out;
+    char path[4096];
     double t0_s;
     long rows;
     int paused; /* key R: rows are not written while paused */
@@ -73,6 +74,9 @@ struct rpl_live_record {
 };
 int rpl_live_record_open(struct rpl_live_record *r, const char *path, const char *header, struct hl_error *err);
 void rpl_live_record_row(struct rpl_live_record *r, const struct trk_pose *p);
+/* After each row: flushes it. On a failed write (disk full) the file is cut back to its complete rows,
+ * renamed into place, and −1 says so ("incomplete"); the session then stops (docs/live.md). */
+int rpl_live_record_end_row(struct rpl_live_record *r, struct hl_error *err);
 int rpl_live_record_commit(struct rpl_live_record *r, struct hl_error *err);
 void rpl_live_record_abort(struct rpl_live_record *r);
 

@@ -91,20 +91,25 @@ void rpl_live_series_free(struct rpl_live_series *s)
     memset(s, 0, sizeof *s);
 }
 
-/* The head trace of the session, written beside its name and renamed when complete. */
+/* The head trace of the session (and the --log), written beside its name and renamed when complete;
+ * each row is flushed as a whole, so a failed write leaves a prefix of whole rows to keep. */
 int rpl_live_record_open(struct rpl_live_record *r, const char *path, const char *header, struct hl_error *err)
 {
     memset(r, 0, sizeof *r);
     if (!path)
         return 0;
-    if (snprintf(r->path, sizeof r->path, "%s", path) >= (int)sizeof r->path ||
-        snprintf(r->tmp, sizeof r->tmp, "%s.partial", path) >= (int)sizeof r->tmp)
-        return hl_fail(err, "--record %s: path too long", path);
-    r->f = fopen(r->tmp, "w");
-    if (!r->f)
-        return hl_fail(err, "--record %s: cannot write %s: %s", path, r->tmp, strerror(errno));
-    fputs(header, r->f);
+    if (snprintf(r->path, sizeof r->path, "%s", path) >= (int)sizeof r->path)
+        return hl_fail(err, "%s: path too long", path);
+    if (hl_out_open(&r->out, path, err) != 0)
+        return -1;
+    r->f = r->out.f;
     r->t0_s = -1;
+    fputs(header, r->f);
+    if (hl_out_mark(&r->out, err) != 0) {
+        r->f = NULL;
+        hl_out_abort(&r->out); /* not even the header: no file at all */
+        return -1;
+    }
     return 0;
 }
 void rpl_live_record_row(struct rpl_live_record *r, const struct trk_pose *p)
@@ -122,24 +127,29 @@ void rpl_live_record_row(struct rpl_live_record *r, const struct trk_pose *p)
     fprintf(r->f, "%.6f,%.9f,%.9f,%.9f,%.9f\n", p->time_s - r->t0_s, q.w, q.x, q.y, q.z);
     r->rows++;
 }
+int rpl_live_record_end_row(struct rpl_live_record *r, struct hl_error *err)
+{
+    if (!r->f)
+        return 0;
+    struct hl_error werr;
+    if (hl_out_mark(&r->out, &werr) == 0)
+        return 0;
+    r->f = NULL;
+    long kept = r->rows - 1; /* the row just written is the one that failed */
+    if (hl_out_commit_prefix(&r->out, err) != 0)
+        return -1;
+    return hl_fail(err, "%s; the session stopped, and the file holds its first %ld rows (incomplete)", werr.msg,
+                   kept < 0 ? 0 : kept);
+}
 int rpl_live_record_commit(struct rpl_live_record *r, struct hl_error *err)
 {
     if (!r->f)
         return 0;
-    int bad = ferror(r->f);
-    bad |= fclose(r->f) != 0;
     r->f = NULL;
-    if (bad || rename(r->tmp, r->path) != 0) {
-        remove(r->tmp);
-        return hl_fail(err, "--record %s: writing failed", r->path);
-    }
-    return 0;
+    return hl_out_commit(&r->out, err);
 }
 void rpl_live_record_abort(struct rpl_live_record *r)
 {
-    if (r->f) {
-        fclose(r->f);
-        remove(r->tmp);
-        r->f = NULL;
-    }
+    r->f = NULL;
+    hl_out_abort(&r->out);
 }

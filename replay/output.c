@@ -13,10 +13,9 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
 {
     memset(o, 0, sizeof *o);
     snprintf(o->csv_path, sizeof o->csv_path, "%s/frames.csv", dir);
-    snprintf(o->csv_tmp, sizeof o->csv_tmp, "%s/.frames.csv.partial", dir);
-    o->csv = fopen(o->csv_tmp, "w");
-    if (!o->csv)
-        return hl_fail(err, "%s: cannot create: %s", o->csv_tmp, strerror(errno));
+    if (hl_out_open(&o->out, o->csv_path, err) != 0)
+        return -1;
+    o->csv = o->out.f;
     fputs("frame,time_s,head_speed_degps,visible,acuity_evaluations,triangles_per_eye,triangles_finest", o->csv);
     for (int k = 0; k < max_lods; ++k)
         fprintf(o->csv, ",lod%d", k);
@@ -82,30 +81,26 @@ void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int 
             r->frame_ms, r->deadline_met);
 }
 
+int rpl_output_close(struct rpl_output *o, struct hl_error *err)
+{
+    o->csv = NULL;
+    return hl_out_close(&o->out, err);
+}
+
 int rpl_output_commit(struct rpl_output *o, struct hl_error *err)
 {
-    int failed = ferror(o->csv);
-    failed |= fclose(o->csv) != 0;
     o->csv = NULL;
-    if (failed) {
-        unlink(o->csv_tmp);
-        return hl_fail(err, "%s: write failed (disk full?)", o->csv_path);
-    }
-    if (rename(o->csv_tmp, o->csv_path) != 0) {
-        unlink(o->csv_tmp);
-        return hl_fail(err, "%s: cannot rename into place: %s", o->csv_path, strerror(errno));
-    }
-    return 0;
+    return hl_out_commit(&o->out, err);
 }
 
 void rpl_output_abort(struct rpl_output *o)
 {
-    if (o->csv) {
-        fclose(o->csv);
-        o->csv = NULL;
-        unlink(o->csv_tmp);
-    }
+    o->csv = NULL;
+    hl_out_abort(&o->out);
 }
+
+/* A write that failed (disk full) stops the replay at once, instead of rendering frames no file keeps. */
+int rpl_output_failed(const struct rpl_output *o) { return o->csv && ferror(o->csv); }
 
 /* VmHWM is the peak resident set (high-water mark) over the process's life, VmRSS the current one;
  * both in kB (= KiB) in proc(5). Read at the end of a run, so the peak covers loading and frames. */
@@ -355,7 +350,7 @@ static void add_image_error(cJSON *root, const struct rpl_summary *s)
     add_number_or_null(e, "visible_error_mean", s->visible_error_reference_mean);
 }
 
-int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct hl_error *err)
+int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct hl_out *out, struct hl_error *err)
 {
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "format", "hmdlod-summary-1");
@@ -450,21 +445,17 @@ int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct 
     if (!text)
         return hl_fail(err, "%s/summary.json: out of memory", dir);
 
-    char path[4096], tmp[4096];
+    char path[4096];
     snprintf(path, sizeof path, "%s/summary.json", dir);
-    snprintf(tmp, sizeof tmp, "%s/.summary.json.partial", dir);
-    FILE *f = fopen(tmp, "w");
-    int failed = !f;
-    if (f) {
-        failed |= fputs(text, f) < 0 || fputc('\n', f) == EOF;
-        failed |= fclose(f) != 0;
+    size_t n = strlen(text);
+    text[n] = '\n'; /* cJSON's NUL becomes the final newline: the buffer is written by length */
+    int rc = hl_out_open(out, path, err);
+    if (rc == 0) {
+        (void)fwrite(text, 1, n + 1, out->f); /* a failed write is the close's error, with its reason */
+        rc = hl_out_close(out, err);
     }
     free(text);
-    if (failed || rename(tmp, path) != 0) {
-        unlink(tmp);
-        return hl_fail(err, "%s: cannot write: %s", path, strerror(errno));
-    }
-    return 0;
+    return rc;
 }
 
 static void print_image_error(FILE *f, const struct rpl_summary *s)

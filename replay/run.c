@@ -102,6 +102,8 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     memset(summary, 0, sizeof *summary);
     struct rpl_output out;
     memset(&out, 0, sizeof out);
+    struct hl_out summary_out;
+    memset(&summary_out, 0, sizeof summary_out);
     struct rpl_accumulator acc;
     memset(&acc, 0, sizeof acc);
     uint8_t *rgba = NULL, *ref_rgba = NULL;
@@ -157,11 +159,15 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
                 goto done;
         }
         rpl_output_row(&out, &rec, s.max_lods);
+        if (rpl_output_failed(&out)) { /* disk full: the commit names the file and why, and keeps none */
+            (void)rpl_output_commit(&out, err);
+            goto done;
+        }
         rpl_accumulate(&acc, &rec);
         hl_progress_update(&progress, (uint64_t)f + 1);
     }
     hl_progress_end(&progress);
-    if (rpl_output_commit(&out, err) != 0)
+    if (rpl_output_close(&out, err) != 0)
         goto done;
 
     rpl_accumulator_finish(&acc, summary);
@@ -186,12 +192,17 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     summary->neck_to_eye_m[1] = s.display.neck_to_eye_m[1];
     summary->trace_has_position = s.trace_has_position;
     summary->trace_has_gaze = s.trace_has_gaze;
-    rc = rpl_summary_write_json(o->out_dir, summary, err);
+    /* Both files complete on disk before either is renamed: a full disk leaves the previous pair. */
+    if (rpl_summary_stage_json(o->out_dir, summary, &summary_out, err) != 0 || rpl_output_commit(&out, err) != 0 ||
+        hl_out_commit(&summary_out, err) != 0)
+        goto done;
+    rc = 0;
     if (rc == 0 && !o->quiet)
         rpl_summary_print(stdout, summary);
 done:
     rpl_accumulator_free(&acc);
     rpl_output_abort(&out);
+    hl_out_abort(&summary_out);
     free(rgba);
     free(ref_rgba);
     rnd_image_error_work_destroy(image_work);

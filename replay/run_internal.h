@@ -107,14 +107,19 @@ int rpl_frame_reference(struct rpl_session *s, struct rpl_frame_record *rec, uin
 /* Output files: written beside their final name and renamed when complete, so an interrupted run
  * never leaves a CSV or summary that looks finished. */
 struct rpl_output {
-    FILE *csv;
-    char csv_path[4096], csv_tmp[4096];
+    FILE *csv;           /* out.f: frames.csv's temporary, renamed into place by rpl_output_commit */
+    struct hl_out out;
+    char csv_path[4096];
 };
 int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct hl_error *err);
 void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int max_lods);
+int rpl_output_close(struct rpl_output *o, struct hl_error *err); /* all written and synced; not renamed */
 int rpl_output_commit(struct rpl_output *o, struct hl_error *err);
 void rpl_output_abort(struct rpl_output *o);
-int rpl_summary_write_json(const char *dir, const struct rpl_summary *s, struct hl_error *err);
+int rpl_output_failed(const struct rpl_output *o); /* a write to frames.csv has failed */
+/* summary.json written beside its name and closed (hl_out_close), not yet renamed: run.c renames it
+ * after frames.csv, so a failed write never leaves a new frames.csv beside an old summary. */
+int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct hl_out *out, struct hl_error *err);
 
 /* Running mean/max/stddev of the frame records (Welford: stable over long runs). */
 struct rpl_accumulator {

@@ -30,43 +30,11 @@ int rpl_trace_write_csv(const struct rpl_trace *t, const char *path, struct hl_e
 {
     if (!t || t->count == 0)
         return hl_fail(err, "%s: empty trace: nothing to write", path);
-    size_t n = strlen(path);
-    char *tmp = malloc(n + 16);
-    if (!tmp)
-        return hl_fail(err, "%s: out of memory", path);
-    memcpy(tmp, path, n);
-    memcpy(tmp + n, ".tmp.XXXXXX", 12);
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        int e = errno;
-        free(tmp);
-        return hl_fail(err, "%s: cannot create a temporary file beside it: %s", path, strerror(e));
-    }
-    (void)fchmod(fd, 0644); /* mkstemp makes 0600; a trace is an ordinary output file */
-    FILE *f = fdopen(fd, "w");
-    if (!f) {
-        close(fd);
-        unlink(tmp);
-        free(tmp);
-        return hl_fail(err, "%s: fdopen: %s", path, strerror(errno));
-    }
-    int rc = write_rows(f, t);
-    if (fflush(f) != 0 || fsync(fileno(f)) != 0)
-        rc = -1;
-    int e = errno;
-    if (fclose(f) != 0 && rc == 0) {
-        rc = -1;
-        e = errno;
-    }
-    if (rc == 0 && rename(tmp, path) != 0) {
-        rc = -1;
-        e = errno;
-    }
-    if (rc != 0) {
-        unlink(tmp);
-        free(tmp);
-        return hl_fail(err, "%s: write failed: %s", path, strerror(e));
-    }
-    free(tmp);
+    struct hl_out o;
+    if (hl_out_open(&o, path, err) != 0)
+        return -1;
+    (void)write_rows(o.f, t); /* a failed write is the commit's error, with its reason */
+    if (hl_out_commit(&o, err) != 0)
+        return -1;
     return 0;
 }

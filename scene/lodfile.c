@@ -429,56 +429,11 @@ int scn_lodfile_write(const char *path, const struct scn_lodset *set, struct hl_
         free(b);
         return -1;
     }
-    size_t n = strlen(path);
-    char *tmp = malloc(n + 16);
-    if (!tmp) {
-        free(b);
-        return hl_fail(err, "%s: out of memory", path);
-    }
-    memcpy(tmp, path, n);
-    memcpy(tmp + n, ".tmp.XXXXXX", 12); /* same directory as path, so rename() is atomic */
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        int e = errno;
-        free(b);
-        free(tmp);
-        return hl_fail(err, "%s: cannot create a temporary file beside it: %s", path, strerror(e));
-    }
-    const char *fail = NULL;
-    int e = 0;
-    FILE *f = fdopen(fd, "wb");
-    if (!f) {
-        e = errno, fail = "cannot open the temporary file";
-        close(fd);
-    } else {
-        if (fchmod(fd, 0644) != 0) /* mkstemp makes it 0600; a .lod is an ordinary asset */
-            e = errno, fail = "cannot set permissions";
-        else if (fwrite(b, 1, (size_t)size, f) != size)
-            e = errno, fail = "write failed";
-        else if (fflush(f) != 0)
-            e = errno, fail = "write failed";
-        else if (fsync(fd) != 0)
-            e = errno, fail = "fsync failed";
-        if (fclose(f) != 0 && !fail)
-            e = errno, fail = "close failed";
-    }
-    if (!fail && rename(tmp, path) != 0)
-        e = errno, fail = "cannot rename the temporary file into place";
-    if (!fail) { /* make the rename itself durable; a directory that refuses fsync is no error */
-        char *slash = strrchr(tmp, '/');
-        if (slash)
-            slash[1] = 0;
-        int dfd = open(slash ? tmp : ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-        if (dfd >= 0) {
-            (void)fsync(dfd);
-            close(dfd);
-        }
-    }
-    if (fail)
-        unlink(tmp);
+    /* hl_out: a temporary beside path, fsync'd and renamed, so no reader sees half a .lod. */
+    struct hl_error werr;
+    int rc = hl_out_write_all(path, b, (size_t)size, &werr);
     free(b);
-    free(tmp);
-    if (fail)
-        return hl_fail(err, "%s: %s: %s (nothing written)", path, fail, strerror(e));
+    if (rc != 0) /* hl_out left whatever was at path as it was */
+        return hl_fail(err, "%s (nothing written)", werr.msg);
     return 0;
 }

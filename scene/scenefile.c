@@ -14,6 +14,14 @@
 #define SF_MAX_BYTES (256 * 1024 * 1024)
 enum { SF_MAX_ITEMS = 10000000 };
 
+/* cJSON allocates through base's counting hooks, so a parse that fails for want of memory is told from
+ * bad text (base.h, "allocation in libraries"). */
+__attribute__((constructor)) static void scenefile_json_hooks(void)
+{
+    cJSON_Hooks hooks = {hl_lib_malloc, hl_lib_free};
+    cJSON_InitHooks(&hooks);
+}
+
 void sf_file_free(struct sf_file *f)
 {
     free(f->meshes);
@@ -586,7 +594,12 @@ int sf_file_read(const char *path, struct sf_file *f, struct hl_error *err)
     }
     const char *end = NULL;
     /* The length counts the NUL: cJSON's require_null_terminated looks for it inside the buffer. */
+    uint64_t failed_before = hl_lib_alloc_failures();
     cJSON *root = cJSON_ParseWithLengthOpts(text, len + 1, &end, 1);
+    if (!root && hl_lib_alloc_failures() != failed_before) {
+        free(text);
+        return hl_fail(err, "%s: out of memory parsing the JSON", path);
+    }
     if (!root) {
         size_t at = end && end >= text && end <= text + len ? (size_t)(end - text) : len;
         int line, col;

@@ -304,9 +304,9 @@ expect_ok "calibrate --help" "usage: hmdlod calibrate" -- "$bin" calibrate --hel
 expect_ok "calibrate --quick" "kept: (max|additive)" -- "$bin" calibrate --quick --render-scale 0.25 --out "$tmp/cost.json"
 grep -q '"format":[[:space:]]*"hmdlod-cost-profile-1"' "$tmp/cost.json" && grep -q '"c3_ms_per_pixel"' "$tmp/cost.json" \
   || fail "calibrate wrote no cost profile"
-[ ! -e "$tmp/cost.json.partial" ] || fail "calibrate left its .partial file"
+[ -z "$(find "$tmp" -maxdepth 1 -name 'cost.json.tmp.*')" ] || fail "calibrate left its temporary file"
 expect_error "calibrate without --out" "--out FILE is required" -- "$bin" calibrate --quick
-expect_error "calibrate unwritable" "no-such-dir/c.json.partial: cannot create" -- \
+expect_error "calibrate unwritable" "no-such-dir/c.json: cannot create" -- \
   "$bin" calibrate --quick --out "$tmp/no-such-dir/c.json"
 expect_error "calibrate bad --render-scale" "--render-scale: 9 is outside" -- \
   "$bin" calibrate --quick --render-scale 9 --out "$tmp/c.json"

@@ -70,8 +70,10 @@ enum { R_LENGTH = 0, R_TIME = 4, R_REPORT = 12 };
 /* ---- writer ------------------------------------------------------------------------------------ */
 struct trk_recording {
     int fd;
-    int broken;         /* a write failed: the file may end in a torn record; refuse more */
+    int broken;         /* a write failed: cut back to the last whole record; refuse more */
     uint64_t records;
+    uint64_t bytes;     /* header and whole records: where the file ends if a write fails */
+    struct hl_out out;  /* created beside the path, published (renamed into place) after the header */
     char *path;
     uint8_t buf[TRK_RECORDING_RECORD_OVERHEAD + TRK_RECORDING_MAX_REPORT]; /* one record, reused */
 };
@@ -132,21 +134,28 @@ struct trk_recording *trk_recording_create(const char *path, enum trk_device_kin
     }
     put_u32(h + H_CRC, trk_crc32(0, h, H_CRC));
 
-    rec->fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (rec->fd < 0) {
-        hl_fail(err, "%s: cannot create: %s", path, strerror(errno));
+    /* hl_out: a fresh file beside path (never one reached through a planted link), renamed into place
+     * once the header is on disk, so a recording is under its name from then on even if the process
+     * dies, and a file without a complete header is never seen under it. */
+    if (hl_out_open(&rec->out, path, err) != 0) {
         free(rec->path);
         free(rec);
         return NULL;
     }
+    rec->fd = rec->out.fd;
     if (write_all(rec->fd, h, sizeof h) != 0) {
         hl_fail(err, "%s: byte 0: cannot write the header: %s", path, strerror(errno));
-        close(rec->fd);
-        unlink(path); /* a file without a complete header is no recording: leave none */
+        hl_out_abort(&rec->out); /* no recording at all, and whatever was at path is kept */
         free(rec->path);
         free(rec);
         return NULL;
     }
+    if (hl_out_publish(&rec->out, err) != 0) {
+        free(rec->path);
+        free(rec);
+        return NULL;
+    }
+    rec->bytes = sizeof h;
     return rec;
 }
 
@@ -165,11 +174,18 @@ int trk_recording_append(struct trk_recording *rec, int64_t host_time_ns, const 
     put_i64(b + R_TIME, host_time_ns);
     memcpy(b + R_REPORT, report, length);
     put_u32(b + R_REPORT + length, trk_crc32(0, b, R_REPORT + length));
-    if (write_all(rec->fd, b, TRK_RECORDING_RECORD_OVERHEAD + length) != 0) {
+    size_t total = TRK_RECORDING_RECORD_OVERHEAD + length;
+    if (write_all(rec->fd, b, total) != 0) {
+        int e = errno;
         rec->broken = 1;
-        return hl_fail(err, "%s: record %llu: write failed: %s", rec->path, (unsigned long long)rec->records,
-                       strerror(errno));
+        /* A short write (disk full) leaves a torn record: cut it off, so the file ends on a whole
+         * record and every reader takes it as it is (docs/raw-recording.md, "disk full"). */
+        int cut = ftruncate(rec->fd, (off_t)rec->bytes) == 0;
+        return hl_fail(err, "%s: record %llu: write failed: %s; the recording stopped and holds the %llu complete "
+                       "records before it%s", rec->path, (unsigned long long)rec->records, strerror(e),
+                       (unsigned long long)rec->records, cut ? " (incomplete)" : ", then a torn one");
     }
+    rec->bytes += total;
     ++rec->records;
     return 0;
 }
@@ -180,9 +196,13 @@ int trk_recording_close(struct trk_recording *rec, int sync_to_disk, struct hl_e
 {
     if (!rec)
         return 0;
-    int rc = rec->broken ? hl_fail(err, "%s: a write failed; the last record may be torn", rec->path) : 0;
+    int rc = rec->broken ? hl_fail(err, "%s: a write failed; the recording holds the %llu complete records before it "
+                                        "(incomplete)", rec->path, (unsigned long long)rec->records)
+                         : 0;
     if (sync_to_disk && fsync(rec->fd) != 0 && rc == 0)
         rc = hl_fail(err, "%s: fsync: %s", rec->path, strerror(errno));
+    rec->out.fd = -1; /* closed here: the file is already in place, hl_out only frees its names */
+    hl_out_abort(&rec->out);
     if (close(rec->fd) != 0 && rc == 0)
         rc = hl_fail(err, "%s: close: %s", rec->path, strerror(errno));
     free(rec->path);

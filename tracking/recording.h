@@ -25,12 +25,14 @@
 /* CRC-32 (IEEE 802.3, reflected 0xEDB88320, as zlib's crc32): start with crc = 0. */
 uint32_t trk_crc32(uint32_t crc, const void *data, size_t length);
 
-/* Writer. create truncates or creates path and writes the header (host start = now). NULL with err
- * on failure (no file left behind). append writes one record with one write() from a buffer in the
+/* Writer. create writes the header (host start = now) to a fresh file beside path and renames it over
+ * path (base.h's hl_out: a symlink at path is replaced, not followed). NULL with err on failure (no
+ * file left behind, and whatever was at path kept). append writes one record with one write() from a buffer in the
  * writer (no allocation per record): after a kill at most the last record is torn. Data reach the
  * kernel at each append (no user-space buffer), so they survive the process dying; surviving power
  * loss needs close with sync_to_disk (fsync). length 1..TRK_RECORDING_MAX_REPORT. After a failed
- * write the writer refuses further appends. close returns 0, or −1 if anything failed (the file is
+ * write (disk full) the file is cut back to its last whole record and the writer refuses further
+ * appends. close returns 0, or −1 if anything failed (the file is
  * closed and freed either way). */
 struct trk_recording;
 struct trk_recording *trk_recording_create(const char *path, enum trk_device_kind kind, uint16_t vid, uint16_t pid,

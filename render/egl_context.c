@@ -23,6 +23,7 @@ static EGLDisplay rnd_egl_open_display(struct hl_error *err)
 {
     const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     EGLint major = 0, minor = 0;
+    rnd_gl_driver_pin();
     if (rnd_egl_has(client, "EGL_MESA_platform_surfaceless")) {
         EGLDisplay d = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
         if (d != EGL_NO_DISPLAY && eglInitialize(d, &major, &minor))

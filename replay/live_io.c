@@ -34,7 +34,8 @@ void rpl_live_series_stats(struct rpl_live_series *s, double *mean, double *stdd
     double m = s->n ? sum / (double)s->n : 0;
     for (long i = 0; i < s->n; ++i)
         sq += (s->v[i] - m) * (s->v[i] - m);
-    qsort(s->v, (size_t)s->n, sizeof *s->v, compare_double);
+    if (s->n > 0) /* an empty series has no array: qsort's pointer must not be NULL even for 0 items */
+        qsort(s->v, (size_t)s->n, sizeof *s->v, compare_double);
     if (mean)
         *mean = m;
     if (stddev)

@@ -107,6 +107,13 @@ static void test_series(void)
     CHECK_NEAR(p99, 1485.0, 1e-12); /* ceil(0.99·1500) = the 1485th smallest */
     CHECK_NEAR(max, 1500.0, 1e-12);
     free(s.v);
+
+    /* A session stopped before its first frame: an empty series (no array at all) gives zeros, and
+     * never hands qsort a NULL pointer (UBSan: nonnull argument). */
+    struct rpl_live_series empty = {0};
+    mean = sd = median = p99 = max = -1;
+    rpl_live_series_stats(&empty, &mean, &sd, &median, &p99, &max);
+    CHECK(mean == 0 && sd == 0 && median == 0 && p99 == 0 && max == 0);
 }
 
 int main(void)

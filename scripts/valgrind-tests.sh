@@ -36,7 +36,8 @@ valgrind = ["valgrind", "--error-exitcode=1", "--leak-check=full", "--errors-for
 # check (the program's own meaning of it: see its main).
 # test_acuity: its hard-cases mode (the extremes, ξ above 60 c/deg, the skip region, the viewing
 # geometry; ~5 min under memcheck in full on the 2-core machine).
-smaller = {"test_acuity": ["hard-cases"]}
+# test_fusion: "small", the first shared IMU stream only (all four take >10 min there).
+smaller = {"test_acuity": ["hard-cases"], "test_fusion": ["small"]}
 
 tests = json.loads(subprocess.run(["ctest", "--test-dir", build, "--show-only=json-v1"], check=True,
                                   capture_output=True, text=True).stdout)["tests"]

@@ -16,7 +16,7 @@ filter=
 while [ $# -gt 0 ]; do
   case $1 in
     -R) filter=$2; shift 2 ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
     *) build=$1; shift ;;
   esac
 done

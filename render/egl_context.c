@@ -46,6 +46,7 @@ static EGLDisplay rnd_egl_open_display(struct hl_error *err)
     const char *client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     EGLint major = 0, minor = 0, why = EGL_SUCCESS;
     const char *tried = NULL;
+    rnd_gl_driver_pin();
     if (rnd_egl_has(client, "EGL_MESA_platform_surfaceless")) {
         tried = "the surfaceless platform";
         EGLDisplay d = eglGetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);

@@ -20,6 +20,10 @@ void rnd_egl_destroy(struct rnd_egl *e);
 extern const void *rnd_current_owner;
 void rnd_egl_release_current(void);
 void rnd_window_release_current(void);
+/* Under AddressSanitizer, keeps Mesa's software driver loaded until exit so LeakSanitizer can
+ * attribute its globals (gl_driver_pin.c, PLATFORM.md §4); a no-op otherwise. Called before the
+ * first EGL display or GLFW start. */
+void rnd_gl_driver_pin(void);
 
 /* ---- single-view draws for the offline analysis (renderer.c, used by analyze.c) ----------------
  * rect_px = x, y (from the bottom-left, GL convention), width, height inside the FBO. */

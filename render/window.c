@@ -35,6 +35,7 @@ static int rnd_glfw_init(struct hl_error *err)
         rnd_glfw_users++;
         return 0;
     }
+    rnd_gl_driver_pin();
     glfwSetErrorCallback(rnd_glfw_error);
     rnd_glfw_last_error[0] = '\0';
     if (!glfwInit())

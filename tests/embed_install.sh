@@ -16,7 +16,9 @@ done
 flags=$(PKG_CONFIG_PATH="$prefix/lib/pkgconfig" pkg-config --cflags --libs hmdlod)
 # shellcheck disable=SC2086
 "$cc" -std=c11 -Wall -Wextra -Werror $extra "$src/examples/embed.c" $flags -o "$prefix/embed"
-out=$("$prefix/embed")
+# HMDLOD_TEST_WRAPPER: a command to run the program under (scripts/valgrind-tests.sh sets valgrind).
+# shellcheck disable=SC2086
+out=$(${HMDLOD_TEST_WRAPPER:-} "$prefix/embed")
 echo "$out"
 frames=$(echo "$out" | grep -c "predicted cost .* ms of budget .* ms: within" || true)
 [ "$frames" -eq 2 ] || { echo "embed_install: expected 2 frames within budget, got $frames"; exit 1; }

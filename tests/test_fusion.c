@@ -16,6 +16,7 @@
  * table's warm start); "cold start" = tilt from the first accel sample, heading 0 (the heading offset
  * is removed by the yaw metric, and tilt is heading-independent). */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -185,7 +186,7 @@ struct stream_spec {
     double readme_plain_tilt_rms, readme_openhmd_tilt_rms, readme_monado_tilt_rms; /* <0: not given */
 };
 
-static void test_streams(void)
+static void test_streams(size_t stream_count)
 {
     static const struct stream_spec specs[] = {
         {"data/imu/corbillon_user1_t30.csv", 1, 5.49, 1.81, 1.32},
@@ -194,7 +195,7 @@ static void test_streams(void)
         {"data/imu/still_desk_tilt10.csv", 0, -1, 2.55, 2.37},
     };
     printf("IMU streams (tilt RMS/max deg; prediction RMS deg; see the header comment for the metrics)\n");
-    for (size_t s = 0; s < sizeof specs / sizeof specs[0]; ++s) {
+    for (size_t s = 0; s < sizeof specs / sizeof specs[0] && s < stream_count; ++s) {
         const char *path = tu_shared_path(specs[s].file);
         if (!path)
             continue;
@@ -524,13 +525,17 @@ static void test_magnetometer(void)
     CHECK(g.stats.mag_rejected_nonfinite == 2);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    /* "small" (scripts/valgrind-tests.sh: memcheck runs this ~50× slower): every check, on the first
+     * shared stream only, without the printed low-pass comparison. */
+    int small = argc > 1 && strcmp(argv[1], "small") == 0;
     test_magnetometer();
     test_exact_integration();
     test_boundary();
     test_csv_reader();
-    test_streams();
-    test_predict_lpf();
-    return tu_finish("test_fusion");
+    test_streams(small ? 1 : SIZE_MAX);
+    if (!small)
+        test_predict_lpf();
+    return tu_finish(small ? "test_fusion small" : "test_fusion");
 }

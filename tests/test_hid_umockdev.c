@@ -27,13 +27,15 @@
 #define SYS_INTF SYS_USB "/1-1:1.0"
 #define YAW_RATE_DEG_S 90.0
 #define YAW_TOL_DEG 0.5 /* gyro quantised to 1e-4 rad/s; yaw is integrated, not corrected */
-#define WAIT_S 5.0      /* every wait below is bounded by this */
+#define WAIT_S (5.0 * tu_time_scale()) /* every wait below is bounded by this (longer under valgrind) */
 
 static UMockdevTestbed *tb;
 static char data_dir[1024];
 
 static void sleep_ms(int ms)
 {
+    if (ms >= 50) /* a settling pause, not a poll: as much longer as the test's bounds are */
+        ms = (int)(ms * tu_time_scale());
     struct timespec ts = {ms / 1000, (long)(ms % 1000) * 1000000L};
     nanosleep(&ts, NULL);
 }
@@ -199,6 +201,23 @@ static void test_enumerate(void)
     printf("open /dev/hidraw9: %s\n", err.msg);
 }
 
+/* Complete records in the recording at path so far (it is being written: a torn tail ends the count). */
+static int recorded_count(const char *path)
+{
+    struct hl_error err;
+    struct trk_recording_reader *rd = trk_recording_open(path, &err);
+    if (!rd)
+        return 0;
+    uint8_t report[1024];
+    size_t len = 0;
+    int64_t host_ns = 0;
+    int records = 0;
+    while (trk_recording_next(rd, &host_ns, report, sizeof report, &len, &err) == 1)
+        ++records;
+    trk_recording_reader_close(rd);
+    return records;
+}
+
 /* `hmdlod record` as a user runs it (program from HMDLOD_BIN; the umockdev preload and testbed
  * reach the child through the environment): it opens the node, drains what was queued, records
  * every report until SIGINT, and leaves a complete recording with the device's identity. */
@@ -232,7 +251,11 @@ static void test_record_command(int master)
     int64_t device_ns = 5000000;
     const int sent = 250;
     CHECK(feed(master, &enc, &device_ns, sent) == 0);
-    sleep_ms(300);
+    /* SIGINT once every report is on disk (polled, bounded), so a slow run (valgrind, a loaded
+     * machine) does not read as lost reports; the check below still wants every one. */
+    double t1 = hl_clock_now_s();
+    while (recorded_count(path) < sent && hl_clock_now_s() < t1 + WAIT_S)
+        sleep_ms(50); /* scaled like the bounds: under valgrind a busier poll starves the testbed */
     kill(child, SIGINT);
     int status = 0;
     CHECK(waitpid(child, &status, 0) == child);

@@ -97,7 +97,7 @@ static void test_series(void)
 {
     struct rpl_live_series s = {0};
     int pushed = 0;
-    for (int i = 1; i <= 1500; ++i) /* 1500 … 1: past the first capacity (1024), so it grows */
+    for (int i = 1; i <= 1500; ++i) /* 1500 … 1, exact: sorted for the statistics */
         pushed += rpl_live_series_push(&s, (double)(1501 - i)) == 0;
     CHECK(pushed == 1500);
     double mean, sd, median, p99, max;
@@ -108,6 +108,13 @@ static void test_series(void)
     CHECK_NEAR(p99, 1485.0, 1e-12); /* ceil(0.99·1500) = the 1485th smallest */
     CHECK_NEAR(max, 1500.0, 1e-12);
     rpl_live_series_free(&s);
+
+    /* A session stopped before its first frame: an empty series (no array at all) gives zeros, and
+     * never hands a sort a NULL pointer (UBSan: nonnull argument). */
+    struct rpl_live_series empty = {0};
+    mean = sd = median = p99 = max = -1;
+    rpl_live_series_stats(&empty, &mean, &sd, &median, &p99, &max);
+    CHECK(mean == 0 && sd == 0 && median == 0 && p99 == 0 && max == 0);
 }
 
 /* An hours-long session: past RPL_LIVE_SERIES_EXACT values the series folds into bins, its memory

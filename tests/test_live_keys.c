@@ -61,7 +61,9 @@ static void send_key(Display *d, Window w, KeySym sym)
     e.type = KeyRelease;
     XSendEvent(d, w, True, KeyReleaseMask, (XEvent *)&e);
     XFlush(d);
-    sleep_ms(150); /* a few frames: one key per frame's poll is enough, but keep them apart */
+    /* A few frames: one key per frame's poll is enough, but keep them apart (longer where frames are
+     * slower: a sanitizer build, HMDLOD_TEST_TIME_SCALE). */
+    sleep_ms((int)(150 * tu_time_scale()));
 }
 
 static void *sender(void *arg)
@@ -84,7 +86,7 @@ static void *sender(void *arg)
         XCloseDisplay(d);
         return NULL;
     }
-    sleep_ms(500);
+    sleep_ms((int)(500 * tu_time_scale())); /* the first frames (warm-up draw) */
     static const KeySym keys[] = {XK_plus, XK_equal, XK_v, XK_e, XK_g, XK_s, XK_r, XK_c, XK_Escape};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i)
         send_key(d, w, keys[i]);

@@ -17,6 +17,14 @@ void tu_check_near(double actual, double expected, double tol, const char *what,
     }
 }
 
+double tu_time_scale(void)
+{
+    const char *v = getenv("HMDLOD_TEST_TIME_SCALE");
+    char *end;
+    double f = v ? strtod(v, &end) : 1.0;
+    return v && end != v && *end == '\0' && f >= 1.0 && f <= 1000.0 ? f : 1.0;
+}
+
 const char *tu_shared_path(const char *relative)
 {
     static char path[4096];

@@ -34,6 +34,11 @@ const char *tu_source_path(const char *relative);
  * *size gets the byte count (the NUL is not counted). */
 char *tu_read_file(const char *path, size_t *size);
 
+/* Factor for the wall-clock waits of tests that wait on other threads or processes:
+ * HMDLOD_TEST_TIME_SCALE (1 to 1000; scripts/valgrind-tests.sh sets it, memcheck runs code ~20–50×
+ * slower), else 1. Bounds only; what a test checks stays the same. */
+double tu_time_scale(void);
+
 /* Prints the summary and returns the process exit code (0 pass, 1 fail). */
 int tu_finish(const char *suite);
 

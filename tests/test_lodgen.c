@@ -742,6 +742,38 @@ static void test_chain(void)
     scn_mesh_free(&m);
 }
 
+/* PLY headers are checked line by line before OpenMesh reads them (scene/mesh_ply_header.c): its
+ * header loop never ends at the end of the file or after a count that is not a number (found by
+ * fuzz_mesh_import: "end_header" run into the next word hung the import). Each refusal here hung. */
+static void test_ply_header(void)
+{
+    static const char body[] = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+    char text[1024];
+    snprintf(text, sizeof text,
+             "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 4\nproperty float x\n"
+             "property float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+             "end_header\n%s", body);
+    write_text("square.ply", text);
+    /* the header check passes a well-formed header (what OpenMesh then reads is its business) */
+    struct hl_error err = {{0}};
+    int rc = scn_ply_header_check(tmp_path("square.ply"), &err);
+    if (rc != 0)
+        fprintf(stderr, "square.ply: %s\n", err.msg);
+    CHECK(rc == 0);
+    write_text("run-on.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                             "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+                             "end_headerelement vertex 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
+    expect_refused(tmp_path("run-on.ply"), "line 9: unknown PLY header keyword");
+    write_text("no-end.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n");
+    expect_refused(tmp_path("no-end.ply"), "line 5: PLY header ends without an end_header line");
+    write_text("bad-count.ply", "ply\nformat ascii 1.0\nelement vertex four\nproperty float x\nend_header\n");
+    expect_refused(tmp_path("bad-count.ply"), "line 3: element must be");
+    write_text("bad-type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty real x\nend_header\n0\n");
+    expect_refused(tmp_path("bad-type.ply"), "line 4: property must be");
+    write_bytes("nul.ply", "ply\nformat ascii 1.0\nelement vertex 1\0 x\nend_header\n", 52);
+    expect_refused(tmp_path("nul.ply"), "line 3: NUL byte");
+}
+
 int main(void)
 {
     snprintf(tmpdir, sizeof tmpdir, "/tmp/hmdlod-test-lodgen-XXXXXX");
@@ -751,6 +783,7 @@ int main(void)
     }
     test_small_formats();
     test_bad_inputs();
+    test_ply_header();
     test_shared_meshes();
     test_truncated_and_glb();
     test_fandisk_features();

@@ -1,0 +1,129 @@
+/* scene/mesh_ply_header.c: a PLY file's header checked before OpenMesh reads it. OpenMesh 9.0's PLY
+ * reader reads the header token by token until the token "end_header" and checks only the stream's
+ * badbit: at the end of the file, or after a count that is not a number (failbit), it loops for
+ * ever, logging each turn (found by fuzz_mesh_import). So the header must be what the PLY format
+ * says, line by line: "ply", one "format" line, then comment / obj_info / element NAME COUNT /
+ * property TYPE NAME / property list TYPE TYPE NAME lines, and a line "end_header" — on which
+ * OpenMesh's loop ends. Anything else is refused with the line and the reason. */
+#include "scene/lodgen_internal.h"
+
+#include <ctype.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { PLY_HEADER_MAX_LINES = 4096, PLY_LINE_MAX = 1024, PLY_MAX_WORDS = 6 };
+
+static int ply_is_type(const char *w)
+{
+    static const char *const types[] = {"char",  "uchar", "short",  "ushort", "int",    "uint",
+                                        "float", "double", "int8",  "uint8",  "int16",  "uint16",
+                                        "int32", "uint32", "float32", "float64"};
+    for (size_t i = 0; i < sizeof types / sizeof types[0]; ++i)
+        if (!strcmp(w, types[i]))
+            return 1;
+    return 0;
+}
+
+/* Splits line at blanks into at most PLY_MAX_WORDS + 1 words (the extra one only counts). */
+static int ply_words(char *line, char **w)
+{
+    int n = 0;
+    for (char *p = strtok(line, " \t\r"); p; p = strtok(NULL, " \t\r"))
+        if (n <= PLY_MAX_WORDS)
+            w[n++] = p;
+    return n;
+}
+
+static int ply_is_count(const char *s)
+{
+    if (!*s)
+        return 0;
+    for (const char *p = s; *p; ++p)
+        if (!isdigit((unsigned char)*p))
+            return 0;
+    return strlen(s) <= 10 && strtoull(s, NULL, 10) <= 2147483647ULL; /* OpenMesh reads an int */
+}
+
+/* One header line without its newline into buf: 0, or −1 at the end of the file before a newline,
+ * −2 for a line longer than the buffer, −3 for a NUL byte (OpenMesh would read past it). */
+static int ply_read_line(FILE *f, char *buf, size_t size)
+{
+    size_t n = 0;
+    for (;;) {
+        int c = getc(f);
+        if (c == EOF)
+            return -1;
+        if (c == '\n')
+            break;
+        if (c == '\0')
+            return -3;
+        if (n + 1 >= size)
+            return -2;
+        buf[n++] = (char)c;
+    }
+    buf[n] = '\0';
+    return 0;
+}
+
+int scn_ply_header_check(const char *path, struct hl_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return hl_fail(err, "%s: cannot open", path);
+    char line[PLY_LINE_MAX + 1];
+    int rc = -1;
+    for (int n = 1; n <= PLY_HEADER_MAX_LINES; ++n) {
+        int got = ply_read_line(f, line, sizeof line);
+        if (got == -1) {
+            hl_fail(err, "%s: line %d: PLY header ends without an end_header line", path, n);
+            goto done;
+        }
+        if (got == -2) {
+            hl_fail(err, "%s: line %d: PLY header line longer than %d bytes", path, n, PLY_LINE_MAX);
+            goto done;
+        }
+        if (got == -3) {
+            hl_fail(err, "%s: line %d: NUL byte in the PLY header", path, n);
+            goto done;
+        }
+        char *w[PLY_MAX_WORDS + 1];
+        int k = ply_words(line, w);
+        const char *why = NULL;
+        if (n == 1)
+            why = k == 1 && !strcmp(w[0], "ply") ? NULL : "not a PLY file (the first line must be \"ply\")";
+        else if (k == 0)
+            why = "empty line in the PLY header";
+        else if (!strcmp(w[0], "end_header")) {
+            if (k == 1)
+                rc = 0;
+            else
+                why = "end_header followed by more words";
+            if (!why)
+                goto done;
+        } else if (!strcmp(w[0], "comment") || !strcmp(w[0], "obj_info"))
+            why = NULL;
+        else if (!strcmp(w[0], "format"))
+            why = k == 3 && (!strcmp(w[1], "ascii") || !strcmp(w[1], "binary_little_endian") ||
+                             !strcmp(w[1], "binary_big_endian"))
+                      ? NULL
+                      : "format must be \"format ascii|binary_little_endian|binary_big_endian VERSION\"";
+        else if (!strcmp(w[0], "element"))
+            why = k == 3 && ply_is_count(w[2]) ? NULL : "element must be \"element NAME COUNT\" (COUNT a whole number)";
+        else if (!strcmp(w[0], "property"))
+            why = (k == 3 && ply_is_type(w[1])) || (k == 5 && !strcmp(w[1], "list") && ply_is_type(w[2]) &&
+                                                    ply_is_type(w[3]))
+                      ? NULL
+                      : "property must be \"property TYPE NAME\" or \"property list TYPE TYPE NAME\"";
+        else
+            why = "unknown PLY header keyword";
+        if (why) {
+            hl_fail(err, "%s: line %d: %s", path, n, why);
+            goto done;
+        }
+    }
+    hl_fail(err, "%s: PLY header longer than %d lines", path, PLY_HEADER_MAX_LINES);
+done:
+    fclose(f);
+    return rc;
+}

@@ -1,4 +1,4 @@
-/* scene/mesh_ply_header.c: a PLY file's header checked before OpenMesh reads it. OpenMesh 9.0's PLY
+/* scene/mesh_ply_header.c: PLY and OFF headers checked before OpenMesh reads them. OpenMesh 9.0's PLY
  * reader reads the header token by token until the token "end_header" and checks only the stream's
  * badbit: at the end of the file, or after a count that is not a number (failbit), it loops for
  * ever, logging each turn (found by fuzz_mesh_import). So the header must be what the PLY format
@@ -123,6 +123,84 @@ int scn_ply_header_check(const char *path, struct hl_error *err)
         }
     }
     hl_fail(err, "%s: PLY header longer than %d lines", path, PLY_HEADER_MAX_LINES);
+done:
+    fclose(f);
+    return rc;
+}
+
+/* OFF: OpenMesh 9.0's OFF reader takes the first line's first letters as the keyword and reserves
+ * the vertex and face counts that follow before reading a single vertex, so a 100-byte file whose
+ * first line is "OFF" run into other bytes made it reserve 8 GiB (found by fuzz_mesh_import). The
+ * first line must be a keyword ([ST][C][N][4]OFF, optionally " BINARY"; nOFF, whose dimension line
+ * changes the layout, is not supported) or that keyword followed by the counts, and the counts must
+ * fit the file: at least 6 bytes a vertex and 8 a face in text ("0 0 0\n", "3 0 1 2\n"), 12 and 16
+ * in binary. */
+static int off_keyword(const char *w)
+{
+    const char *p = w;
+    if (!strncmp(p, "ST", 2))
+        p += 2;
+    if (*p == 'C')
+        ++p;
+    if (*p == 'N')
+        ++p;
+    if (*p == '4')
+        ++p;
+    return !strcmp(p, "OFF");
+}
+
+int scn_off_header_check(const char *path, uint64_t file_size, struct hl_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return hl_fail(err, "%s: cannot open", path);
+    char line[PLY_LINE_MAX + 1];
+    char *w[PLY_MAX_WORDS + 1];
+    int rc = -1, binary = 0, n = 1, k;
+    int got = ply_read_line(f, line, sizeof line);
+    if (got != 0) {
+        hl_fail(err, "%s: line 1: %s", path,
+                got == -3 ? "NUL byte in the OFF header" : "no OFF keyword line (OFF, COFF, NOFF, STOFF …)");
+        goto done;
+    }
+    k = ply_words(line, w);
+    if (k < 1 || !off_keyword(w[0])) {
+        hl_fail(err, "%s: line 1: not an OFF file (the first line must start with OFF, COFF, NOFF, STOFF …)", path);
+        goto done;
+    }
+    int first = 1;
+    if (k >= 2 && !strcmp(w[1], "BINARY"))
+        binary = 1, first = 2;
+    if (k == first) { /* the counts on the next line that is not blank or a comment */
+        for (;;) {
+            ++n;
+            got = ply_read_line(f, line, sizeof line);
+            if (got != 0) {
+                hl_fail(err, "%s: line %d: %s", path, n,
+                        got == -1 ? "OFF header ends without the vertex and face counts" : "bad OFF counts line");
+                goto done;
+            }
+            if (binary) /* binary OFF: the counts are binary too; the size check below is all we can do */
+                break;
+            k = ply_words(line, w);
+            first = 0;
+            if (k > 0 && w[0][0] != '#')
+                break;
+        }
+    }
+    if (!binary) {
+        if (k - first != 3 || !ply_is_count(w[first]) || !ply_is_count(w[first + 1]) || !ply_is_count(w[first + 2])) {
+            hl_fail(err, "%s: line %d: the OFF counts must be three whole numbers (vertices faces edges)", path, n);
+            goto done;
+        }
+        uint64_t nv = strtoull(w[first], NULL, 10), nf = strtoull(w[first + 1], NULL, 10);
+        if (nv * 6 + nf * 8 > file_size) {
+            hl_fail(err, "%s: line %d: %llu vertices and %llu faces cannot fit in a file of %llu bytes", path, n,
+                    (unsigned long long)nv, (unsigned long long)nf, (unsigned long long)file_size);
+            goto done;
+        }
+    }
+    rc = 0;
 done:
     fclose(f);
     return rc;

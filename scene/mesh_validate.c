@@ -472,6 +472,8 @@ int scn_mesh_import(const char *path, struct scn_mesh *out, struct scn_import_re
         return -1;
     if (ext_is(ext, "ply") && scn_ply_header_check(path, err) != 0)
         return -1;
+    if (ext_is(ext, "off") && scn_off_header_check(path, size, err) != 0)
+        return -1;
     struct scn_soup soup;
     int rc = om ? scn_om_read(path, &soup, err) : scn_assimp_read(path, &soup, err);
     if (rc != 0)

@@ -63,6 +63,15 @@ run_one() {
   local execs; execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$dir/log" | tail -1)
   local size; size=$(find "$dir/corpus" -type f | wc -l)
   local result=ok
+  # slow-unit-* files (an input over 10 s that still finished; on a loaded machine, any) are kept
+  # as a note; crash-, leak-, timeout- and oom- files and a non-zero exit are findings.
+  local slow; slow=$(find "$dir/artifacts" -name 'slow-unit-*' | wc -l)
+  if [ "$slow" -gt 0 ]; then
+    mkdir -p "$findings/$t"
+    cp "$dir"/artifacts/slow-unit-* "$findings/$t/"
+    rm -f "$dir"/artifacts/slow-unit-*
+    result="ok ($slow slow unit(s) kept)"
+  fi
   if [ "$rc" -ne 0 ] || [ -n "$(ls -A "$dir/artifacts")" ]; then
     mkdir -p "$findings/$t"
     cp "$dir/log" "$findings/$t/log"

@@ -744,8 +744,9 @@ static void test_chain(void)
 
 /* PLY headers are checked line by line before OpenMesh reads them (scene/mesh_ply_header.c): its
  * header loop never ends at the end of the file or after a count that is not a number (found by
- * fuzz_mesh_import: "end_header" run into the next word hung the import). Each refusal here hung. */
-static void test_ply_header(void)
+ * fuzz_mesh_import: "end_header" run into the next word hung the import), and OFF headers whose
+ * counts OpenMesh reserves before reading (a 100-byte file reserved 8 GiB). */
+static void test_mesh_headers(void)
 {
     static const char body[] = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
     char text[1024];
@@ -772,6 +773,15 @@ static void test_ply_header(void)
     expect_refused(tmp_path("bad-type.ply"), "line 4: property must be");
     write_bytes("nul.ply", "ply\nformat ascii 1.0\nelement vertex 1\0 x\nend_header\n", 52);
     expect_refused(tmp_path("nul.ply"), "line 3: NUL byte");
+    /* OFF: counts OpenMesh would reserve before reading (a 100-byte file reserved 8 GiB) */
+    write_text("run-on.off", "OFF\xff\xff\xff\xff 1 2 3\n");
+    expect_refused(tmp_path("run-on.off"), "line 1: not an OFF file");
+    write_text("huge.off", "OFF\n# a comment\n100000000 1 0\n0 0 0\n");
+    expect_refused(tmp_path("huge.off"), "line 3: 100000000 vertices and 1 faces cannot fit in a file of");
+    write_text("words.off", "COFF\n3 x 0\n");
+    expect_refused(tmp_path("words.off"), "line 2: the OFF counts must be three whole numbers");
+    write_text("inline.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    CHECK(scn_off_header_check(tmp_path("inline.off"), 33, &err) == 0);
 }
 
 int main(void)
@@ -783,7 +793,7 @@ int main(void)
     }
     test_small_formats();
     test_bad_inputs();
-    test_ply_header();
+    test_mesh_headers();
     test_shared_meshes();
     test_truncated_and_glb();
     test_fandisk_features();

@@ -1,7 +1,8 @@
 /* scene/mesh_ply_header.c: PLY and OFF headers checked before OpenMesh reads them. OpenMesh 9.0's PLY
  * reader reads the header token by token until the token "end_header" and checks only the stream's
  * badbit: at the end of the file, or after a count that is not a number (failbit), it loops for
- * ever, logging each turn (found by fuzz_mesh_import). So the header must be what the PLY format
+ * ever, logging each turn (found by fuzz_mesh_import: a run-on end_header, a version that is not a
+ * number). So the header must be what the PLY format
  * says, line by line: "ply", one "format" line, then comment / obj_info / element NAME COUNT /
  * property TYPE NAME / property list TYPE TYPE NAME lines, and a line "end_header" — on which
  * OpenMesh's loop ends. Anything else is refused with the line and the reason. */
@@ -66,6 +67,21 @@ static int ply_read_line(FILE *f, char *buf, size_t size)
     return 0;
 }
 
+/* OpenMesh reads the version as a number: anything else sets failbit, and its loop never ends. */
+static int ply_is_version(const char *s)
+{
+    int digits = 0, dots = 0;
+    for (const char *p = s; *p; ++p) {
+        if (isdigit((unsigned char)*p))
+            ++digits;
+        else if (*p == '.' && dots == 0 && digits > 0)
+            ++dots;
+        else
+            return 0;
+    }
+    return digits > 0 && strlen(s) <= 16 && s[strlen(s) - 1] != '.';
+}
+
 int scn_ply_header_check(const char *path, struct hl_error *err)
 {
     FILE *f = fopen(path, "rb");
@@ -105,9 +121,10 @@ int scn_ply_header_check(const char *path, struct hl_error *err)
             why = NULL;
         else if (!strcmp(w[0], "format"))
             why = k == 3 && (!strcmp(w[1], "ascii") || !strcmp(w[1], "binary_little_endian") ||
-                             !strcmp(w[1], "binary_big_endian"))
+                             !strcmp(w[1], "binary_big_endian")) && ply_is_version(w[2])
                       ? NULL
-                      : "format must be \"format ascii|binary_little_endian|binary_big_endian VERSION\"";
+                      : "format must be \"format ascii|binary_little_endian|binary_big_endian VERSION\" (VERSION "
+                        "a number such as 1.0)";
         else if (!strcmp(w[0], "element"))
             why = k == 3 && ply_is_count(w[2]) ? NULL : "element must be \"element NAME COUNT\" (COUNT a whole number)";
         else if (!strcmp(w[0], "property"))

@@ -769,6 +769,8 @@ static void test_mesh_headers(void)
     expect_refused(tmp_path("no-end.ply"), "line 5: PLY header ends without an end_header line");
     write_text("bad-count.ply", "ply\nformat ascii 1.0\nelement vertex four\nproperty float x\nend_header\n");
     expect_refused(tmp_path("bad-count.ply"), "line 3: element must be");
+    write_text("bad-version.ply", "ply\nformat ascii \xb1.0\nelement vertex 1\nproperty float x\nend_header\n0\n");
+    expect_refused(tmp_path("bad-version.ply"), "line 2: format must be");
     write_text("bad-type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty real x\nend_header\n0\n");
     expect_refused(tmp_path("bad-type.ply"), "line 4: property must be");
     write_bytes("nul.ply", "ply\nformat ascii 1.0\nelement vertex 1\0 x\nend_header\n", 52);

@@ -4,6 +4,7 @@
  * real scans such as beetle.obj have them and still render and decimate). */
 #include "scene/lodgen_internal.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -392,6 +393,35 @@ int scn_soup_to_mesh(const char *path, struct scn_soup *soup, struct scn_mesh *o
 /* OpenMesh's OBJ reader parses "v x y z" with iostream >> float, which cannot read "nan" or "inf" or
  * a value beyond float range: it skips such a line silently and every later face index then points
  * at the wrong vertex. So OBJ vertex lines are checked here first, with strtod, naming the line. */
+/* OpenMesh's OBJ reader (Debian's build keeps its assertions) aborts the program on a face line
+ * that yields no vertex (`assert(!vhandles.empty())`, OBJReader.cc; found by fuzz_mesh_import with
+ * "f /1", "f f" and "f 0"). So every word of a face line must start with a vertex number: 1, 2 … or
+ * −1 … −(vertices so far), then optionally /texture/normal; an index past the vertices is left to
+ * the validation, which names the face. */
+static int obj_check_face(const char *path, uint64_t lineno, const char *c, uint64_t nv, struct hl_error *err)
+{
+    int words = 0;
+    for (;;) {
+        c += strspn(c, " \t\r\n");
+        if (!*c)
+            break;
+        const char *w = c;
+        size_t len = strcspn(c, " \t\r\n");
+        c += len;
+        ++words;
+        char *end = NULL;
+        long long v = strtoll(w, &end, 10);
+        int ok = end != w && (end == c || *end == '/') && v != 0 && isdigit((unsigned char)w[w[0] == '-' ? 1 : 0]) &&
+                 (v > 0 || (uint64_t)(-(v + 1)) < nv);
+        if (!ok)
+            return hl_fail(err, "%s:%llu: face: '%.*s' is not a vertex number (1 … or −1 … −%llu)", path,
+                           (unsigned long long)lineno, (int)(len > 40 ? 40 : len), w, (unsigned long long)nv);
+    }
+    if (words == 0)
+        return hl_fail(err, "%s:%llu: face without vertices", path, (unsigned long long)lineno);
+    return 0;
+}
+
 static int obj_prescan(const char *path, uint32_t *vertex_lines, struct hl_error *err)
 {
     FILE *f = hl_file_open_read(path, NULL, err);
@@ -404,6 +434,10 @@ static int obj_prescan(const char *path, uint32_t *vertex_lines, struct hl_error
     while (rc == 0 && getline(&line, &cap, f) > 0) {
         ++lineno;
         const char *c = line + strspn(line, " \t");
+        if (c[0] == 'f' && (c[1] == ' ' || c[1] == '\t' || c[1] == '\n' || c[1] == '\r' || c[1] == '\0')) {
+            rc = obj_check_face(path, lineno, c + 1, nv, err);
+            continue;
+        }
         if (c[0] != 'v' || (c[1] != ' ' && c[1] != '\t'))
             continue;
         ++nv;

@@ -775,6 +775,17 @@ static void test_mesh_headers(void)
     expect_refused(tmp_path("bad-type.ply"), "line 4: property must be");
     write_bytes("nul.ply", "ply\nformat ascii 1.0\nelement vertex 1\0 x\nend_header\n", 52);
     expect_refused(tmp_path("nul.ply"), "line 3: NUL byte");
+    /* OBJ face lines OpenMesh's reader asserts on (it aborted the program) */
+    write_text("slash.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf  /1\n");
+    expect_refused(tmp_path("slash.obj"), "slash.obj:4: face: '/1' is not a vertex number");
+    write_text("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 0 2\n");
+    expect_refused(tmp_path("zero.obj"), "zero.obj:4: face: '0' is not a vertex number");
+    write_text("word.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf f 2 3\n");
+    expect_refused(tmp_path("word.obj"), "word.obj:4: face: 'f' is not a vertex number");
+    write_text("back.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n");
+    expect_refused(tmp_path("back.obj"), "back.obj:4: face: '-4' is not a vertex number (1 … or −1 … −3)");
+    write_text("bare.obj", "v 0 0 0\nf\n");
+    expect_refused(tmp_path("bare.obj"), "bare.obj:2: face without vertices");
     /* OFF: counts OpenMesh would reserve before reading (a 100-byte file reserved 8 GiB) */
     write_text("run-on.off", "OFF\xff\xff\xff\xff 1 2 3\n");
     expect_refused(tmp_path("run-on.off"), "line 1: not an OFF file");

@@ -465,6 +465,28 @@ static int obj_prescan(const char *path, uint32_t *vertex_lines, struct hl_error
     return rc;
 }
 
+/* assimp picks its importer by content, not by our extension: an OFF file named .gltf went to its
+ * OFF importer, whose triangulation asserts and aborts the program (found by fuzz_mesh_import). So a
+ * .glb must start with the magic "glTF" and a .gltf with a JSON object ('{' after blanks). */
+static int gltf_sniff(const char *path, int glb, struct hl_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+    unsigned char head[64];
+    size_t n = fread(head, 1, sizeof head, f);
+    fclose(f);
+    if (glb)
+        return n >= 4 && memcmp(head, "glTF", 4) == 0 ? 0
+                                                       : hl_fail(err, "%s: not a binary glTF file (no \"glTF\" magic)", path);
+    size_t i = 0;
+    if (n >= 3 && head[0] == 0xEF && head[1] == 0xBB && head[2] == 0xBF) /* UTF-8 byte order mark */
+        i = 3;
+    while (i < n && (head[i] == ' ' || head[i] == '\t' || head[i] == '\r' || head[i] == '\n'))
+        ++i;
+    return i < n && head[i] == '{' ? 0 : hl_fail(err, "%s: not a glTF file (JSON starting with '{')", path);
+}
+
 static int ext_is(const char *ext, const char *want)
 {
     for (; *ext && *want; ++ext, ++want)
@@ -507,6 +529,8 @@ int scn_mesh_import(const char *path, struct scn_mesh *out, struct scn_import_re
     if (ext_is(ext, "ply") && scn_ply_header_check(path, err) != 0)
         return -1;
     if (ext_is(ext, "off") && scn_off_header_check(path, size, err) != 0)
+        return -1;
+    if (gltf && gltf_sniff(path, ext_is(ext, "glb"), err) != 0)
         return -1;
     struct scn_soup soup;
     int rc = om ? scn_om_read(path, &soup, err) : scn_assimp_read(path, &soup, err);

@@ -786,6 +786,11 @@ static void test_mesh_headers(void)
     expect_refused(tmp_path("back.obj"), "back.obj:4: face: '-4' is not a vertex number (1 … or −1 … −3)");
     write_text("bare.obj", "v 0 0 0\nf\n");
     expect_refused(tmp_path("bare.obj"), "bare.obj:2: face without vertices");
+    /* another format under a glTF name: assimp would choose its own importer by content */
+    write_text("off.gltf", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    expect_refused(tmp_path("off.gltf"), "not a glTF file");
+    write_text("off.glb", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    expect_refused(tmp_path("off.glb"), "not a binary glTF file");
     /* OFF: counts OpenMesh would reserve before reading (a 100-byte file reserved 8 GiB) */
     write_text("run-on.off", "OFF\xff\xff\xff\xff 1 2 3\n");
     expect_refused(tmp_path("run-on.off"), "line 1: not an OFF file");

@@ -153,6 +153,10 @@ static int load_frames(const char *dir, struct rpl_bench_result *r, struct hl_er
         where[n_fields] = -1;
         for (int k = 0; k < N_COLUMNS; ++k)
             if (!strcmp(field, columns[k].name)) {
+                if (*column_ptr(r, k)) { /* which of the two would the report mean? */
+                    free(text);
+                    return hl_fail(err, "%s:1: column '%s' appears twice in the header", path, columns[k].name);
+                }
                 where[n_fields] = k;
                 if (!(*column_ptr(r, k) = malloc((size_t)(rows > 0 ? rows : 1) * sizeof(double)))) {
                     free(text);

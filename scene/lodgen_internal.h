@@ -37,6 +37,11 @@ void scn_soup_add_face(struct scn_soup *s, const uint32_t *idx, uint32_t n);
 /* Reads OBJ/PLY/OFF/STL through OpenMesh's IO into `soup` (mesh_import.cpp); OpenMesh's own log is
  * kept off stdout/stderr and its error text, if any, goes into the message. */
 int scn_om_read(const char *path, struct scn_soup *soup, struct hl_error *err);
+/* A PLY header line by line (mesh_ply_header.c): what OpenMesh's header loop ends on, or an error
+ * naming the line; called before scn_om_read on every .ply. */
+int scn_ply_header_check(const char *path, struct hl_error *err);
+/* An OFF header (mesh_ply_header.c): a keyword OpenMesh reads and counts that fit the file. */
+int scn_off_header_check(const char *path, uint64_t file_size, struct hl_error *err);
 /* Reads glTF 2.0 (.gltf/.glb) through assimp's C API (mesh_import_assimp.c), node transforms baked. */
 int scn_assimp_read(const char *path, struct scn_soup *soup, struct hl_error *err);
 

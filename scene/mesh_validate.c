@@ -4,6 +4,7 @@
  * real scans such as beetle.obj have them and still render and decimate). */
 #include "scene/lodgen_internal.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -392,6 +393,35 @@ int scn_soup_to_mesh(const char *path, struct scn_soup *soup, struct scn_mesh *o
 /* OpenMesh's OBJ reader parses "v x y z" with iostream >> float, which cannot read "nan" or "inf" or
  * a value beyond float range: it skips such a line silently and every later face index then points
  * at the wrong vertex. So OBJ vertex lines are checked here first, with strtod, naming the line. */
+/* OpenMesh's OBJ reader (Debian's build keeps its assertions) aborts the program on a face line
+ * that yields no vertex (`assert(!vhandles.empty())`, OBJReader.cc; found by fuzz_mesh_import with
+ * "f /1", "f f" and "f 0"). So every word of a face line must start with a vertex number: 1, 2 … or
+ * −1 … −(vertices so far), then optionally /texture/normal; an index past the vertices is left to
+ * the validation, which names the face. */
+static int obj_check_face(const char *path, uint64_t lineno, const char *c, uint64_t nv, struct hl_error *err)
+{
+    int words = 0;
+    for (;;) {
+        c += strspn(c, " \t\r\n");
+        if (!*c)
+            break;
+        const char *w = c;
+        size_t len = strcspn(c, " \t\r\n");
+        c += len;
+        ++words;
+        char *end = NULL;
+        long long v = strtoll(w, &end, 10);
+        int ok = end != w && (end == c || *end == '/') && v != 0 && isdigit((unsigned char)w[w[0] == '-' ? 1 : 0]) &&
+                 (v > 0 || (uint64_t)(-(v + 1)) < nv);
+        if (!ok)
+            return hl_fail(err, "%s:%llu: face: '%.*s' is not a vertex number (1 … or −1 … −%llu)", path,
+                           (unsigned long long)lineno, (int)(len > 40 ? 40 : len), w, (unsigned long long)nv);
+    }
+    if (words == 0)
+        return hl_fail(err, "%s:%llu: face without vertices", path, (unsigned long long)lineno);
+    return 0;
+}
+
 static int obj_prescan(const char *path, uint32_t *vertex_lines, struct hl_error *err)
 {
     FILE *f = hl_file_open_read(path, NULL, err);
@@ -404,6 +434,10 @@ static int obj_prescan(const char *path, uint32_t *vertex_lines, struct hl_error
     while (rc == 0 && getline(&line, &cap, f) > 0) {
         ++lineno;
         const char *c = line + strspn(line, " \t");
+        if (c[0] == 'f' && (c[1] == ' ' || c[1] == '\t' || c[1] == '\n' || c[1] == '\r' || c[1] == '\0')) {
+            rc = obj_check_face(path, lineno, c + 1, nv, err);
+            continue;
+        }
         if (c[0] != 'v' || (c[1] != ' ' && c[1] != '\t'))
             continue;
         ++nv;
@@ -429,6 +463,28 @@ static int obj_prescan(const char *path, uint32_t *vertex_lines, struct hl_error
         rc = hl_fail(err, "%s: %llu vertices: more than 32-bit indices hold", path, (unsigned long long)nv);
     *vertex_lines = (uint32_t)nv;
     return rc;
+}
+
+/* assimp picks its importer by content, not by our extension: an OFF file named .gltf went to its
+ * OFF importer, whose triangulation asserts and aborts the program (found by fuzz_mesh_import). So a
+ * .glb must start with the magic "glTF" and a .gltf with a JSON object ('{' after blanks). */
+static int gltf_sniff(const char *path, int glb, struct hl_error *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
+    unsigned char head[64];
+    size_t n = fread(head, 1, sizeof head, f);
+    fclose(f);
+    if (glb)
+        return n >= 4 && memcmp(head, "glTF", 4) == 0 ? 0
+                                                       : hl_fail(err, "%s: not a binary glTF file (no \"glTF\" magic)", path);
+    size_t i = 0;
+    if (n >= 3 && head[0] == 0xEF && head[1] == 0xBB && head[2] == 0xBF) /* UTF-8 byte order mark */
+        i = 3;
+    while (i < n && (head[i] == ' ' || head[i] == '\t' || head[i] == '\r' || head[i] == '\n'))
+        ++i;
+    return i < n && head[i] == '{' ? 0 : hl_fail(err, "%s: not a glTF file (JSON starting with '{')", path);
 }
 
 static int ext_is(const char *ext, const char *want)
@@ -469,6 +525,12 @@ int scn_mesh_import(const char *path, struct scn_mesh *out, struct scn_import_re
     uint32_t obj_vertices = 0;
     int is_obj = ext_is(ext, "obj");
     if (is_obj && obj_prescan(path, &obj_vertices, err) != 0)
+        return -1;
+    if (ext_is(ext, "ply") && scn_ply_header_check(path, err) != 0)
+        return -1;
+    if (ext_is(ext, "off") && scn_off_header_check(path, size, err) != 0)
+        return -1;
+    if (gltf && gltf_sniff(path, ext_is(ext, "glb"), err) != 0)
         return -1;
     struct scn_soup soup;
     int rc = om ? scn_om_read(path, &soup, err) : scn_assimp_read(path, &soup, err);

@@ -742,6 +742,66 @@ static void test_chain(void)
     scn_mesh_free(&m);
 }
 
+/* PLY headers are checked line by line before OpenMesh reads them (scene/mesh_ply_header.c): its
+ * header loop never ends at the end of the file or after a count that is not a number (found by
+ * fuzz_mesh_import: "end_header" run into the next word hung the import), and OFF headers whose
+ * counts OpenMesh reserves before reading (a 100-byte file reserved 8 GiB). */
+static void test_mesh_headers(void)
+{
+    static const char body[] = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
+    char text[1024];
+    snprintf(text, sizeof text,
+             "ply\nformat ascii 1.0\ncomment made by hand\nelement vertex 4\nproperty float x\n"
+             "property float y\nproperty float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+             "end_header\n%s", body);
+    write_text("square.ply", text);
+    /* the header check passes a well-formed header (what OpenMesh then reads is its business) */
+    struct hl_error err = {{0}};
+    int rc = scn_ply_header_check(tmp_path("square.ply"), &err);
+    if (rc != 0)
+        fprintf(stderr, "square.ply: %s\n", err.msg);
+    CHECK(rc == 0);
+    write_text("run-on.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                             "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+                             "end_headerelement vertex 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
+    expect_refused(tmp_path("run-on.ply"), "line 9: unknown PLY header keyword");
+    write_text("no-end.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n");
+    expect_refused(tmp_path("no-end.ply"), "line 5: PLY header ends without an end_header line");
+    write_text("bad-count.ply", "ply\nformat ascii 1.0\nelement vertex four\nproperty float x\nend_header\n");
+    expect_refused(tmp_path("bad-count.ply"), "line 3: element must be");
+    write_text("bad-version.ply", "ply\nformat ascii \xb1.0\nelement vertex 1\nproperty float x\nend_header\n0\n");
+    expect_refused(tmp_path("bad-version.ply"), "line 2: format must be");
+    write_text("bad-type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty real x\nend_header\n0\n");
+    expect_refused(tmp_path("bad-type.ply"), "line 4: property must be");
+    write_bytes("nul.ply", "ply\nformat ascii 1.0\nelement vertex 1\0 x\nend_header\n", 52);
+    expect_refused(tmp_path("nul.ply"), "line 3: NUL byte");
+    /* OBJ face lines OpenMesh's reader asserts on (it aborted the program) */
+    write_text("slash.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf  /1\n");
+    expect_refused(tmp_path("slash.obj"), "slash.obj:4: face: '/1' is not a vertex number");
+    write_text("zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 0 2\n");
+    expect_refused(tmp_path("zero.obj"), "zero.obj:4: face: '0' is not a vertex number");
+    write_text("word.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf f 2 3\n");
+    expect_refused(tmp_path("word.obj"), "word.obj:4: face: 'f' is not a vertex number");
+    write_text("back.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n");
+    expect_refused(tmp_path("back.obj"), "back.obj:4: face: '-4' is not a vertex number (1 … or −1 … −3)");
+    write_text("bare.obj", "v 0 0 0\nf\n");
+    expect_refused(tmp_path("bare.obj"), "bare.obj:2: face without vertices");
+    /* another format under a glTF name: assimp would choose its own importer by content */
+    write_text("off.gltf", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    expect_refused(tmp_path("off.gltf"), "not a glTF file");
+    write_text("off.glb", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    expect_refused(tmp_path("off.glb"), "not a binary glTF file");
+    /* OFF: counts OpenMesh would reserve before reading (a 100-byte file reserved 8 GiB) */
+    write_text("run-on.off", "OFF\xff\xff\xff\xff 1 2 3\n");
+    expect_refused(tmp_path("run-on.off"), "line 1: not an OFF file");
+    write_text("huge.off", "OFF\n# a comment\n100000000 1 0\n0 0 0\n");
+    expect_refused(tmp_path("huge.off"), "line 3: 100000000 vertices and 1 faces cannot fit in a file of");
+    write_text("words.off", "COFF\n3 x 0\n");
+    expect_refused(tmp_path("words.off"), "line 2: the OFF counts must be three whole numbers");
+    write_text("inline.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    CHECK(scn_off_header_check(tmp_path("inline.off"), 33, &err) == 0);
+}
+
 int main(void)
 {
     snprintf(tmpdir, sizeof tmpdir, "/tmp/hmdlod-test-lodgen-XXXXXX");
@@ -751,6 +811,7 @@ int main(void)
     }
     test_small_formats();
     test_bad_inputs();
+    test_mesh_headers();
     test_shared_meshes();
     test_truncated_and_glb();
     test_fandisk_features();

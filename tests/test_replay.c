@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "replay/bench_internal.h"
 #include "replay/replay.h"
 #include "test_util.h"
 
@@ -136,6 +137,47 @@ static void test_reference(const char *base)
     CHECK(reddy.reference_frames == 13 && reddy.ssim_mean <= 1.0 && reddy.ssim_mean > coarse.ssim_mean);
 }
 
+/* A run read back (replay/bench_load.c): frames.csv by column name; a column named twice in the
+ * header is refused (found by fuzz_bench_result: the first column's array leaked). */
+static void test_bench_result_columns(const char *base)
+{
+    char dir[600], path[700];
+    snprintf(dir, sizeof dir, "%s/bench-run", base);
+    CHECK(mkdir(dir, 0755) == 0);
+    snprintf(path, sizeof path, "%s/summary.json", dir);
+    FILE *f = fopen(path, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fputs("{\"renderer\": \"test\", \"budget_ms\": 11.1}\n", f);
+    fclose(f);
+    snprintf(path, sizeof path, "%s/frames.csv", dir);
+    struct rpl_bench_result r;
+    struct hl_error err = {{0}};
+    f = fopen(path, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fputs("frame,frame_ms,draw_ms\n0,1.5,0.5\n1,2.5,\n", f);
+    fclose(f);
+    CHECK(rpl_bench_result_load(dir, &r, &err) == 0);
+    CHECK(r.n == 2 && r.frame_ms && r.draw_ms && !r.predicted_ms);
+    if (r.n == 2 && r.frame_ms && r.draw_ms) {
+        CHECK_NEAR(r.frame_ms[1], 2.5, 0.0);
+        CHECK(isnan(r.draw_ms[1]));
+    }
+    rpl_bench_result_free(&r);
+    f = fopen(path, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fputs("frame,frame_ms,draw_ms,frame_ms\n0,1,2,3\n", f);
+    fclose(f);
+    CHECK(rpl_bench_result_load(dir, &r, &err) == -1);
+    CHECK(strstr(err.msg, "frames.csv:1: column 'frame_ms' appears twice") != NULL);
+    CHECK(!r.frame_ms && !r.draw_ms);
+}
+
 int main(void)
 {
     /* Keep Mesa's driver loaded until exit so LeakSanitizer can see its globals (PLATFORM.md §4). */
@@ -146,6 +188,7 @@ int main(void)
         perror("mkdtemp");
         return 1;
     }
+    test_bench_result_columns(base);
     char dir_none[512], dir_reddy[512], dir_again[512], path[600];
     snprintf(dir_none, sizeof dir_none, "%s/none", base);
     snprintf(dir_reddy, sizeof dir_reddy, "%s/reddy", base);

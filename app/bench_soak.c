@@ -46,6 +46,9 @@ static void print_table(const struct rpl_soak_summary *s)
     bench_emit("| measure | start / first 10 %% | end / last 10 %% | change | verdict |\n|---|---:|---:|---:|---|\n");
     bench_emit("| RSS kB (after warm-up / at end) | %ld | %ld | %+ld | %s |\n", s->rss_start_kib, s->rss_end_kib, growth,
                growth <= SOAK_GROWTH_LIMIT_KIB ? "PASS (growth ≤ 1 MB)" : "FAIL (growth > 1 MB)");
+    bench_emit("| malloc in use kB (mallinfo2) | %ld | %ld | %+ld | (not judged: growth here is a leak, RSS growth "
+               "without it is memory the allocator or the GL driver keeps) |\n",
+               s->heap_start_kib, s->heap_end_kib, s->heap_end_kib - s->heap_start_kib);
     bench_emit("| open fds | %ld | %ld | %+ld | %s |\n", s->fds_start, s->fds_end, s->fds_end - s->fds_start,
                s->fds_end <= s->fds_start ? "PASS (no growth)" : "FAIL (fds grew)");
     bench_emit("| frame ms median | %.3f | %.3f | ×%.3f | %s |\n", s->frame_ms[0].median, s->frame_ms[1].median,

@@ -9,6 +9,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
 #include <errno.h>
+#include <malloc.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,6 +40,19 @@ static long rss_kib(void)
         resident = -1;
     fclose(f);
     return resident < 0 ? -1 : resident * (sysconf(_SC_PAGESIZE) / 1024);
+}
+
+/* Bytes the process's malloc holds in use (mallinfo2: arenas + mmapped blocks), in KiB; −1 where the C
+ * library has no mallinfo2. Beside RSS it tells a leak (in-use grows) from memory freed but kept by
+ * the allocator or mapped by the GL driver (RSS grows, in-use does not). */
+static long heap_in_use_kib(void)
+{
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+    struct mallinfo2 m = mallinfo2();
+    return (long)((m.uordblks + m.hblkhd) / 1024);
+#else
+    return -1;
+#endif
 }
 
 /* Open file descriptors: entries of /proc/self/fd less the one opendir holds; −1 when unreadable. */
@@ -114,7 +128,7 @@ static int open_csv(struct soak_run *r, const char *dir, struct hl_error *err)
     r->csv = fopen(r->csv_tmp, "wx");
     if (!r->csv)
         return hl_fail(err, "%s: cannot write: %s", r->csv_tmp, strerror(errno));
-    fprintf(r->csv, "t_s,rss_kib,open_fds,frames,reports,missed_slots,frame_ms_mean,cpu_ms_mean,triangles_mean,"
+    fprintf(r->csv, "t_s,rss_kib,heap_kib,open_fds,frames,reports,missed_slots,frame_ms_mean,cpu_ms_mean,triangles_mean,"
                     "fusion_nonfinite,trace_loops,imu_loops\n");
     fflush(r->csv);
     return 0;
@@ -153,6 +167,7 @@ static int write_summary_json(const char *dir, const struct rpl_soak_summary *s,
     fprintf(f, "  \"rss_start_kib\": %ld,\n  \"rss_end_kib\": %ld,\n  \"rss_growth_kib\": %ld,\n"
                "  \"fds_start\": %ld,\n  \"fds_end\": %ld,\n", s->rss_start_kib, s->rss_end_kib,
             s->rss_end_kib - s->rss_start_kib, s->fds_start, s->fds_end);
+    fprintf(f, "  \"heap_start_kib\": %ld,\n  \"heap_end_kib\": %ld,\n", s->heap_start_kib, s->heap_end_kib);
     const char *part[2] = {"first", "last"};
     for (int i = 0; i < 2; ++i) {
         fprintf(f, "  \"%s\": {", part[i]);
@@ -249,7 +264,7 @@ static void soak_close(struct soak_run *r)
 static void sample_row(struct soak_run *r, double t_s, long frames, long from, long missed)
 {
     struct rpl_soak_tracker *t = &r->tracker;
-    fprintf(r->csv, "%.3f,%ld,%ld,%ld,%llu,%ld,%.4f,%.4f,%.1f,%llu,%ld,%llu\n", t_s, rss_kib(), open_fds(), frames,
+    fprintf(r->csv, "%.3f,%ld,%ld,%ld,%ld,%llu,%ld,%.4f,%.4f,%.1f,%llu,%ld,%llu\n", t_s, rss_kib(), heap_in_use_kib(), open_fds(), frames,
             (unsigned long long)atomic_load(&t->reports), missed, mean_of(r->frame_ms + from, frames - from),
             mean_of(r->cpu_ms + from, frames - from), mean_of(r->triangles + from, frames - from),
             (unsigned long long)atomic_load(&t->nonfinite), rpl_soak_source_loops(r->session.source),
@@ -290,7 +305,7 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
         now = hl_clock_now_ns();
         rpl_pacer_presented(&pacer, now);
         if (!warm && now - start_ns >= warmup_ns) {
-            s->rss_start_kib = rss_kib(), s->fds_start = open_fds();
+            s->rss_start_kib = rss_kib(), s->heap_start_kib = heap_in_use_kib(), s->fds_start = open_fds();
             s->warm_frames = f + 1;
             warm = 1;
         }
@@ -307,9 +322,9 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
         s->samples++;
     }
     s->elapsed_s = (double)(end_ns - start_ns) * 1e-9;
-    s->rss_end_kib = rss_kib(), s->fds_end = open_fds();
+    s->rss_end_kib = rss_kib(), s->heap_end_kib = heap_in_use_kib(), s->fds_end = open_fds();
     if (!warm)
-        s->rss_start_kib = s->rss_end_kib, s->fds_start = s->fds_end;
+        s->rss_start_kib = s->rss_end_kib, s->heap_start_kib = s->heap_end_kib, s->fds_start = s->fds_end;
     s->frames = f;
     s->missed_slots = pacer.missed;
     return 0;

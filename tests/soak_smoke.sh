@@ -25,7 +25,7 @@ python3 - "$tmp/out" <<'PY'
 import csv, json, math, sys
 d = sys.argv[1]
 rows = list(csv.DictReader(open(d + "/soak.csv")))
-want = ["t_s", "rss_kib", "open_fds", "frames", "reports", "missed_slots", "frame_ms_mean", "cpu_ms_mean",
+want = ["t_s", "rss_kib", "heap_kib", "open_fds", "frames", "reports", "missed_slots", "frame_ms_mean", "cpu_ms_mean",
         "triangles_mean", "fusion_nonfinite", "trace_loops", "imu_loops"]
 fails = []
 if not rows or list(rows[0].keys()) != want:

@@ -1,7 +1,11 @@
 /* hmdlod: perceptual level of detail for head-mounted displays. Dispatches to one function per
  * subcommand (app/commands.h); everything else lives in the modules. */
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include "base/base.h"
 
 #include "app/commands.h"
 
@@ -30,13 +34,39 @@ static void print_usage(FILE *f)
 {
     fprintf(f, "usage: hmdlod <command> [options]   (hmdlod <command> --help for its options)\n\n"
                "hmdlod renders both eyes of a head-mounted display with a level of detail that follows\n"
-               "Reddy's visual acuity model: what the viewer cannot resolve is not drawn.\n\ncommands:\n");
+               "Reddy's visual acuity model: what the viewer cannot resolve is not drawn.\n\n"
+               "  --max-input-bytes N  (before the command) read input files of up to N bytes (default 1 GiB;\n"
+               "                       the same as the environment variable " HL_FILE_MAX_BYTES_ENV ")\n\ncommands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; ++i)
         fprintf(f, "  %-9s %s\n", commands[i].name, commands[i].summary);
 }
 
+/* --max-input-bytes N before the command: the input size limit of base/file.c for this run and for
+ * the replays it starts, passed on through the environment variable every loader reads. */
+static int set_max_input_bytes(const char *text)
+{
+    char *end = NULL;
+    errno = 0;
+    unsigned long long n = text ? strtoull(text, &end, 10) : 0;
+    if (!text || errno != 0 || end == text || *end != '\0' || n == 0 || text[0] == '-') {
+        fprintf(stderr, "hmdlod: --max-input-bytes: '%s' is not a positive byte count\n", text ? text : "");
+        return -1;
+    }
+    if (setenv(HL_FILE_MAX_BYTES_ENV, text, 1) != 0) {
+        fprintf(stderr, "hmdlod: --max-input-bytes: %s\n", strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc >= 2 && !strcmp(argv[1], "--max-input-bytes")) {
+        if (set_max_input_bytes(argc >= 3 ? argv[2] : NULL) != 0)
+            return 1;
+        argv[2] = argv[0];
+        argc -= 2, argv += 2;
+    }
     if (argc < 2) {
         print_usage(stderr);
         return 1;

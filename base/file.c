@@ -105,7 +105,7 @@ int hl_file_read_all(const char *path, uint64_t max_bytes, char **buf_out, size_
         return -1;
     char limit[32];
     format_size(max_bytes, limit, sizeof limit);
-    const char *hint = default_limit ? " (raise it with " HL_FILE_MAX_BYTES_ENV ")" : "";
+    const char *hint = default_limit ? " (raise it with hmdlod --max-input-bytes N, or " HL_FILE_MAX_BYTES_ENV ")" : "";
     if (size > max_bytes) {
         fclose(f);
         return hl_fail(err, "%s: file too large: %llu bytes, more than the %s limit%s", path,

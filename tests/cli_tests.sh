@@ -66,8 +66,20 @@ hard_cases() {
   expect_error "display FOV 1e-7 deg" "narrow.json: field 'fov_deg'" -- "$bin" display show "$tmp/narrow.json"
   # The input size limit is stated, and the environment variable lowers (or raises) it.
   printf 't_s,qw,qx,qy,qz\n0,1,0,0,0\n0.1,1,0,0,0\n' >"$tmp/small.csv"
-  expect_error "trace over HMDLOD_MAX_INPUT_BYTES" "small.csv: file too large: .*raise it with HMDLOD_MAX_INPUT_BYTES" -- \
+  expect_error "trace over HMDLOD_MAX_INPUT_BYTES" "small.csv: file too large: .*raise it with hmdlod --max-input-bytes N, or HMDLOD_MAX_INPUT_BYTES" -- \
     env HMDLOD_MAX_INPUT_BYTES=16 "$bin" replay --trace "$tmp/small.csv" --out "$tmp/z"
+  # The flag before the command does the same, and wins over the environment.
+  expect_error "trace over --max-input-bytes" "small.csv: file too large: 38 bytes" -- \
+    "$bin" --max-input-bytes 16 replay --trace "$tmp/small.csv" --out "$tmp/z"
+  expect_ok "--max-input-bytes raises the limit" "frames within the budget" -- \
+    env HMDLOD_MAX_INPUT_BYTES=16 "$bin" --max-input-bytes 4096 replay --trace "$tmp/small.csv" --frames 2 \
+    --render-scale 0.1 --out "$tmp/max-input"
+  for v in 0 -5 12x ""; do
+    expect_error "--max-input-bytes '$v'" "--max-input-bytes: '$v' is not a positive byte count" -- \
+      "$bin" --max-input-bytes "$v" replay --trace "$tmp/small.csv" --out "$tmp/z"
+  done
+  expect_error "--max-input-bytes without a value" "--max-input-bytes: '' is not a positive byte count" -- \
+    "$bin" --max-input-bytes
   rm -f "$tmp/fifo" "$tmp/fifo.json" "$tmp/fifo.obj"
   # A scene of one object replays like any other (under ASan with LeakSanitizer on: hmdlod pins
   # Mesa's driver itself, render/gl_driver_pin.c).

@@ -180,7 +180,7 @@ static void test_files(void)
     setenv(HL_FILE_MAX_BYTES_ENV, "5", 1);
     CHECK(hl_file_max_bytes() == 5);
     CHECK(hl_file_read_all(small, 0, &buf, &len, &err) == -1 && strstr(err.msg, "more than the 5 bytes limit") &&
-          strstr(err.msg, "raise it with " HL_FILE_MAX_BYTES_ENV));
+          strstr(err.msg, "raise it with hmdlod --max-input-bytes N, or " HL_FILE_MAX_BYTES_ENV));
     setenv(HL_FILE_MAX_BYTES_ENV, "-5", 1);
     CHECK(hl_file_max_bytes() == HL_FILE_DEFAULT_MAX_BYTES);
     setenv(HL_FILE_MAX_BYTES_ENV, "12abc", 1);

@@ -104,8 +104,9 @@ static void test_tracker(void)
     CHECK(rpl_soak_tracker_start(&t, rows, N, 0.4, &err) == 0);
     /* until 400 reports (the stream wraps twice), or 20 s on a machine that starves the thread */
     struct timespec ts = {0, 5000000};
-    while (atomic_load(&t.reports) < 400 && hl_clock_now_ns() - t0 < 20000000000LL)
-        nanosleep(&ts, NULL);
+    while ((atomic_load(&t.reports) < 400 || hl_clock_now_ns() - t0 < 600000000LL) &&
+           hl_clock_now_ns() - t0 < 20000000000LL)
+        nanosleep(&ts, NULL); /* and past the run's 0.4 s, so the last stretch (from 0.36 s) has reports */
     rpl_soak_tracker_stop(&t);
     double elapsed_ms = (double)(hl_clock_now_ns() - t0) * 1e-6;
     uint64_t reports = atomic_load(&t.reports);
@@ -113,7 +114,9 @@ static void test_tracker(void)
     CHECK((double)reports <= elapsed_ms + 2.0); /* paced by the clock: never faster than 1 kHz */
     double rates[2];
     rpl_soak_tracker_rates(&t, rates);
-    CHECK(rates[0] > 0.0 && rates[0] <= 1100.0 && rates[1] > 0.0 && rates[1] <= 1100.0);
+    /* The first stretch starts with the clock, so it is paced; the last one may catch up after the thread
+     * was starved (as a hidraw queue delivers after a stall), so only its whole-run bound holds. */
+    CHECK(rates[0] > 0.0 && rates[0] <= 1100.0 && rates[1] > 0.0 && isfinite(rates[1]));
     CHECK(atomic_load(&t.rejected) == 0);
     CHECK(atomic_load(&t.nonfinite) == 0);
     CHECK(atomic_load(&t.refused) == 0);

@@ -134,8 +134,15 @@ static int spread_timestamps(struct rpl_trace *tr, const char *name, size_t firs
         if (run > 1) {
             double t0 = tr->time_s[start];
             double span = end < n && tr->time_s[end] - t0 < step ? tr->time_s[end] - t0 : step;
-            for (size_t k = 1; k < run; ++k)
+            for (size_t k = 1; k < run; ++k) {
                 tr->time_s[start + k] = t0 + span * (double)k / (double)run;
+                /* At a huge time (1e308 s) the spacing is below the double's resolution: the rows
+                 * would stay equal, so the trace is refused rather than left non-increasing. */
+                if (!(tr->time_s[start + k] > tr->time_s[start + k - 1]))
+                    return hl_fail(err, "%s: %zu rows share the time %.9g s, too large to place them apart "
+                                        "(%.3g s steps are below its resolution)",
+                                   name, run, t0, span / (double)run);
+            }
             ++rep->timestamp_runs;
             rep->repeated_timestamps += run - 1;
         }

@@ -1,6 +1,7 @@
 /* The row builder shared by the trace parsers, the raw-recording reader and the built-in clip (see
  * trace_internal.h): push stores rows as read; finish resolves repeated timestamps and fills the
  * time-dependent part of the report. */
+#include <math.h>
 #include "replay/trace_internal.h"
 
 #include <stdlib.h>
@@ -136,11 +137,13 @@ static int spread_timestamps(struct rpl_trace *tr, const char *name, size_t firs
             double span = end < n && tr->time_s[end] - t0 < step ? tr->time_s[end] - t0 : step;
             for (size_t k = 1; k < run; ++k) {
                 tr->time_s[start + k] = t0 + span * (double)k / (double)run;
-                /* At a huge time (1e308 s) the spacing is below the double's resolution: the rows
-                 * would stay equal, so the trace is refused rather than left non-increasing. */
-                if (!(tr->time_s[start + k] > tr->time_s[start + k - 1]))
+                /* Near the double's limits (1e308 s) the spacing is below its resolution, or the sum
+                 * overflows: the rows would stay equal or pass the next time, so the trace is refused
+                 * rather than left non-increasing. */
+                double x = tr->time_s[start + k];
+                if (!(x > tr->time_s[start + k - 1]) || !isfinite(x) || (end < n && !(x < tr->time_s[end])))
                     return hl_fail(err, "%s: %zu rows share the time %.9g s, too large to place them apart "
-                                        "(%.3g s steps are below its resolution)",
+                                        "(%.3g s steps are beyond its resolution)",
                                    name, run, t0, span / (double)run);
             }
             ++rep->timestamp_runs;

@@ -9,6 +9,8 @@
 extern "C" {
 #endif
 
+#include <stdio.h>
+
 #include "scene/scene.h"
 
 /* ---- import ------------------------------------------------------------------------------------
@@ -37,11 +39,25 @@ void scn_soup_add_face(struct scn_soup *s, const uint32_t *idx, uint32_t n);
 /* Reads OBJ/PLY/OFF/STL through OpenMesh's IO into `soup` (mesh_import.cpp); OpenMesh's own log is
  * kept off stdout/stderr and its error text, if any, goes into the message. */
 int scn_om_read(const char *path, struct scn_soup *soup, struct hl_error *err);
-/* A PLY header line by line (mesh_ply_header.c): what OpenMesh's header loop ends on, or an error
- * naming the line; called before scn_om_read on every .ply. */
-int scn_ply_header_check(const char *path, struct hl_error *err);
-/* An OFF header (mesh_ply_header.c): a keyword OpenMesh reads and counts that fit the file. */
-int scn_off_header_check(const char *path, uint64_t file_size, struct hl_error *err);
+/* A PLY file before OpenMesh reads it (mesh_ply_check.c): its header line by line (what OpenMesh's
+ * header loop ends on), then every record of every element walked, list sizes bounded, so that what
+ * OpenMesh allocates follows from the file's real content; or an error naming the line or record. */
+int scn_ply_check(const char *path, struct hl_error *err);
+/* An OFF file before OpenMesh reads it (mesh_off_check.c): a keyword OpenMesh reads, counts that fit
+ * the file, the vertex lines, and every face's size and indices. Text OFF only. */
+int scn_off_check(const char *path, uint64_t file_size, struct hl_error *err);
+/* Text reading shared by the two checks (mesh_lex.c). A line without its newline into buf: 0, or
+ * −1 at the end of the file before a newline, −2 for a line longer than buf, −3 for a NUL byte. */
+int scn_lex_line(FILE *f, char *buf, size_t size);
+/* Splits line in place at blanks into at most max_words + 1 words (the extra one only counts). */
+int scn_lex_words(char *line, char **w, int max_words);
+/* 1 if s is a whole number of at most 10 digits that fits an int (OpenMesh reads counts as int). */
+int scn_lex_is_count(const char *s);
+/* 1 if the whole of s is a number strtod reads. */
+int scn_lex_is_number(const char *s);
+/* The next blank-separated token into buf: 0, −1 at the end of the file, −2 too long, −3 NUL byte.
+ * *line counts the newlines passed; *newline_before says whether one came before this token. */
+int scn_lex_token(FILE *f, char *buf, size_t size, uint64_t *line, int *newline_before);
 /* Reads glTF 2.0 (.gltf/.glb) through assimp's C API (mesh_import_assimp.c), node transforms baked. */
 int scn_assimp_read(const char *path, struct scn_soup *soup, struct hl_error *err);
 

@@ -35,6 +35,16 @@ class SoupImporter : public OpenMesh::IO::ImporterT<OmPolyMesh> {
     typedef std::vector<VertexHandle> VHandles;
     SoupImporter(OmPolyMesh &mesh) : OpenMesh::IO::ImporterT<OmPolyMesh>(mesh) {}
 
+    // The PLY reader adds a vertex first and sets its point after (the others pass the point).
+    VertexHandle add_vertex() override
+    {
+        pos.push_back(NAN), pos.push_back(NAN), pos.push_back(NAN);
+        return ImporterT::add_vertex();
+    }
+    // The readers reserve the counts a header announces before reading a record; our checks bound
+    // those counts by the file's size (mesh_off_check.c, mesh_ply_check.c), and not reserving at all
+    // keeps any reader we did not check from allocating for content that is not there.
+    void reserve(unsigned int, unsigned int, unsigned int) override {}
     VertexHandle add_vertex(const OpenMesh::Vec3f &p) override
     {
         pos.push_back(p[0]), pos.push_back(p[1]), pos.push_back(p[2]);

@@ -398,15 +398,24 @@ int scn_soup_to_mesh(const char *path, struct scn_soup *soup, struct scn_mesh *o
  * "f /1", "f f" and "f 0"). So every word of a face line must start with a vertex number: 1, 2 … or
  * −1 … −(vertices so far), then optionally /texture/normal; an index past the vertices is left to
  * the validation, which names the face. */
+/* What iostream >> skips in the C locale (isspace): OpenMesh splits OBJ lines at any of these, so a
+ * face keyword followed by a form feed is still a face (found by fuzz_mesh_import). */
+static const char obj_blanks[] = " \t\r\n\v\f";
+
+static int obj_is_keyword(const char *c, char k)
+{
+    return c[0] == k && (c[1] == '\0' || strchr(obj_blanks, c[1]));
+}
+
 static int obj_check_face(const char *path, uint64_t lineno, const char *c, uint64_t nv, struct hl_error *err)
 {
     int words = 0;
     for (;;) {
-        c += strspn(c, " \t\r\n");
+        c += strspn(c, obj_blanks);
         if (!*c)
             break;
         const char *w = c;
-        size_t len = strcspn(c, " \t\r\n");
+        size_t len = strcspn(c, obj_blanks);
         c += len;
         ++words;
         char *end = NULL;
@@ -431,17 +440,22 @@ static int obj_prescan(const char *path, uint32_t *vertex_lines, struct hl_error
     size_t cap = 0;
     uint64_t lineno = 0, nv = 0;
     int rc = 0;
-    while (rc == 0 && getline(&line, &cap, f) > 0) {
+    ssize_t len;
+    while (rc == 0 && (len = getline(&line, &cap, f)) > 0) {
         ++lineno;
-        const char *c = line + strspn(line, " \t");
-        if (c[0] == 'f' && (c[1] == ' ' || c[1] == '\t' || c[1] == '\n' || c[1] == '\r' || c[1] == '\0')) {
+        if (memchr(line, '\0', (size_t)len)) { /* OpenMesh reads past it; C strings would stop there */
+            rc = hl_fail(err, "%s:%llu: NUL byte in a text OBJ file", path, (unsigned long long)lineno);
+            break;
+        }
+        const char *c = line + strspn(line, obj_blanks);
+        if (obj_is_keyword(c, 'f')) {
             rc = obj_check_face(path, lineno, c + 1, nv, err);
             continue;
         }
-        if (c[0] != 'v' || (c[1] != ' ' && c[1] != '\t'))
+        if (!obj_is_keyword(c, 'v'))
             continue;
         ++nv;
-        c += 2;
+        c += 1; /* strtod skips the blanks */
         for (int k = 0; k < 3 && rc == 0; ++k) {
             char *end = NULL;
             double x = strtod(c, &end);
@@ -526,9 +540,9 @@ int scn_mesh_import(const char *path, struct scn_mesh *out, struct scn_import_re
     int is_obj = ext_is(ext, "obj");
     if (is_obj && obj_prescan(path, &obj_vertices, err) != 0)
         return -1;
-    if (ext_is(ext, "ply") && scn_ply_header_check(path, err) != 0)
+    if (ext_is(ext, "ply") && scn_ply_check(path, err) != 0)
         return -1;
-    if (ext_is(ext, "off") && scn_off_header_check(path, size, err) != 0)
+    if (ext_is(ext, "off") && scn_off_check(path, size, err) != 0)
         return -1;
     if (gltf && gltf_sniff(path, ext_is(ext, "glb"), err) != 0)
         return -1;

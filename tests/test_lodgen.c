@@ -742,7 +742,7 @@ static void test_chain(void)
     scn_mesh_free(&m);
 }
 
-/* PLY headers are checked line by line before OpenMesh reads them (scene/mesh_ply_header.c): its
+/* PLY headers are checked line by line before OpenMesh reads them (scene/mesh_ply_check.c): its
  * header loop never ends at the end of the file or after a count that is not a number (found by
  * fuzz_mesh_import: "end_header" run into the next word hung the import), and OFF headers whose
  * counts OpenMesh reserves before reading (a 100-byte file reserved 8 GiB). */
@@ -757,7 +757,7 @@ static void test_mesh_headers(void)
     write_text("square.ply", text);
     /* the header check passes a well-formed header (what OpenMesh then reads is its business) */
     struct hl_error err = {{0}};
-    int rc = scn_ply_header_check(tmp_path("square.ply"), &err);
+    int rc = scn_ply_check(tmp_path("square.ply"), &err);
     if (rc != 0)
         fprintf(stderr, "square.ply: %s\n", err.msg);
     CHECK(rc == 0);
@@ -786,6 +786,15 @@ static void test_mesh_headers(void)
     expect_refused(tmp_path("back.obj"), "back.obj:4: face: '-4' is not a vertex number (1 … or −1 … −3)");
     write_text("bare.obj", "v 0 0 0\nf\n");
     expect_refused(tmp_path("bare.obj"), "bare.obj:2: face without vertices");
+    /* OpenMesh splits at any isspace blank: "f" then a form feed is a face (it asserted on it) */
+    write_text("formfeed.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf\f\n");
+    expect_refused(tmp_path("formfeed.obj"), "formfeed.obj:4: face without vertices");
+    write_bytes("nul.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf\0 1 2 3\n", 34);
+    expect_refused(tmp_path("nul.obj"), "nul.obj:4: NUL byte in a text OBJ file");
+    write_text("vtab.obj", "v\v0 0 0\nv\f1 0 0\nv 0 1 0\nf\v1 2 3\n");
+    struct scn_mesh tri;
+    CHECK(scn_mesh_import(tmp_path("vtab.obj"), &tri, NULL, &err) == 0 && tri.index_count == 3);
+    scn_mesh_free(&tri);
     /* another format under a glTF name: assimp would choose its own importer by content */
     write_text("off.gltf", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
     expect_refused(tmp_path("off.gltf"), "not a glTF file");
@@ -799,7 +808,88 @@ static void test_mesh_headers(void)
     write_text("words.off", "COFF\n3 x 0\n");
     expect_refused(tmp_path("words.off"), "line 2: the OFF counts must be three whole numbers");
     write_text("inline.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
-    CHECK(scn_off_header_check(tmp_path("inline.off"), 33, &err) == 0);
+    CHECK(scn_off_check(tmp_path("inline.off"), 33, &err) == 0);
+    /* OFF faces: OpenMesh pushes as many vertex handles as a face's size says, read unsigned, so a
+     * face "-1" (or a stray word read as a size) asked for 16 GiB (found by fuzz_mesh_import). */
+    write_text("negative-size.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n-1 0 2 3\n");
+    expect_refused(tmp_path("negative-size.off"), "line 8: face 1: '-1' is not a face size (1 … 4096 vertices)");
+    write_text("stray.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 2 1 -1-\n3 0 2 3\n");
+    expect_refused(tmp_path("stray.off"), "line 7: face 0: '-1-' after its 3 indices is not a colour value");
+    write_text("index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
+    expect_refused(tmp_path("index.off"), "line 6: face 0: '3' is not a vertex index (0 … 2)");
+    write_text("few-faces.off", "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
+    expect_refused(tmp_path("few-faces.off"), "the file ends after 2 of its 3 faces");
+    write_text("few-vertices.off", "OFF\n5 0 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n");
+    expect_refused(tmp_path("few-vertices.off"), "line 7: the file ends after 4 of its 5 vertices");
+    write_text("comment.off", "OFF\n3 1 0\n# a comment\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    expect_refused(tmp_path("comment.off"), "line 3: comment inside the vertex list");
+    write_bytes("binary.off", "OFF BINARY\n\3\0\0\0\1\0\0\0\0\0\0\0", 23);
+    expect_refused(tmp_path("binary.off"), "binary OFF is not supported");
+    /* what OpenMesh reads is still accepted: blank lines, a face split over lines, face colours */
+    write_text("layout.off", "COFF\n\n4 2 0\n\n0 0 0 1 0 0\n1 0 0 1 0 0\n\n1 1 0 0 1 0\n0 1 0 0 0 1\n"
+                             "3 0 1\n2 255 0 0\n3 0 2 3 0 255 0 255\n");
+    rc = scn_off_check(tmp_path("layout.off"), 200, &err);
+    if (rc != 0)
+        fprintf(stderr, "layout.off: %s\n", err.msg);
+    CHECK(rc == 0);
+    struct scn_mesh m;
+    CHECK(scn_mesh_import(tmp_path("layout.off"), &m, NULL, &err) == 0 && m.index_count == 6);
+    scn_mesh_free(&m);
+
+    /* PLY bodies: counts the file cannot hold and lists OpenMesh would size from a single number */
+    static const char ply_head[] = "ply\nformat %s 1.0\nelement vertex %s\nproperty float x\nproperty float y\n"
+                                   "property float z\nelement face %s\nproperty list %s int vertex_indices\n"
+                                   "end_header\n";
+    snprintf(text, sizeof text, ply_head, "binary_little_endian", "2000000000", "1", "uchar");
+    write_text("huge-binary.ply", text);
+    expect_refused(tmp_path("huge-binary.ply"), "vertex 0 (of 2000000000): the file ends before this element's last record");
+    snprintf(text, sizeof text, ply_head, "ascii", "2000000000", "1", "uchar");
+    strcat(text, "0 0 0\n");
+    write_text("huge-ascii.ply", text);
+    expect_refused(tmp_path("huge-ascii.ply"), "line 11: vertex 1 (of 2000000000): the file ends before this record");
+    snprintf(text, sizeof text, ply_head, "ascii", "4", "2", "int");
+    strcat(text, "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n-1 0 2 3\n");
+    write_text("negative-list.ply", text);
+    expect_refused(tmp_path("negative-list.ply"), "line 15: face 1 (of 2): a list's count must be a whole number 0 … 4096");
+    snprintf(text, sizeof text, ply_head, "ascii", "4", "2", "uchar");
+    strcat(text, "0 0 0\n1 0 0\n1 1 0\n0 1 0 5\n3 0 1 2\n3 0 2 3\n");
+    write_text("extra-value.ply", text);
+    expect_refused(tmp_path("extra-value.ply"), "line 13: vertex 3 (of 4): more values than its properties");
+    /* binary little and big endian: the same square, then a face whose int count is 2^31 − 1 */
+    for (int big = 0; big < 2; ++big) {
+        for (int bad = 0; bad < 2; ++bad) {
+            snprintf(text, sizeof text, ply_head, big ? "binary_big_endian" : "binary_little_endian", "4", "2", "int");
+            size_t n = strlen(text);
+            const float v[12] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+            const int32_t f[8] = {3, 0, 1, 2, bad ? 2147483647 : 3, 0, 2, 3};
+            for (int i = 0; i < 20; ++i) {
+                uint32_t u;
+                if (i < 12)
+                    memcpy(&u, &v[i], 4);
+                else
+                    u = (uint32_t)f[i - 12];
+                for (int b = 0; b < 4; ++b)
+                    text[n++] = (char)(u >> (8 * (big ? 3 - b : b)));
+            }
+            write_bytes("square-binary.ply", text, n);
+            if (bad) {
+                expect_refused(tmp_path("square-binary.ply"), "face 1 (of 2): a list longer than 4096 items");
+                continue;
+            }
+            rc = scn_ply_check(tmp_path("square-binary.ply"), &err);
+            if (rc != 0)
+                fprintf(stderr, "square-binary.ply (%s): %s\n", big ? "big" : "little", err.msg);
+            CHECK(rc == 0);
+            CHECK(scn_mesh_import(tmp_path("square-binary.ply"), &m, NULL, &err) == 0 && m.index_count == 6);
+            scn_mesh_free(&m);
+            /* truncated by one byte: the last face's last index is missing */
+            write_bytes("square-binary-cut.ply", text, n - 1);
+            expect_refused(tmp_path("square-binary-cut.ply"), "face 1 (of 2): the file ends inside this record");
+        }
+    }
+    /* the ASCII square itself imports */
+    CHECK(scn_mesh_import(tmp_path("square.ply"), &m, NULL, &err) == 0 && m.index_count == 6);
+    scn_mesh_free(&m);
 }
 
 int main(void)

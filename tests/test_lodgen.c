@@ -800,6 +800,17 @@ static void test_mesh_headers(void)
     expect_refused(tmp_path("off.gltf"), "not a glTF file");
     write_text("off.glb", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
     expect_refused(tmp_path("off.glb"), "not a binary glTF file");
+    /* .glb chunk lengths assimp allocates before reading (a 644-byte file asked for 1.7 GB) */
+    static const unsigned char glb_huge_chunk[28] = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 28, 0, 0, 0,
+                                                     0x3c, 0x75, 0x73, 0x65, 'J', 'S', 'O', 'N', '{', '}'};
+    write_bytes("huge-chunk.glb", glb_huge_chunk, sizeof glb_huge_chunk);
+    expect_refused(tmp_path("huge-chunk.glb"), "byte 12: binary glTF chunk of 1702065468 bytes runs past the end");
+    static const unsigned char glb_long[20] = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 0, 0, 0, 0x7f, 0, 0, 0, 0, 'J', 'S', 'O', 'N'};
+    write_bytes("long.glb", glb_long, sizeof glb_long);
+    expect_refused(tmp_path("long.glb"), "binary glTF header says 2130706432 bytes, the file has 20");
+    static const unsigned char glb_v1[20] = {'g', 'l', 'T', 'F', 1, 0, 0, 0, 20, 0, 0, 0};
+    write_bytes("v1.glb", glb_v1, sizeof glb_v1);
+    expect_refused(tmp_path("v1.glb"), "binary glTF version 1: only version 2 is supported");
     /* OFF: counts OpenMesh would reserve before reading (a 100-byte file reserved 8 GiB) */
     write_text("run-on.off", "OFF\xff\xff\xff\xff 1 2 3\n");
     expect_refused(tmp_path("run-on.off"), "line 1: not an OFF file");

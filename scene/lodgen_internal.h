@@ -46,6 +46,8 @@ int scn_ply_check(const char *path, struct hl_error *err);
 /* An OFF file before OpenMesh reads it (mesh_off_check.c): a keyword OpenMesh reads, counts that fit
  * the file, the vertex lines, and every face's size and indices. Text OFF only. */
 int scn_off_check(const char *path, uint64_t file_size, struct hl_error *err);
+/* What iostream >> skips in the C locale (isspace): the blanks OpenMesh's readers split words at. */
+extern const char scn_lex_blanks[];
 /* Text reading shared by the two checks (mesh_lex.c). A line without its newline into buf: 0, or
  * −1 at the end of the file before a newline, −2 for a line longer than buf, −3 for a NUL byte. */
 int scn_lex_line(FILE *f, char *buf, size_t size);

@@ -398,24 +398,23 @@ int scn_soup_to_mesh(const char *path, struct scn_soup *soup, struct scn_mesh *o
  * "f /1", "f f" and "f 0"). So every word of a face line must start with a vertex number: 1, 2 … or
  * −1 … −(vertices so far), then optionally /texture/normal; an index past the vertices is left to
  * the validation, which names the face. */
-/* What iostream >> skips in the C locale (isspace): OpenMesh splits OBJ lines at any of these, so a
- * face keyword followed by a form feed is still a face (found by fuzz_mesh_import). */
-static const char obj_blanks[] = " \t\r\n\v\f";
+/* OpenMesh splits OBJ lines at any isspace blank (scn_lex_blanks), so a face keyword followed by a
+ * form feed is still a face (found by fuzz_mesh_import). */
 
 static int obj_is_keyword(const char *c, char k)
 {
-    return c[0] == k && (c[1] == '\0' || strchr(obj_blanks, c[1]));
+    return c[0] == k && (c[1] == '\0' || strchr(scn_lex_blanks, c[1]));
 }
 
 static int obj_check_face(const char *path, uint64_t lineno, const char *c, uint64_t nv, struct hl_error *err)
 {
     int words = 0;
     for (;;) {
-        c += strspn(c, obj_blanks);
+        c += strspn(c, scn_lex_blanks);
         if (!*c)
             break;
         const char *w = c;
-        size_t len = strcspn(c, obj_blanks);
+        size_t len = strcspn(c, scn_lex_blanks);
         c += len;
         ++words;
         char *end = NULL;
@@ -447,7 +446,7 @@ static int obj_prescan(const char *path, uint32_t *vertex_lines, struct hl_error
             rc = hl_fail(err, "%s:%llu: NUL byte in a text OBJ file", path, (unsigned long long)lineno);
             break;
         }
-        const char *c = line + strspn(line, obj_blanks);
+        const char *c = line + strspn(line, scn_lex_blanks);
         if (obj_is_keyword(c, 'f')) {
             rc = obj_check_face(path, lineno, c + 1, nv, err);
             continue;

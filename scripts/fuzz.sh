@@ -5,13 +5,21 @@
 # target: executions, corpus size, result. Crash, leak, timeout and out-of-memory inputs are kept
 # in the folder named at the end (HMDLOD_FUZZ_ARTIFACTS, default build-fuzz/fuzz-findings); exit 1
 # on any finding. `scripts/fuzz.sh NAME...` runs only those targets.
-# Options: HMDLOD_FUZZ_SECONDS, HMDLOD_FUZZ_JOBS (default 2), HMDLOD_FUZZ_NO_BUILD=1 (reuse the build).
+# Options: HMDLOD_FUZZ_SECONDS, HMDLOD_FUZZ_JOBS (default 2), HMDLOD_FUZZ_NO_BUILD=1 (reuse the build),
+# HMDLOD_FUZZ_BUILD_DIR (default build-fuzz; CI points it at its sanitizer build, configured with
+# HMDLOD_FUZZ too, and sets HMDLOD_FUZZ_NO_BUILD), HMDLOD_FUZZ_SEED (libFuzzer's -seed; by default
+# one from the commit, so rerunning a commit makes the same inputs and each new commit new ones; 0 is
+# a random seed each run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${HMDLOD_FUZZ_SECONDS:-30}
 jobs=${HMDLOD_FUZZ_JOBS:-2}
-build_dir=build-fuzz
+build_dir=${HMDLOD_FUZZ_BUILD_DIR:-build-fuzz}
 findings=${HMDLOD_FUZZ_ARTIFACTS:-$build_dir/fuzz-findings}
+default_seed=0
+commit=$(git rev-parse HEAD 2>/dev/null || true)
+[ -n "$commit" ] && default_seed=$(( 16#${commit:0:7} + 1 ))
+seed=${HMDLOD_FUZZ_SEED:-$default_seed}
 
 # Every target has a seed corpus folder; that list is the list of targets.
 all=()
@@ -58,7 +66,7 @@ run_one() {
   ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=1 \
     LSAN_OPTIONS="suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0" \
     UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 \
-    "$build_dir/tests/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+    "$build_dir/tests/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -seed="$seed" \
     -max_len="$(max_len "$t")" -artifact_prefix="$dir/artifacts/" -print_final_stats=1 "${dict[@]}" \
     "$dir/corpus" >"$dir/log" 2>&1 || rc=$?
   local execs; execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$dir/log" | tail -1)
@@ -105,7 +113,7 @@ for t in "${targets[@]}"; do
     status=1
   fi
 done
-echo "fuzz: ${#targets[@]} targets x ${seconds} s, $jobs at a time, in $(( $(date +%s) - start )) s"
+echo "fuzz: ${#targets[@]} targets x ${seconds} s, $jobs at a time, seed $seed, in $(( $(date +%s) - start )) s"
 if [ "$status" -ne 0 ]; then
   echo "fuzz: FINDINGS kept in $findings (reproduce: $build_dir/tests/fuzz/fuzz_NAME FILE; docs/fuzzing.md)"
 fi

@@ -773,6 +773,10 @@ static void test_mesh_headers(void)
     expect_refused(tmp_path("bad-version.ply"), "line 2: format must be");
     write_text("bad-type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty real x\nend_header\n0\n");
     expect_refused(tmp_path("bad-type.ply"), "line 4: property must be");
+    /* OpenMesh splits header words at any isspace blank: "f\vace" is two words to it */
+    write_text("vtab.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nelement f\vace 0\n"
+                           "end_header\n0\n");
+    expect_refused(tmp_path("vtab.ply"), "line 5: element must be");
     write_bytes("nul.ply", "ply\nformat ascii 1.0\nelement vertex 1\0 x\nend_header\n", 52);
     expect_refused(tmp_path("nul.ply"), "line 3: NUL byte");
     /* OBJ face lines OpenMesh's reader asserts on (it aborted the program) */

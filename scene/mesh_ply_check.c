@@ -199,6 +199,8 @@ static int ply_walk_binary(FILE *f, const char *path, const struct ply_element *
     int has_list = 0;
     for (int p = 0; p < e->prop_count; ++p)
         has_list |= e->props[p].count_type != NULL, fixed += (uint64_t)e->props[p].type->bytes;
+    if (e->count > 0 && e->prop_count == 0) /* OpenMesh still adds a vertex per record: 0 bytes each */
+        return ply_record_error(path, e, 0, "an element with records but no properties", err);
     if (!has_list) {
         if (e->count > 0 && fixed > remaining / e->count)
             return ply_record_error(path, e, remaining / (fixed ? fixed : 1),

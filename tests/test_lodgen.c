@@ -870,6 +870,8 @@ static void test_mesh_headers(void)
     strcat(text, "0 0 0\n1 0 0\n1 1 0\n0 1 0 5\n3 0 1 2\n3 0 2 3\n");
     write_text("extra-value.ply", text);
     expect_refused(tmp_path("extra-value.ply"), "line 13: vertex 3 (of 4): more values than its properties");
+    write_text("no-props.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 200000000\nend_header\n");
+    expect_refused(tmp_path("no-props.ply"), "vertex 0 (of 200000000): an element with records but no properties");
     /* binary little and big endian: the same square, then a face whose int count is 2^31 − 1 */
     for (int big = 0; big < 2; ++big) {
         for (int bad = 0; bad < 2; ++bad) {

@@ -80,9 +80,12 @@ class SoupImporter : public OpenMesh::IO::ImporterT<OmPolyMesh> {
   private:
     void record_normal(VertexHandle vh, double x, double y, double z)
     {
-        if (!vh.is_valid())
-            return;
         size_t i = 3 * (size_t)vh.idx();
+        // The OBJ reader sets normals through a face's vertex handles, and a face may name a vertex
+        // that does not exist (index 2^31 − 1: a 24 GB resize; found by fuzz_mesh_import).
+        // Validation refuses such faces; their normals are not recorded.
+        if (!vh.is_valid() || i + 3 > pos.size())
+            return;
         if (nrm.size() < i + 3)
             nrm.resize(pos.size() > i + 3 ? pos.size() : i + 3, NAN);
         nrm[i] = (float)x, nrm[i + 1] = (float)y, nrm[i + 2] = (float)z;

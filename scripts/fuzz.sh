@@ -6,8 +6,7 @@
 # in the folder named at the end (HMDLOD_FUZZ_ARTIFACTS, default build-fuzz/fuzz-findings); exit 1
 # on any finding. `scripts/fuzz.sh NAME...` runs only those targets.
 # Options: HMDLOD_FUZZ_SECONDS, HMDLOD_FUZZ_JOBS (default 2), HMDLOD_FUZZ_NO_BUILD=1 (reuse the build),
-# HMDLOD_FUZZ_BUILD_DIR (default build-fuzz; CI points it at its sanitizer build, configured with
-# HMDLOD_FUZZ too, and sets HMDLOD_FUZZ_NO_BUILD), HMDLOD_FUZZ_SEED (libFuzzer's -seed; by default
+# HMDLOD_FUZZ_BUILD_DIR (default build-fuzz: a folder configured with HMDLOD_FUZZ), HMDLOD_FUZZ_SEED (libFuzzer's -seed; by default
 # one from the commit, so rerunning a commit makes the same inputs and each new commit new ones; 0 is
 # a random seed each run).
 set -euo pipefail

@@ -110,8 +110,8 @@ struct soak_run {
     struct trk_imu_csv_row *rows;
     double *frame_ms, *cpu_ms, *triangles, *scratch;
     long capacity;
-    FILE *csv;
-    char csv_path[4096], csv_tmp[4096];
+    struct hl_out csv; /* soak.csv, a row marked every sample (base.h: hl_out) */
+    int csv_open;
 };
 
 static int open_csv(struct soak_run *r, const char *dir, struct hl_error *err)
@@ -121,17 +121,15 @@ static int open_csv(struct soak_run *r, const char *dir, struct hl_error *err)
     struct stat st;
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
         return hl_fail(err, "%s: not a folder", dir);
-    if (snprintf(r->csv_path, sizeof r->csv_path, "%s/soak.csv", dir) >= (int)sizeof r->csv_path ||
-        snprintf(r->csv_tmp, sizeof r->csv_tmp, "%s/soak.csv.partial", dir) >= (int)sizeof r->csv_tmp)
+    char path[4096];
+    if (snprintf(path, sizeof path, "%s/soak.csv", dir) >= (int)sizeof path)
         return hl_fail(err, "%s: path too long", dir);
-    unlink(r->csv_tmp); /* a stale one, or a planted link: "wx" below never follows one */
-    r->csv = fopen(r->csv_tmp, "wx");
-    if (!r->csv)
-        return hl_fail(err, "%s: cannot write: %s", r->csv_tmp, strerror(errno));
-    fprintf(r->csv, "t_s,rss_kib,heap_kib,open_fds,frames,reports,missed_slots,frame_ms_mean,cpu_ms_mean,triangles_mean,"
-                    "fusion_nonfinite,trace_loops,imu_loops\n");
-    fflush(r->csv);
-    return 0;
+    if (hl_out_open(&r->csv, path, err) != 0)
+        return -1;
+    r->csv_open = 1;
+    fprintf(r->csv.f, "t_s,rss_kib,heap_kib,open_fds,frames,reports,missed_slots,frame_ms_mean,cpu_ms_mean,triangles_mean,"
+                      "fusion_nonfinite,trace_loops,imu_loops\n");
+    return hl_out_mark(&r->csv, err);
 }
 
 /* A JSON number, or null where it is not finite (a stretch with no frames): JSON has no NaN. */
@@ -143,16 +141,9 @@ static void json_num(FILE *f, const char *key, double v, const char *tail)
         fprintf(f, "\"%s\": null%s", key, tail);
 }
 
-static int write_summary_json(const char *dir, const struct rpl_soak_summary *s, struct hl_error *err)
+/* summary.json into o (open, not yet committed). */
+static void write_summary_json(FILE *f, const struct rpl_soak_summary *s)
 {
-    char path[4096], tmp[4096];
-    if (snprintf(path, sizeof path, "%s/summary.json", dir) >= (int)sizeof path ||
-        snprintf(tmp, sizeof tmp, "%s/summary.json.partial", dir) >= (int)sizeof tmp)
-        return hl_fail(err, "%s: path too long", dir);
-    unlink(tmp);
-    FILE *f = fopen(tmp, "wx");
-    if (!f)
-        return hl_fail(err, "%s: cannot write: %s", tmp, strerror(errno));
     fprintf(f, "{\n  \"duration_s\": %.3f,\n  \"elapsed_s\": %.3f,\n  \"warmup_s\": %.3f,\n  \"rate_hz\": %.3f,\n",
             s->duration_s, s->elapsed_s, s->warmup_s, s->rate_hz);
     fprintf(f, "  \"renderer\": \"%s\",\n  \"selector\": \"%s\",\n  \"display\": \"%s\",\n  \"scene\": \"%s\",\n",
@@ -181,15 +172,26 @@ static int write_summary_json(const char *dir, const struct rpl_soak_summary *s,
     fputs("  ", f);
     json_num(f, "frame_ms_median_ratio", s->frame_ms_ratio, ",\n  ");
     json_num(f, "cpu_ms_median_ratio", s->cpu_ms_ratio, "\n}\n");
-    if (ferror(f) | (fclose(f) != 0)) {
-        unlink(tmp);
-        return hl_fail(err, "%s: write failed", tmp);
+}
+
+/* soak.csv and summary.json belong together: both closed (every write checked, synced) before
+ * either is renamed into place, so a full disk leaves neither new file (base.h: hl_out_close). */
+static int commit_outputs(struct soak_run *r, const char *dir, const struct rpl_soak_summary *s,
+                          struct hl_error *err)
+{
+    char path[4096];
+    struct hl_out json;
+    if (snprintf(path, sizeof path, "%s/summary.json", dir) >= (int)sizeof path)
+        return hl_fail(err, "%s: path too long", dir);
+    if (hl_out_open(&json, path, err) != 0)
+        return -1;
+    write_summary_json(json.f, s);
+    if (hl_out_close(&r->csv, err) != 0 || hl_out_close(&json, err) != 0 || hl_out_commit(&r->csv, err) != 0) {
+        hl_out_abort(&json);
+        return -1;
     }
-    if (rename(tmp, path) != 0) {
-        unlink(tmp);
-        return hl_fail(err, "%s: cannot rename: %s", path, strerror(errno));
-    }
-    return 0;
+    r->csv_open = 0;
+    return hl_out_commit(&json, err);
 }
 
 int rpl_soak_check_options(const struct rpl_soak_options *o, struct hl_error *err)
@@ -254,22 +256,20 @@ static void soak_close(struct soak_run *r)
         rpl_session_close(&r->session);
     trk_imu_csv_free(r->rows);
     free(r->frame_ms), free(r->cpu_ms), free(r->triangles), free(r->scratch);
-    if (r->csv) {
-        fclose(r->csv);
-        unlink(r->csv_tmp);
-    }
+    if (r->csv_open)
+        hl_out_abort(&r->csv);
 }
 
 /* One soak.csv row: the state now and the means of the frames since the previous row. */
-static void sample_row(struct soak_run *r, double t_s, long frames, long from, long missed)
+static int sample_row(struct soak_run *r, double t_s, long frames, long from, long missed, struct hl_error *err)
 {
     struct rpl_soak_tracker *t = &r->tracker;
-    fprintf(r->csv, "%.3f,%ld,%ld,%ld,%ld,%llu,%ld,%.4f,%.4f,%.1f,%llu,%ld,%llu\n", t_s, rss_kib(), heap_in_use_kib(), open_fds(), frames,
+    fprintf(r->csv.f, "%.3f,%ld,%ld,%ld,%ld,%llu,%ld,%.4f,%.4f,%.1f,%llu,%ld,%llu\n", t_s, rss_kib(), heap_in_use_kib(), open_fds(), frames,
             (unsigned long long)atomic_load(&t->reports), missed, mean_of(r->frame_ms + from, frames - from),
             mean_of(r->cpu_ms + from, frames - from), mean_of(r->triangles + from, frames - from),
             (unsigned long long)atomic_load(&t->nonfinite), rpl_soak_source_loops(r->session.source),
             (unsigned long long)atomic_load(&t->loops));
-    fflush(r->csv); /* a long run can be watched (tail -f) */
+    return hl_out_mark(&r->csv, err); /* flushed: a long run can be watched (tail -f on the temporary) */
 }
 
 static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, double rate_hz, struct rpl_soak_summary *s,
@@ -310,7 +310,8 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
             warm = 1;
         }
         if (now >= next_sample_ns) {
-            sample_row(r, (double)(now - start_ns) * 1e-9, f + 1, row_from, pacer.missed);
+            if (sample_row(r, (double)(now - start_ns) * 1e-9, f + 1, row_from, pacer.missed, err) != 0)
+                return -1;
             s->samples++;
             row_from = f + 1;
             next_sample_ns += sample_ns;
@@ -318,7 +319,8 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
     }
     int64_t end_ns = hl_clock_now_ns();
     if (row_from < f) { /* the stretch after the last full sample period */
-        sample_row(r, (double)(end_ns - start_ns) * 1e-9, f, row_from, pacer.missed);
+        if (sample_row(r, (double)(end_ns - start_ns) * 1e-9, f, row_from, pacer.missed, err) != 0)
+            return -1;
         s->samples++;
     }
     s->elapsed_s = (double)(end_ns - start_ns) * 1e-9;
@@ -379,17 +381,7 @@ int rpl_soak_run(const struct rpl_soak_options *o, struct rpl_soak_summary *s, s
         s->triangles_mean[1] = mean_of(r.triangles + s->frames - tenth, tenth);
         s->frame_ms_ratio = s->frame_ms[1].median / s->frame_ms[0].median;
         s->cpu_ms_ratio = s->cpu_ms[1].median / s->cpu_ms[0].median;
-        int bad = ferror(r.csv);
-        bad |= fclose(r.csv) != 0;
-        r.csv = NULL;
-        if (bad)
-            rc = hl_fail(err, "%s: write failed", r.csv_tmp);
-        else if (rename(r.csv_tmp, r.csv_path) != 0)
-            rc = hl_fail(err, "%s: cannot rename: %s", r.csv_path, strerror(errno));
-        if (rc == 0)
-            rc = write_summary_json(o->out_dir, s, err);
-        if (rc != 0)
-            unlink(r.csv_path); /* no soak.csv posing as complete beside a missing summary */
+        rc = commit_outputs(&r, o->out_dir, s, err);
     }
     soak_close(&r);
     return rc;

@@ -3,9 +3,10 @@
 #   disk full  replay --out under tests/enospc_shim.c (LD_PRELOAD: writes under one folder
 #              fail with ENOSPC after a byte budget), swept over budgets from nothing to just short of
 #              the whole output: exit 1, a message naming the file and "No space left on device", no
-#              temporary left, and the previous outputs intact (no new one poses as complete);
+#              temporary left, and the previous outputs intact (no new one poses as complete); the
+#              soak's soak.csv and summary.json the same way;
 #   symlinks   a link planted at every output name (replay's frames.csv, summary.json and PNGs, lodgen's
-#              .lod, calibrate's profile, a bench suite's files) points at a victim
+#              .lod, calibrate's profile, the soak's files, a bench suite's files) points at a victim
 #              outside: the victim is untouched and the outputs are regular files; a link planted where
 #              the program makes a folder (a bench suite's runs/, and runs/ID when it runs the plan
 #              itself) is refused.
@@ -78,6 +79,23 @@ else
   # Enough space: the same command succeeds under the shim (it fails only what it should).
   full $((total * 2)) "$tmp/full" -- "$bin" "${replay[@]}" --out "$tmp/full/run" >/dev/null 2>"$tmp/err" ||
     fail "replay with enough space: $(cat "$tmp/err")"
+  # The soak's soak.csv (a row marked every sample) and summary.json: full at the header, after some
+  # rows: exit 1 naming soak.csv, and neither file left posing as a complete soak.
+  if [ -f "$shared/data/traces/corbillon-mmsys18/user1_quaternion.txt" ] && [ -f "$shared/data/imu/corbillon_user1_t30.csv" ]; then
+    for budget in 0 400; do
+      rm -rf "$tmp/full/soak"
+      full "$budget" "$tmp/full" -- "$bin" bench soak --duration-s 2 --sample-s 0.25 --render-scale 0.25 \
+        --out "$tmp/full/soak" >/dev/null 2>"$tmp/err"
+      rc=$?
+      [ $rc -eq 1 ] && grep -q "soak.csv: .*No space left on device" "$tmp/err" ||
+        fail "bench soak, $budget bytes free: exit $rc: $(cat "$tmp/err")"
+      [ ! -e "$tmp/full/soak/soak.csv" ] && [ ! -e "$tmp/full/soak/summary.json" ] ||
+        fail "bench soak, $budget bytes free: an output was left: $(ls "$tmp/full/soak")"
+      [ -z "$(strays "$tmp/full")" ] || fail "bench soak, $budget bytes free: temporaries left: $(strays "$tmp/full")"
+    done
+  else
+    echo "skip: the soak's disk-full cases (no Corbillon trace or IMU stream under $shared)"
+  fi
 fi
 
 # ---- planted symlinks -------------------------------------------------------------------------------
@@ -99,6 +117,16 @@ if [ -f "$shared/data/meshes/suzanne.obj" ]; then
   victim_ok "$tmp/links/s.lod" || fail "lodgen followed the link planted at its output"
 else
   echo "skip: lodgen over a planted link ($shared/data/meshes/suzanne.obj is absent)"
+fi
+
+if [ -f "$shared/data/traces/corbillon-mmsys18/user1_quaternion.txt" ] && [ -f "$shared/data/imu/corbillon_user1_t30.csv" ]; then
+  mkdir -p "$tmp/links/soak"
+  for f in soak.csv summary.json; do plant "$tmp/links/soak/$f"; done
+  "$bin" bench soak --duration-s 1 --render-scale 0.25 --out "$tmp/links/soak" >/dev/null 2>"$tmp/err" ||
+    fail "bench soak over planted links: $(cat "$tmp/err")"
+  for f in soak.csv summary.json; do
+    victim_ok "$tmp/links/soak/$f" || fail "bench soak followed the link planted at $f"
+  done
 fi
 
 plant "$tmp/links/cost.json"

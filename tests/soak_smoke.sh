@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # hmdlod bench soak, a few seconds of it (the hour is a benchmark, docs/bench.md "Soak"): exit 0,
 # soak.csv with its header and one filled row per second, every field a finite number, counters that
-# grow, summary.json valid with finite figures, the table's verdict rows, and no .partial left.
+# grow, summary.json valid with finite figures, the table's verdict rows, and no temporary left.
 # Not a performance check. Skips (77) when the shared trace or IMU stream or python3 is absent.
 set -u
 bin=${HMDLOD_BIN:?HMDLOD_BIN must point at the hmdlod program}
@@ -20,7 +20,7 @@ for row in "RSS kB" "open fds" "frame ms median" "CPU ms per frame median" "trac
   grep -qF "| $row" "$tmp/stdout" || { echo "FAIL: the table lacks the row '$row'"; cat "$tmp/stdout"; exit 1; }
 done
 grep -qE "^- (machine|commit|renderer|command):" "$tmp/stdout" || { echo "FAIL: no bench context lines"; exit 1; }
-ls "$tmp/out" | grep -q partial && { echo "FAIL: a .partial file was left: $(ls "$tmp/out")"; exit 1; }
+ls "$tmp/out" | grep -q '\.tmp\.' && { echo "FAIL: a temporary was left: $(ls "$tmp/out")"; exit 1; }
 python3 - "$tmp/out" <<'PY'
 import csv, json, math, sys
 d = sys.argv[1]

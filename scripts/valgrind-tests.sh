@@ -37,7 +37,11 @@ valgrind = ["valgrind", "--error-exitcode=1", "--leak-check=full", "--errors-for
 # test_acuity: its hard-cases mode (the extremes, ξ above 60 c/deg, the skip region, the viewing
 # geometry; ~5 min under memcheck in full on the 2-core machine).
 # test_fusion: "small", the first shared IMU stream only (all four take >10 min there).
-smaller = {"test_acuity": ["hard-cases"], "test_fusion": ["small"]}
+# test_tracking_accuracy: "small", one native stream (Nasrabadi skipped) instead of two.
+# test_lodgen: "small", the simplifiers on beetle only and no bunny decimation (>600 s in full).
+# test_normals: "small", fandisk's chain with 2^14 Hausdorff samples a mesh (~330 s in full).
+smaller = {"test_acuity": ["hard-cases"], "test_fusion": ["small"], "test_tracking_accuracy": ["small"],
+           "test_lodgen": ["small"], "test_normals": ["small"]}
 
 tests = json.loads(subprocess.run(["ctest", "--test-dir", build, "--show-only=json-v1"], check=True,
                                   capture_output=True, text=True).stdout)["tests"]
@@ -72,12 +76,18 @@ def wrapper_for(name, path):
     os.chmod(w, 0o755)
     return w
 
+# The slowest under memcheck (seconds on the 2-core machine) start first, so that two at a time
+# does not end with one long test running alone.
+slow_first = {"test_lodgen": 430, "test_tracking_accuracy": 300, "test_domes": 300, "test_measure": 165,
+              "test_resolver": 120, "test_trace_hard_cases": 90, "test_trace": 85, "test_normals": 80,
+              "test_lod_optimize_hard_cases": 70}
 selected = []
 for t in tests:
     labels = prop(t, "LABELS", [])
     if "gl" in labels or (name_filter and not re.search(name_filter, t["name"])):
         continue
     selected.append(t)
+selected.sort(key=lambda t: -slow_first.get(t["name"], 0)) # stable: the rest in ctest's order
 
 def run(t):
     name = t["name"]

@@ -159,7 +159,7 @@ static inline hl_vec3d hl_v3_cross(hl_vec3d a, hl_vec3d b)
 {
     return hl_v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
 }
-double hl_v3_length(hl_vec3d a);              /* hypot-based: no overflow for 1e200-sized inputs */
+double hl_v3_length(hl_vec3d a);              /* ≤ 3 ulp from hypot; no overflow for 1e200-sized inputs */
 hl_vec3d hl_v3_normalize(hl_vec3d a);         /* zero vector stays zero */
 double hl_v3_angle_rad(hl_vec3d a, hl_vec3d b); /* atan2(|a×b|, a·b): exact near 0 and π; 0 if either is zero */
 

@@ -3,7 +3,18 @@
 #include <math.h>
 #include <stdlib.h>
 
-double hl_v3_length(hl_vec3d a) { return hypot(hypot(a.x, a.y), a.z); }
+double hl_v3_length(hl_vec3d a)
+{
+    /* sqrt(a·a) wherever the sum of squares is a normal double far from underflow: there every
+     * square that underflows is < 2^-120 of the sum, so the result is within 3 ulp of hypot's (2
+     * measured, tests/test_base.c). Two hypot calls cost ~10x more and were a third of the fusion's
+     * time per sample. Outside that range (|a| above ~1e150 or below ~1e-135), infinities and NaN:
+     * hypot, which neither overflows nor loses the small ones. */
+    double s = a.x * a.x + a.y * a.y + a.z * a.z;
+    if (s >= 0x1p-900 && s <= 0x1p+1000)
+        return sqrt(s);
+    return hypot(hypot(a.x, a.y), a.z);
+}
 
 hl_vec3d hl_v3_normalize(hl_vec3d a)
 {

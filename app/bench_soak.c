@@ -49,6 +49,8 @@ static void print_table(const struct rpl_soak_summary *s)
     bench_emit("| malloc in use kB (mallinfo2) | %ld | %ld | %+ld | (not judged: growth here is a leak, RSS growth "
                "without it is memory the allocator or the GL driver keeps) |\n",
                s->heap_start_kib, s->heap_end_kib, s->heap_end_kib - s->heap_start_kib);
+    bench_emit("| idle heap trims (malloc_trim in a frame's slack, every 10 s) | | %ld | longest %.2f ms | "
+               "(not judged) |\n", s->heap_trims, s->heap_trim_ms_max);
     bench_emit("| open fds | %ld | %ld | %+ld | %s |\n", s->fds_start, s->fds_end, s->fds_end - s->fds_start,
                s->fds_end <= s->fds_start ? "PASS (no growth)" : "FAIL (fds grew)");
     bench_emit("| frame ms median | %.3f | %.3f | ×%.3f | %s |\n", s->frame_ms[0].median, s->frame_ms[1].median,

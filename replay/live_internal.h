@@ -26,13 +26,24 @@ struct rpl_pacer {
      * is re-anchored one period ahead; no sleep of the jump's length) or forward (the slots that
      * passed are counted as missed, and the present interval is not a sample). */
     long clock_jumps;
+    /* Idle heap trim: at most every RPL_PACER_TRIM_EVERY_NS, in a frame's slack of at least
+     * RPL_PACER_TRIM_SLACK_NS, plan() returns the allocator's free pages to the system (glibc
+     * malloc_trim; Mesa's threads free per-frame memory that malloc would otherwise keep resident,
+     * so RSS ratchets up over an hour while the heap stays flat: docs/RESULTS.md "Soak"). A test may
+     * set trim to its own function (or NULL: none) after init. */
+    void (*trim)(void);
+    int64_t last_trim_ns, trim_max_ns;
+    long trims;
 };
 #define RPL_PACER_JUMP_NS 1000000000LL /* 1 s: no frame's work or slot lies that far from now */
+#define RPL_PACER_TRIM_EVERY_NS 10000000000LL /* 10 s */
+#define RPL_PACER_TRIM_SLACK_NS 4000000LL     /* 4 ms: a trim measured 0.06-1.5 ms on llvmpipe */
 void rpl_pacer_init(struct rpl_pacer *p, double rate_hz, int self_paced, int64_t now_ns);
 int64_t rpl_pacer_due_ns(const struct rpl_pacer *p); /* the next frame's display time */
 /* Before a frame (self-paced): when now + expected_work_ns (the last frame's work) is past the due
  * slot, moves to the first slot the frame can make, counting the skipped ones as missed, so that the
- * pose is predicted to when the frame will really be shown. */
+ * pose is predicted to when the frame will really be shown. Either mode: the idle heap trim, when due
+ * and the frame's slack allows it. */
 void rpl_pacer_plan(struct rpl_pacer *p, int64_t expected_work_ns);
 /* Before the swap: waits (self-paced) until the slot, counts missed slots when late. */
 void rpl_pacer_wait(struct rpl_pacer *p);

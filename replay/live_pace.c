@@ -6,10 +6,20 @@
 #include <errno.h>
 #include <math.h>
 #include <time.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "replay/live_internal.h"
 
 enum { RPL_SPIN_NS = 300000 }; /* the last 0.3 ms before a slot are spun, not slept */
+
+static void trim_heap(void)
+{
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
+}
 
 void rpl_pacer_init(struct rpl_pacer *p, double rate_hz, int self_paced, int64_t now_ns)
 {
@@ -21,15 +31,37 @@ void rpl_pacer_init(struct rpl_pacer *p, double rate_hz, int self_paced, int64_t
     p->self_paced = self_paced;
     p->clock_ns = hl_clock_now_ns;
     p->clock_jumps = 0;
+    p->trim = trim_heap;
+    p->last_trim_ns = now_ns;
+    p->trim_max_ns = 0;
+    p->trims = 0;
+}
+
+/* In the slack before a frame (its work ends slack_ns before its slot), at most every 10 s. */
+static void trim_if_idle(struct rpl_pacer *p, int64_t now_ns, int64_t slack_ns)
+{
+    if (now_ns < p->last_trim_ns)
+        p->last_trim_ns = now_ns; /* the clock went back: count the 10 s from here */
+    if (!p->trim || slack_ns < RPL_PACER_TRIM_SLACK_NS || now_ns - p->last_trim_ns < RPL_PACER_TRIM_EVERY_NS)
+        return;
+    p->trim();
+    int64_t end_ns = p->clock_ns();
+    if (end_ns - now_ns > p->trim_max_ns)
+        p->trim_max_ns = end_ns - now_ns;
+    p->last_trim_ns = end_ns;
+    p->trims++;
 }
 
 int64_t rpl_pacer_due_ns(const struct rpl_pacer *p) { return p->t0_ns + p->slot * p->period_ns; }
 
 void rpl_pacer_plan(struct rpl_pacer *p, int64_t expected_work_ns)
 {
-    if (!p->self_paced)
+    int64_t now = p->clock_ns(), due = rpl_pacer_due_ns(p);
+    int64_t ready = now + (expected_work_ns > 0 ? expected_work_ns : 0);
+    if (!p->self_paced) {
+        trim_if_idle(p, now, due - ready); /* due follows the display's phase (presented) */
         return; /* the display decides; rpl_pacer_presented follows it */
-    int64_t due = rpl_pacer_due_ns(p), ready = p->clock_ns() + (expected_work_ns > 0 ? expected_work_ns : 0);
+    }
     if (ready - due > RPL_PACER_JUMP_NS)
         p->clock_jumps++; /* a stall or a forward jump: the slots it passed are missed below */
     if (ready > due) {
@@ -38,7 +70,9 @@ void rpl_pacer_plan(struct rpl_pacer *p, int64_t expected_work_ns)
         long late = (long)((ready - due + p->period_ns - 1) / p->period_ns);
         p->missed += late;
         p->slot += late;
+        due = rpl_pacer_due_ns(p);
     }
+    trim_if_idle(p, now, due - ready);
 }
 
 /* On the monotonic clock, an absolute deadline (a preemption before the call does not lengthen the

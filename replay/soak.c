@@ -159,6 +159,7 @@ static void write_summary_json(FILE *f, const struct rpl_soak_summary *s)
                "  \"fds_start\": %ld,\n  \"fds_end\": %ld,\n", s->rss_start_kib, s->rss_end_kib,
             s->rss_end_kib - s->rss_start_kib, s->fds_start, s->fds_end);
     fprintf(f, "  \"heap_start_kib\": %ld,\n  \"heap_end_kib\": %ld,\n", s->heap_start_kib, s->heap_end_kib);
+    fprintf(f, "  \"heap_trims\": %ld,\n  \"heap_trim_ms_max\": %.3f,\n", s->heap_trims, s->heap_trim_ms_max);
     const char *part[2] = {"first", "last"};
     for (int i = 0; i < 2; ++i) {
         fprintf(f, "  \"%s\": {", part[i]);
@@ -329,6 +330,8 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
         s->rss_start_kib = s->rss_end_kib, s->heap_start_kib = s->heap_end_kib, s->fds_start = s->fds_end;
     s->frames = f;
     s->missed_slots = pacer.missed;
+    s->heap_trims = pacer.trims;
+    s->heap_trim_ms_max = (double)pacer.trim_max_ns * 1e-6;
     return 0;
 }
 

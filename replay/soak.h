@@ -41,6 +41,8 @@ struct rpl_soak_summary {
     long rss_start_kib, rss_end_kib; /* /proc/self/statm after the warm-up, at the end */
     long heap_start_kib, heap_end_kib; /* malloc's bytes in use (mallinfo2) then; −1 where unknown */
     long fds_start, fds_end;         /* entries of /proc/self/fd at the same two moments */
+    long heap_trims;                 /* idle heap trims the pacer made (live_internal.h) */
+    double heap_trim_ms_max;         /* the longest of them */
     /* [0]: 10 % of the frames from the warm-up's end, [1]: the last 10 % */
     struct rpl_soak_stats frame_ms[2], cpu_ms[2];
     double triangles_mean[2];

@@ -176,6 +176,53 @@ static double paced_frame(struct rpl_pacer *p, double *wait_ms)
     return rpl_pacer_presented(p, p->clock_ns());
 }
 
+/* The idle heap trim (live_pace.c) on a hand-driven clock: 35 s of 100 Hz frames that leave 8 ms of
+ * slack trim at 10, 20 and 30 s (the trim's own 1 ms counted); frames with 3 ms of slack (< 4 ms)
+ * never trim; a trim never makes a frame miss its slot. */
+static int64_t manual_ns;
+static long manual_trims;
+static int64_t manual_clock_ns(void) { return manual_ns; }
+static void manual_trim(void)
+{
+    manual_trims++;
+    manual_ns += 1000000;
+}
+
+static void test_pacer_trim(void)
+{
+    const int64_t work_ns[2] = {2000000, 7000000};
+    const long want_trims[2] = {3, 0};
+    for (int run = 0; run < 2; ++run) {
+        struct rpl_pacer p;
+        manual_ns = 0, manual_trims = 0;
+        rpl_pacer_init(&p, 100.0, 1, 0);
+        p.clock_ns = manual_clock_ns;
+        p.trim = manual_trim;
+        while (manual_ns < 35000000000LL) {
+            rpl_pacer_plan(&p, work_ns[run]);
+            manual_ns += work_ns[run];
+            CHECK(manual_ns <= rpl_pacer_due_ns(&p));
+            manual_ns = rpl_pacer_due_ns(&p); /* the sleep until the slot */
+            rpl_pacer_presented(&p, manual_ns);
+        }
+        CHECK(p.trims == want_trims[run] && manual_trims == want_trims[run]);
+        CHECK(p.missed == 0);
+        CHECK(p.trim_max_ns == (want_trims[run] ? 1000000 : 0));
+    }
+    /* After the clock went back an hour, the next trim is 10 s of the new clock later, not an hour. */
+    struct rpl_pacer p;
+    manual_ns = 3600000000000LL, manual_trims = 0;
+    rpl_pacer_init(&p, 100.0, 0, manual_ns);
+    p.clock_ns = manual_clock_ns;
+    p.trim = manual_trim;
+    manual_ns = 0;
+    rpl_pacer_plan(&p, 0);
+    manual_ns = 10000000000LL;
+    p.t0_ns = manual_ns + 10000000 - p.slot * p.period_ns; /* the display's phase, as presented() keeps it */
+    rpl_pacer_plan(&p, 0);
+    CHECK(manual_trims == 1);
+}
+
 /* The pacer's clock jumping ±1 h (docs/HARD_CASES.md "Faults"): no hang (a backward jump must not
  * become an hour's sleep), no interval of ±1 h in the statistics, slots and display times finite
  * and increasing again from the next frame, the jump counted. */
@@ -289,6 +336,7 @@ int main(void)
     test_series();
     test_series_long();
     test_pacer();
+    test_pacer_trim();
     test_desk_source();
     return tu_finish("live");
 }

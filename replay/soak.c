@@ -109,7 +109,11 @@ struct soak_run {
     struct rpl_soak_tracker tracker;
     struct trk_imu_csv_row *rows;
     double *frame_ms, *cpu_ms, *triangles, *scratch;
+    double *display_s;          /* each frame's display time, s after the looped trace's t0 */
     long capacity;
+    double t0_s;                /* the looped trace's start on the monotonic clock */
+    double *sample_t_s, *sample_rss_kib; /* each soak.csv row's time (s after t0_s) and RSS */
+    long sample_capacity, samples;
     struct hl_out csv; /* soak.csv, a row marked every sample (base.h: hl_out) */
     int csv_open;
 };
@@ -150,6 +154,12 @@ static void write_summary_json(FILE *f, const struct rpl_soak_summary *s)
             s->renderer, s->selector, s->display, s->scene);
     fprintf(f, "  \"tracker\": \"%s\",\n  \"feed\": \"%s\",\n", s->tracker, s->feed);
     fprintf(f, "  \"warm_frames\": %ld,\n  \"first_stretch_frame\": %ld,\n", s->warm_frames, s->first_frame);
+    fprintf(f, "  \"period_matched\": %s,\n  \"content_period_s\": %.3f,\n", s->period_matched ? "true" : "false",
+            s->period_s);
+    fprintf(f, "  \"first_stretch_s\": [%.3f, %.3f],\n  \"last_stretch_s\": [%.3f, %.3f],\n", s->stretch_s[0][0],
+            s->stretch_s[0][1], s->stretch_s[1][0], s->stretch_s[1][1]);
+    fprintf(f, "  \"rss_median_first_kib\": %ld,\n  \"rss_median_last_kib\": %ld,\n", s->rss_median_kib[0],
+            s->rss_median_kib[1]);
     fprintf(f, "  \"frames\": %ld,\n  \"missed_slots\": %ld,\n  \"samples\": %ld,\n  \"trace_loops\": %ld,\n"
                "  \"imu_loops\": %ld,\n", s->frames, s->missed_slots, s->samples, s->trace_loops, s->imu_loops);
     fprintf(f, "  \"reports\": %llu,\n  \"reports_rejected\": %llu,\n  \"fusion_nonfinite\": %llu,\n"
@@ -195,6 +205,69 @@ static int commit_outputs(struct soak_run *r, const char *dir, const struct rpl_
     return hl_out_commit(&json, err);
 }
 
+/* Index of the first frame shown at or after t_s (display times increase), from lo on. */
+static long frame_at(const struct soak_run *r, long lo, long hi, double t_s)
+{
+    while (lo < hi) {
+        long mid = lo + (hi - lo) / 2;
+        if (r->display_s[mid] < t_s)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* The two stretches compared for drift. Where the run holds them, whole periods of the mirrored
+ * trace (soak_internal.h): the first that starts after the warm-up and the last that ends before
+ * the run does, so both show the same poses and the same content, and a difference between them is
+ * the program's. Otherwise (a run shorter than the warm-up and three periods) the 10 % of the
+ * frames after the warm-up and the last 10 %, where content differs too. */
+static void choose_stretches(const struct soak_run *r, double period_s, struct rpl_soak_summary *s, long from[2],
+                             long count[2])
+{
+    long n = s->frames;
+    s->period_s = period_s;
+    s->period_matched = 0;
+    if (n > 1 && s->warm_frames < n) {
+        double a = period_s * ceil(r->display_s[s->warm_frames] / period_s);
+        double b1 = period_s * floor(r->display_s[n - 1] / period_s), b0 = b1 - period_s;
+        if (b0 >= a + period_s) {
+            s->period_matched = 1;
+            double edge[2][2] = {{a, a + period_s}, {b0, b1}};
+            for (int j = 0; j < 2; ++j) {
+                from[j] = frame_at(r, 0, n, edge[j][0]);
+                count[j] = frame_at(r, from[j], n, edge[j][1]) - from[j];
+                s->stretch_s[j][0] = edge[j][0], s->stretch_s[j][1] = edge[j][1];
+            }
+            return;
+        }
+    }
+    long tenth = n / 10 > 0 ? n / 10 : (n > 0 ? 1 : 0);
+    /* the first stretch starts after the warm-up (the driver's and the cost correction's settling
+     * is not drift), unless that leaves no room before the last stretch */
+    from[0] = s->warm_frames + tenth <= n - tenth ? s->warm_frames : 0;
+    from[1] = n - tenth;
+    count[0] = count[1] = tenth;
+    for (int j = 0; j < 2; ++j) {
+        s->stretch_s[j][0] = tenth > 0 ? r->display_s[from[j]] : 0.0;
+        s->stretch_s[j][1] = tenth > 0 ? r->display_s[from[j] + tenth - 1] : 0.0;
+    }
+}
+
+/* Median RSS of the soak.csv rows taken within [t0_s, t1_s] (s after the trace's t0); −1 if none. */
+static long rss_median_kib(struct soak_run *r, double t0_s, double t1_s)
+{
+    long m = 0;
+    for (long i = 0; i < r->samples; ++i)
+        if (r->sample_t_s[i] >= t0_s && r->sample_t_s[i] <= t1_s)
+            r->scratch[m++] = r->sample_rss_kib[i];
+    if (m == 0)
+        return -1;
+    qsort(r->scratch, (size_t)m, sizeof *r->scratch, compare_double);
+    return (long)r->scratch[(m - 1) / 2];
+}
+
 int rpl_soak_check_options(const struct rpl_soak_options *o, struct hl_error *err)
 {
     if (!o->out_dir || !*o->out_dir)
@@ -216,7 +289,8 @@ static int soak_open(struct soak_run *r, const struct rpl_soak_options *o, doubl
     if (trk_imu_csv_read(o->imu_path, &r->rows, &n_rows, err) != 0 || rpl_trace_load(o->trace_path, &trace, err) != 0)
         return -1;
     struct rpl_session_made made = {NULL, NULL};
-    if (rpl_soak_source_create(&trace, hl_clock_now_s(), &made.source, err) != 0) {
+    r->t0_s = hl_clock_now_s();
+    if (rpl_soak_source_create(&trace, r->t0_s, &made.source, err) != 0) {
         rpl_trace_free(&trace);
         return -1;
     }
@@ -242,11 +316,18 @@ static int soak_open(struct soak_run *r, const struct rpl_soak_options *o, doubl
     r->capacity = (long)ceil(o->duration_s * *rate_hz) + (long)ceil(*rate_hz) + 1;
     size_t bytes = (size_t)r->capacity * sizeof(double);
     r->frame_ms = malloc(bytes), r->cpu_ms = malloc(bytes), r->triangles = malloc(bytes), r->scratch = malloc(bytes);
-    if (!r->frame_ms || !r->cpu_ms || !r->triangles || !r->scratch)
+    r->display_s = malloc(bytes);
+    /* a row per sample period and the one after the last full period */
+    r->sample_capacity = (long)ceil(o->duration_s / o->sample_s) + 2;
+    size_t sample_bytes = (size_t)r->sample_capacity * sizeof(double);
+    r->sample_t_s = malloc(sample_bytes), r->sample_rss_kib = malloc(sample_bytes);
+    if (!r->frame_ms || !r->cpu_ms || !r->triangles || !r->scratch || !r->display_s || !r->sample_t_s ||
+        !r->sample_rss_kib)
         return hl_fail(err, "soak: out of memory for %ld frames", r->capacity);
     /* touched now, so their pages are resident before the start reading */
     memset(r->frame_ms, 0, bytes), memset(r->cpu_ms, 0, bytes), memset(r->triangles, 0, bytes);
-    memset(r->scratch, 0, bytes);
+    memset(r->scratch, 0, bytes), memset(r->display_s, 0, bytes);
+    memset(r->sample_t_s, 0, sample_bytes), memset(r->sample_rss_kib, 0, sample_bytes);
     return rpl_soak_tracker_start(&r->tracker, r->rows, n_rows, o->duration_s, err);
 }
 
@@ -256,7 +337,8 @@ static void soak_close(struct soak_run *r)
     if (r->session_open)
         rpl_session_close(&r->session);
     trk_imu_csv_free(r->rows);
-    free(r->frame_ms), free(r->cpu_ms), free(r->triangles), free(r->scratch);
+    free(r->frame_ms), free(r->cpu_ms), free(r->triangles), free(r->scratch), free(r->display_s);
+    free(r->sample_t_s), free(r->sample_rss_kib);
     if (r->csv_open)
         hl_out_abort(&r->csv);
 }
@@ -265,7 +347,13 @@ static void soak_close(struct soak_run *r)
 static int sample_row(struct soak_run *r, double t_s, long frames, long from, long missed, struct hl_error *err)
 {
     struct rpl_soak_tracker *t = &r->tracker;
-    fprintf(r->csv.f, "%.3f,%ld,%ld,%ld,%ld,%llu,%ld,%.4f,%.4f,%.1f,%llu,%ld,%llu\n", t_s, rss_kib(), heap_in_use_kib(), open_fds(), frames,
+    long rss = rss_kib();
+    if (r->samples < r->sample_capacity) {
+        r->sample_t_s[r->samples] = hl_clock_now_s() - r->t0_s;
+        r->sample_rss_kib[r->samples] = (double)rss;
+        r->samples++;
+    }
+    fprintf(r->csv.f, "%.3f,%ld,%ld,%ld,%ld,%llu,%ld,%.4f,%.4f,%.1f,%llu,%ld,%llu\n", t_s, rss, heap_in_use_kib(), open_fds(), frames,
             (unsigned long long)atomic_load(&t->reports), missed, mean_of(r->frame_ms + from, frames - from),
             mean_of(r->cpu_ms + from, frames - from), mean_of(r->triangles + from, frames - from),
             (unsigned long long)atomic_load(&t->nonfinite), rpl_soak_source_loops(r->session.source),
@@ -301,6 +389,7 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
         r->cpu_ms[f] = (process_cpu_s() - cpu0) * 1e3;
         r->frame_ms[f] = (double)(t1 - t0) * 1e-6;
         r->triangles[f] = (double)rec.triangles_per_eye;
+        r->display_s[f] = display_s - r->t0_s;
         last_work_ns = t1 - t0;
         rpl_pacer_wait(&pacer);
         now = hl_clock_now_ns();
@@ -369,19 +458,18 @@ int rpl_soak_run(const struct rpl_soak_options *o, struct rpl_soak_summary *s, s
         s->imu_loops = (long)atomic_load(&r.tracker.loops);
         rpl_soak_tracker_rates(&r.tracker, s->reports_per_s);
         s->trace_loops = rpl_soak_source_loops(r.session.source);
-        long tenth = s->frames / 10 > 0 ? s->frames / 10 : (s->frames > 0 ? 1 : 0);
-        /* the first stretch starts after the warm-up (the driver's and the cost correction's settling
-         * is not drift), unless that leaves no room before the last stretch */
-        long first = s->warm_frames + tenth <= s->frames - tenth ? s->warm_frames : 0;
-        s->first_frame = first;
+        long from[2], count[2];
+        choose_stretches(&r, rpl_soak_source_period_s(r.session.source), s, from, count);
+        s->first_frame = from[0];
         const double *series[2] = {r.frame_ms, r.cpu_ms};
         struct rpl_soak_stats *out[2] = {s->frame_ms, s->cpu_ms};
-        for (int k = 0; k < 2; ++k) {
-            out[k][0] = stretch_stats(series[k] + first, tenth, r.scratch);
-            out[k][1] = stretch_stats(series[k] + s->frames - tenth, tenth, r.scratch);
+        for (int k = 0; k < 2; ++k)
+            for (int j = 0; j < 2; ++j)
+                out[k][j] = stretch_stats(series[k] + from[j], count[j], r.scratch);
+        for (int j = 0; j < 2; ++j) {
+            s->triangles_mean[j] = mean_of(r.triangles + from[j], count[j]);
+            s->rss_median_kib[j] = rss_median_kib(&r, s->stretch_s[j][0], s->stretch_s[j][1]);
         }
-        s->triangles_mean[0] = mean_of(r.triangles + first, tenth);
-        s->triangles_mean[1] = mean_of(r.triangles + s->frames - tenth, tenth);
         s->frame_ms_ratio = s->frame_ms[1].median / s->frame_ms[0].median;
         s->cpu_ms_ratio = s->cpu_ms[1].median / s->cpu_ms[0].median;
         rc = commit_outputs(&r, o->out_dir, s, err);

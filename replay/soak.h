@@ -33,7 +33,13 @@ struct rpl_soak_summary {
     double duration_s, warmup_s, rate_hz, elapsed_s;
     long frames, missed_slots, samples;
     long warm_frames;                /* frames done when the warm-up ended */
-    long first_frame;                /* where the first 10 % starts: warm_frames, or 0 in a run too short */
+    long first_frame;                /* where the first stretch starts */
+    /* The stretches compared (soak.c choose_stretches): 1 when they are whole periods of the mirrored
+     * trace (same content), 0 when they are the first 10 % of the frames after the warm-up and the
+     * last 10 % (a run too short for that). Their display times, s after the trace's start. */
+    int period_matched;
+    double period_s, stretch_s[2][2];
+    long rss_median_kib[2];          /* median RSS of the soak.csv rows in each stretch; −1 if none */
     long trace_loops, imu_loops;     /* times each input wrapped */
     uint64_t reports, rejected;      /* tracker reports fed; refused by the parser */
     uint64_t fusion_nonfinite;       /* fused poses with a non-finite component (0 when healthy) */
@@ -43,7 +49,7 @@ struct rpl_soak_summary {
     long fds_start, fds_end;         /* entries of /proc/self/fd at the same two moments */
     long heap_trims;                 /* idle heap trims the pacer made (live_internal.h) */
     double heap_trim_ms_max;         /* the longest of them */
-    /* [0]: 10 % of the frames from the warm-up's end, [1]: the last 10 % */
+    /* [0]: the first stretch, [1]: the last */
     struct rpl_soak_stats frame_ms[2], cpu_ms[2];
     double triangles_mean[2];
     double reports_per_s[2];          /* over the first and the last 10 % of the wall time */

@@ -9,12 +9,15 @@
 #include "replay/replay.h"
 #include "tracking/tracking.h"
 
-/* A pose source over a trace looped end to end on the wall clock (soak_source.c): time t maps to
- * the trace at (t − t0_s) mod span, and loop k is turned by D^k, D = q_end ⊗ q_start*, so each loop
- * starts where the last ended — no jump in orientation, no frame dropped at the wrap. Takes the
- * trace's arrays (zeroes *trace). Positions are dropped (a looped walk would jump). */
+/* A pose source over a trace looped on the wall clock (soak_source.c), mirrored: time t lies in loop
+ * k = floor((t − t0_s) / span), played forward when k is even and backward (angular velocities
+ * negated) when odd, so each loop starts where the last ended — no jump in orientation, no frame
+ * dropped at the wrap — and the poses repeat exactly with a period of two spans, so that two whole
+ * periods of a run show the same content and their frame times can be compared for drift. Takes
+ * the trace's arrays (zeroes *trace). Positions are dropped (a looped walk would jump). */
 int rpl_soak_source_create(struct rpl_trace *trace, double t0_s, struct trk_pose_source **out, struct hl_error *err);
-long rpl_soak_source_loops(const struct trk_pose_source *src); /* wraps passed so far */
+long rpl_soak_source_loops(const struct trk_pose_source *src);     /* wraps passed so far */
+double rpl_soak_source_period_s(const struct trk_pose_source *src); /* two spans: the content's period */
 
 /* The fake tracker (soak_tracker.c): its own thread feeds one DK2 report per millisecond of the
  * wall clock (absolute sleeps; late ones are fed at once, as a kernel queue would hand them over),

@@ -1,5 +1,6 @@
 /* The soak's looped trace (replay/soak_internal.h): the trace source's sampling (rpl_trace_sample)
- * at a time that wraps, each loop turned so it continues the previous one. */
+ * at a time that runs forward through the trace and back again, so that the pose never jumps and
+ * the content repeats exactly every two spans. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,8 +11,6 @@ struct soak_source {
     struct trk_pose_source base; /* first, so a base pointer is a soak_source pointer */
     struct rpl_trace trace;
     double t0_s, span_s;
-    hl_vec3d step_axis; /* D = q_end ⊗ q_start* as axis and angle: D^k turns by k·angle */
-    double step_rad;
     long loops;
 };
 
@@ -35,14 +34,14 @@ static int ss_pose_at(struct trk_pose_source *src, double time_s, struct trk_pos
     double in_s = rel_s - k * ss->span_s;
     if (in_s > ss->span_s)
         in_s = ss->span_s;
-    rpl_trace_sample(&ss->trace, ss->trace.time_s[0] + in_s, out);
+    int backward = fmod(k, 2.0) != 0.0;
+    rpl_trace_sample(&ss->trace, ss->trace.time_s[0] + (backward ? ss->span_s - in_s : in_s), out);
     if ((long)k > ss->loops)
         ss->loops = (long)k;
-    /* fmod keeps the angle small so that sin/cos stay exact after thousands of loops */
-    hl_quatd r = hl_q_from_axis_angle(ss->step_axis, fmod(k * ss->step_rad, 2.0 * HL_PI));
-    out->orientation = hl_q_normalize(hl_q_mul(r, out->orientation));
-    out->angular_velocity_radps = hl_q_rotate(r, out->angular_velocity_radps);
-    out->gaze_angular_velocity_radps = hl_q_rotate(r, out->gaze_angular_velocity_radps);
+    if (backward) { /* the trace played in reverse: the head turns the other way at the same speed */
+        out->angular_velocity_radps = hl_v3_scale(out->angular_velocity_radps, -1.0);
+        out->gaze_angular_velocity_radps = hl_v3_scale(out->gaze_angular_velocity_radps, -1.0);
+    }
     out->position_m = hl_v3(0, 0, 0);
     out->linear_velocity_mps = hl_v3(0, 0, 0);
     out->has_position = 0;
@@ -67,6 +66,11 @@ static void ss_destroy(struct trk_pose_source *src)
 
 long rpl_soak_source_loops(const struct trk_pose_source *src) { return ((const struct soak_source *)src)->loops; }
 
+double rpl_soak_source_period_s(const struct trk_pose_source *src)
+{
+    return 2.0 * ((const struct soak_source *)src)->span_s;
+}
+
 int rpl_soak_source_create(struct rpl_trace *trace, double t0_s, struct trk_pose_source **out, struct hl_error *err)
 {
     *out = NULL;
@@ -78,17 +82,9 @@ int rpl_soak_source_create(struct rpl_trace *trace, double t0_s, struct trk_pose
     ss->trace = *trace;
     memset(trace, 0, sizeof *trace);
     ss->t0_s = t0_s;
-    /* Loop k covers [k·span, (k+1)·span) and is turned by D^k: its first pose is loop k−1's last. */
+    /* Loop k covers [k·span, (k+1)·span): forward when k is even, backward when odd. */
     size_t n = ss->trace.count;
-    double span = ss->trace.time_s[n - 1] - ss->trace.time_s[0];
-    ss->span_s = span;
-    hl_quatd q0 = ss->trace.orientation[0], q1 = ss->trace.orientation[n - 1];
-    hl_quatd d = hl_q_normalize(hl_q_mul(q1, hl_q_conj(q0)));
-    if (d.w < 0) /* shortest arc */
-        d = hl_q(-d.w, -d.x, -d.y, -d.z);
-    double s = sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
-    ss->step_rad = 2.0 * atan2(s, d.w); /* atan2, not acos: exact near identity */
-    ss->step_axis = s > 1e-15 ? hl_v3(d.x / s, d.y / s, d.z / s) : hl_v3(0, 1, 0);
+    ss->span_s = ss->trace.time_s[n - 1] - ss->trace.time_s[0];
     ss->base.name = "looped trace";
     ss->base.start = ss_start;
     ss->base.stop = ss_stop;

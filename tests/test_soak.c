@@ -1,6 +1,6 @@
-/* The soak's pieces (replay/soak_internal.h) without a renderer: the looped trace source (the wrap
- * is seamless: the pose just before and just after each wrap agree, and loop k is loop 0 turned by
- * D^k), the fake tracker thread (reports at about 1 kHz, fusion finite, the IMU stream wraps), and the
+/* The soak's pieces (replay/soak_internal.h) without a renderer: the mirrored looped trace source
+ * (the wrap is seamless: the pose just before and just after each wrap agree; odd loops play the
+ * trace backward with the velocity negated; the poses repeat every two spans), the fake tracker thread (reports at about 1 kHz, fusion finite, the IMU stream wraps), and the
  * option ranges. The whole run is tests/soak_smoke.sh. */
 #include <math.h>
 #include <stdio.h>
@@ -61,19 +61,28 @@ static void test_loop_source(void)
         CHECK(angle_between(a.orientation, b.orientation) < 0.002 * 40.0 * HL_RAD_PER_DEG);
         CHECK(trk_source_pose_at(src, w, &c, &err) == 0);
         CHECK(c.time_s == w);
-        CHECK(isfinite(c.angular_velocity_radps.y) && c.angular_velocity_radps.y > 0.0);
+        /* an odd loop starts at the trace's end, going back */
+        CHECK(isfinite(c.angular_velocity_radps.y) && (k % 2 ? -1.0 : 1.0) * c.angular_velocity_radps.y > 0.0);
     }
     /* the first wrap lands on the trace's last orientation */
     CHECK(trk_source_pose_at(src, t0 + span, &c, &err) == 0);
     CHECK_NEAR(angle_between(c.orientation, q_end), 0.0, 1e-6);
-    /* loop 2 is loop 0 turned twice by D = q_end q_start* (the same instant within the loop) */
-    hl_quatd d = hl_q_mul(q_end, hl_q_conj(q_start));
+    /* loop 2 is loop 0 (the content's period is two spans); loop 1 is loop 0 backward */
+    CHECK(rpl_soak_source_period_s(src) == 2.0 * span);
     CHECK(trk_source_pose_at(src, t0 + 0.7, &a, &err) == 0);
     CHECK(trk_source_pose_at(src, t0 + 2.0 * span + 0.7, &b, &err) == 0);
-    CHECK_NEAR(angle_between(b.orientation, hl_q_mul(d, hl_q_mul(d, a.orientation))), 0.0, 1e-6);
+    CHECK_NEAR(angle_between(b.orientation, a.orientation), 0.0, 1e-9);
+    CHECK_NEAR(b.angular_velocity_radps.y, a.angular_velocity_radps.y, 1e-9);
+    CHECK(trk_source_pose_at(src, t0 + span - 0.7, &a, &err) == 0);
+    CHECK(trk_source_pose_at(src, t0 + span + 0.7, &b, &err) == 0);
+    CHECK_NEAR(angle_between(b.orientation, a.orientation), 0.0, 1e-9);
+    CHECK(a.angular_velocity_radps.y > 0.0);
+    CHECK_NEAR(b.angular_velocity_radps.y, -a.angular_velocity_radps.y, 1e-9);
     CHECK(rpl_soak_source_loops(src) == 5);
-    /* after a day of loops the pose is still unit and finite */
+    /* after a day of loops (28800, even) the pose is loop 0's at the same instant, unit and finite */
     CHECK(trk_source_pose_at(src, t0 + 86400.0 + 0.25, &a, &err) == 0);
+    CHECK(trk_source_pose_at(src, t0 + 0.25, &b, &err) == 0);
+    CHECK_NEAR(angle_between(a.orientation, b.orientation), 0.0, 1e-6);
     CHECK_NEAR(sqrt(a.orientation.w * a.orientation.w + a.orientation.x * a.orientation.x +
                     a.orientation.y * a.orientation.y + a.orientation.z * a.orientation.z), 1.0, 1e-12);
     CHECK(trk_source_pose_at(src, NAN, &a, &err) == -1);

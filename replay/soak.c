@@ -81,6 +81,13 @@ static int compare_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* Sorts v[0..n) (n > 0) in place; its median (the lower of the middle two). */
+static double sort_median(double *v, long n)
+{
+    qsort(v, (size_t)n, sizeof *v, compare_double);
+    return v[(n - 1) / 2];
+}
+
 /* Median and p99 (nearest rank) of v[0..n), sorted into scratch. */
 static struct rpl_soak_stats stretch_stats(const double *v, long n, double *scratch)
 {
@@ -88,8 +95,7 @@ static struct rpl_soak_stats stretch_stats(const double *v, long n, double *scra
     if (n <= 0)
         return st;
     memcpy(scratch, v, (size_t)n * sizeof *v);
-    qsort(scratch, (size_t)n, sizeof *scratch, compare_double);
-    st.median = scratch[(n - 1) / 2];
+    st.median = sort_median(scratch, n);
     long r = (long)ceil(0.99 * (double)n);
     st.p99 = scratch[(r < 1 ? 1 : r) - 1];
     return st;
@@ -262,10 +268,7 @@ static long rss_median_kib(struct soak_run *r, double t0_s, double t1_s)
     for (long i = 0; i < r->samples; ++i)
         if (r->sample_t_s[i] >= t0_s && r->sample_t_s[i] <= t1_s)
             r->scratch[m++] = r->sample_rss_kib[i];
-    if (m == 0)
-        return -1;
-    qsort(r->scratch, (size_t)m, sizeof *r->scratch, compare_double);
-    return (long)r->scratch[(m - 1) / 2];
+    return m > 0 ? (long)sort_median(r->scratch, m) : -1;
 }
 
 int rpl_soak_check_options(const struct rpl_soak_options *o, struct hl_error *err)

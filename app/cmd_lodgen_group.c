@@ -9,7 +9,7 @@
 
 static const char group_usage[] =
     "usage: hmdlod lodgen --group SCENE GROUP [--simplifier openmesh|meshopt] [--triangles N]\n"
-    "                     [--objects N] [--seed S] --out FILE.lod\n"
+    "                     [--objects N] [--seed S] [--samples N] --out FILE.lod\n"
     "  Builds GROUP's impostor: the finest levels of every instance below the group merged in the\n"
     "  group's frame (origin at its centre at rest), welded and decimated to about N triangles, then\n"
     "  checked against Mason & Blake's requirement (it must cost less than the children at their\n"
@@ -20,6 +20,7 @@ static const char group_usage[] =
     "                 a few dozen triangles, too many for many-part groups such as domes) or openmesh\n"
     "  --triangles N  target triangle count (default: half the children's coarsest total)\n"
     "  --objects N    built-in scenes: object count (domes: number of domes); --seed S: placement seed\n"
+    "  --samples N    Hausdorff surface samples per mesh (default 2^20; fewer: faster, wider bound)\n"
     "  --out FILE     the .lod to write (atomically)\n";
 
 static int is_scene_file(const char *scene)
@@ -45,7 +46,7 @@ int cmd_lodgen_group(int argc, char **argv)
     }
     const char *scene_name = NULL, *group_name = NULL, *out = NULL;
     enum scn_simplifier simplifier = SCN_SIMPLIFIER_MESHOPT;
-    long triangles = 0, objects = 0, seed = 1;
+    long triangles = 0, objects = 0, seed = 1, samples = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         if (!strcmp(a, "--group")) {
@@ -71,6 +72,9 @@ int cmd_lodgen_group(int argc, char **argv)
                 return 1;
         } else if (!strcmp(a, "--objects")) {
             if (app_parse_long(a, i + 1 < argc ? argv[++i] : NULL, 1, 100000, &objects) != 0)
+                return 1;
+        } else if (!strcmp(a, "--samples")) {
+            if (app_parse_long(a, i + 1 < argc ? argv[++i] : NULL, 1000, 1L << 30, &samples) != 0)
                 return 1;
         } else if (!strcmp(a, "--seed")) {
             if (app_parse_long(a, i + 1 < argc ? argv[++i] : NULL, 1, 2147483647L, &seed) != 0)
@@ -123,11 +127,11 @@ int cmd_lodgen_group(int argc, char **argv)
         struct hl_error ignored;
         /* An unreachable target is refused by the cost check (before any Hausdorff sampling), and
          * the report's children counts come back either way. */
-        if (scn_impostor_build_report(&scene, g, simplifier, UINT32_MAX, &none, &probe, &ignored) == 0)
+        if (scn_impostor_build_report(&scene, g, simplifier, UINT32_MAX, 0, &none, &probe, &ignored) == 0)
             scn_lodset_free(&none);
         target = (uint32_t)(probe.children_triangles_coarsest / 2 > 0 ? probe.children_triangles_coarsest / 2 : 1);
     }
-    rc = scn_impostor_build_report(&scene, g, simplifier, target, &set, &r, &err);
+    rc = scn_impostor_build_report(&scene, g, simplifier, target, (uint64_t)samples, &set, &r, &err);
     printf("group %s: %u instances; children finest %llu triangles / %llu vertices, coarsest %llu / %llu\n",
            scene.groups[g].name, r.instances, (unsigned long long)r.children_triangles_finest,
            (unsigned long long)r.children_vertices_finest, (unsigned long long)r.children_triangles_coarsest,

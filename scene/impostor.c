@@ -7,8 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { IMPOSTOR_HAUSDORFF_SAMPLES = 1u << 20 }; /* per mesh: measure's default */
-
 uint32_t scn_scene_find_group(const struct scn_scene *s, const char *name)
 {
     for (uint32_t g = 0; s && name && g < s->group_count; ++g)
@@ -162,7 +160,7 @@ static void set_bounds(struct scn_lodset *set)
 }
 
 int scn_impostor_build_report(const struct scn_scene *s, uint32_t group, enum scn_simplifier simplifier,
-                              uint32_t target_triangles, struct scn_lodset *out,
+                              uint32_t target_triangles, uint64_t hausdorff_samples, struct scn_lodset *out,
                               struct scn_impostor_report *report, struct hl_error *err)
 {
     struct scn_impostor_report local;
@@ -220,7 +218,7 @@ int scn_impostor_build_report(const struct scn_scene *s, uint32_t group, enum sc
     }
     /* ... and worth less: it must lose something (measured, so the cheap cost check comes first)
      * and score a lower accuracy. */
-    if (scn_mesh_hausdorff(&merged, &decimated, IMPOSTOR_HAUSDORFF_SAMPLES, 1, &r->error, err) != 0)
+    if (scn_mesh_hausdorff(&merged, &decimated, hausdorff_samples, 1, &r->error, err) != 0)
         goto done;
     r->worse = r->error.max_m > 0.0 && r->accuracy_impostor < r->accuracy_children_coarsest;
     if (!r->worse) {
@@ -251,5 +249,5 @@ done:
 int scn_impostor_build(const struct scn_scene *s, uint32_t group, enum scn_simplifier simplifier,
                        uint32_t target_triangles, struct scn_lodset *out, struct hl_error *err)
 {
-    return scn_impostor_build_report(s, group, simplifier, target_triangles, out, NULL, err);
+    return scn_impostor_build_report(s, group, simplifier, target_triangles, 0, out, NULL, err);
 }

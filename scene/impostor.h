@@ -30,12 +30,13 @@ struct scn_impostor_report {
  * to the merged children). Refuses (−1, nothing in *out) a group with nothing below it, a target
  * of 0, and a result that breaks the requirement: not fewer triangles AND vertices than the
  * children at their coarsest, or not worse (Hausdorff error 0, or accuracy not lower). report may
- * be NULL; when given it is filled as far as the build got, refused or not. *out is the caller's
- * to scn_lodset_free. */
+ * be NULL; when given it is filled as far as the build got, refused or not. hausdorff_samples: per
+ * mesh for the error (0 = scn_mesh_hausdorff's default, 2^20; fewer widen report->error.bound_m).
+ * *out is the caller's to scn_lodset_free. */
 int scn_impostor_build_report(const struct scn_scene *s, uint32_t group, enum scn_simplifier simplifier,
-                              uint32_t target_triangles, struct scn_lodset *out,
+                              uint32_t target_triangles, uint64_t hausdorff_samples, struct scn_lodset *out,
                               struct scn_impostor_report *report, struct hl_error *err);
-/* The same without the report (the agreed entry point). */
+/* The same without the report, default sampling (the agreed entry point). */
 int scn_impostor_build(const struct scn_scene *s, uint32_t group, enum scn_simplifier simplifier,
                        uint32_t target_triangles, struct scn_lodset *out, struct hl_error *err);
 /* Index of the group named `name`, or SCN_NONE. */

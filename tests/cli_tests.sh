@@ -304,6 +304,11 @@ expect_error "lodgen --group too many triangles" "do not cost less than its chil
 [ ! -e "$tmp/dome-big.lod" ] || fail "a refused impostor left its .lod"
 expect_error "lodgen --group unknown group" "no group named 'nosuch'" -- \
   "$bin" lodgen --group domes nosuch --out "$tmp/dome-x.lod"
+expect_ok "lodgen --group fewer samples" "Mason & Blake requirement: costs less yes, worth less yes" -- \
+  "$bin" lodgen --group domes dome0 --objects 2 --samples 20000 --out "$tmp/dome0s.lod"
+expect_error "lodgen --group --samples too few" "--samples: 10 is outside \\[1000, " -- \
+  "$bin" lodgen --group domes dome0 --samples 10 --out "$tmp/dome-s.lod"
+[ ! -e "$tmp/dome-s.lod" ] || fail "lodgen --group with a bad --samples left a .lod"
 
 # Bad input is found before the output folder is made: no empty folder is left behind.
 expect_error "replay missing trace" "nonexistent.csv: cannot open" -- \

@@ -59,6 +59,15 @@ static void print_table(const struct rpl_soak_summary *s)
                    median_growth <= SOAK_GROWTH_LIMIT_KIB ? "PASS (growth ≤ 1 MB)" : "FAIL (growth > 1 MB)");
     else
         bench_emit("| RSS kB, median of the rows in each stretch | | | | (a stretch holds no row: see the next) |\n");
+    static const char *const map_row[3] = {"[heap] mapping (main arena)", "anonymous mappings",
+                                            "file-backed mappings"};
+    for (int k = 0; k < 3; ++k)
+        if (s->map_median_kib[k][0] >= 0 && s->map_median_kib[k][1] >= 0)
+            bench_emit("| resident kB in %s, median of the rows | %ld | %ld | %+ld | (not judged: where RSS moves) |\n",
+                       map_row[k], s->map_median_kib[k][0], s->map_median_kib[k][1],
+                       s->map_median_kib[k][1] - s->map_median_kib[k][0]);
+        else
+            bench_emit("| resident kB in %s, median of the rows | | | | (a stretch holds no row) |\n", map_row[k]);
     bench_emit("| RSS kB (after warm-up / at end) | %ld | %ld | %+ld | %s |\n", s->rss_start_kib, s->rss_end_kib, growth,
                growth <= SOAK_GROWTH_LIMIT_KIB ? "within 1 MB (one reading each: content moves it by MBs)"
                                                : "beyond 1 MB (one reading each: content moves it by MBs)");

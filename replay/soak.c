@@ -7,9 +7,7 @@
  * allocated and touched before the clock starts, so resident memory measures the session, not the
  * bookkeeping. */
 #define _POSIX_C_SOURCE 200809L
-#include <dirent.h>
 #include <errno.h>
-#include <malloc.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,45 +25,6 @@ void rpl_soak_options_defaults(struct rpl_soak_options *o)
     o->duration_s = 3600.0;
     o->sample_s = 10.0;
     o->render_scale = 0.5;
-}
-
-/* Resident set in KiB from /proc/self/statm (pages × page size); −1 when unreadable. */
-static long rss_kib(void)
-{
-    FILE *f = fopen("/proc/self/statm", "r");
-    long size = 0, resident = -1;
-    if (!f)
-        return -1;
-    if (fscanf(f, "%ld %ld", &size, &resident) != 2)
-        resident = -1;
-    fclose(f);
-    return resident < 0 ? -1 : resident * (sysconf(_SC_PAGESIZE) / 1024);
-}
-
-/* Bytes the process's malloc holds in use (mallinfo2: arenas + mmapped blocks), in KiB; −1 where the C
- * library has no mallinfo2. Beside RSS it tells a leak (in-use grows) from memory freed but kept by
- * the allocator or mapped by the GL driver (RSS grows, in-use does not). */
-static long heap_in_use_kib(void)
-{
-#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
-    struct mallinfo2 m = mallinfo2();
-    return (long)((m.uordblks + m.hblkhd) / 1024);
-#else
-    return -1;
-#endif
-}
-
-/* Open file descriptors: entries of /proc/self/fd less the one opendir holds; −1 when unreadable. */
-static long open_fds(void)
-{
-    DIR *d = opendir("/proc/self/fd");
-    if (!d)
-        return -1;
-    long n = 0;
-    for (struct dirent *e; (e = readdir(d));)
-        n += e->d_name[0] != '.';
-    closedir(d);
-    return n - 1;
 }
 
 static double process_cpu_s(void)
@@ -118,7 +77,8 @@ struct soak_run {
     double *display_s;          /* each frame's display time, s after the looped trace's t0 */
     long capacity;
     double t0_s;                /* the looped trace's start on the monotonic clock */
-    double *sample_t_s, *sample_rss_kib; /* each soak.csv row's time (s after t0_s) and RSS */
+    double *sample_t_s;         /* each soak.csv row's time (s after t0_s) */
+    double *sample_kib[4];      /* and its RSS, [heap], anonymous and file-backed resident kB */
     long sample_capacity, samples;
     struct hl_out csv; /* soak.csv, a row marked every sample (base.h: hl_out) */
     int csv_open;
@@ -138,7 +98,8 @@ static int open_csv(struct soak_run *r, const char *dir, struct hl_error *err)
         return -1;
     r->csv_open = 1;
     fprintf(r->csv.f, "t_s,rss_kib,heap_kib,open_fds,frames,reports,missed_slots,frame_ms_mean,cpu_ms_mean,triangles_mean,"
-                      "fusion_nonfinite,trace_loops,imu_loops\n");
+                      "fusion_nonfinite,trace_loops,imu_loops,heap_free_kib,heap_map_kib,anon_map_kib,file_map_kib,"
+                      "mappings\n");
     return hl_out_mark(&r->csv, err);
 }
 
@@ -166,6 +127,10 @@ static void write_summary_json(FILE *f, const struct rpl_soak_summary *s)
             s->stretch_s[0][1], s->stretch_s[1][0], s->stretch_s[1][1]);
     fprintf(f, "  \"rss_median_first_kib\": %ld,\n  \"rss_median_last_kib\": %ld,\n", s->rss_median_kib[0],
             s->rss_median_kib[1]);
+    const char *map_name[3] = {"heap_map", "anon_map", "file_map"};
+    for (int k = 0; k < 3; ++k)
+        fprintf(f, "  \"%s_median_first_kib\": %ld,\n  \"%s_median_last_kib\": %ld,\n", map_name[k],
+                s->map_median_kib[k][0], map_name[k], s->map_median_kib[k][1]);
     fprintf(f, "  \"frames\": %ld,\n  \"missed_slots\": %ld,\n  \"samples\": %ld,\n  \"trace_loops\": %ld,\n"
                "  \"imu_loops\": %ld,\n", s->frames, s->missed_slots, s->samples, s->trace_loops, s->imu_loops);
     fprintf(f, "  \"reports\": %llu,\n  \"reports_rejected\": %llu,\n  \"fusion_nonfinite\": %llu,\n"
@@ -261,13 +226,14 @@ static void choose_stretches(const struct soak_run *r, double period_s, struct r
     }
 }
 
-/* Median RSS of the soak.csv rows taken within [t0_s, t1_s] (s after the trace's t0); −1 if none. */
-static long rss_median_kib(struct soak_run *r, double t0_s, double t1_s)
+/* Median of one memory column (sample_kib[k]) over the soak.csv rows taken within [t0_s, t1_s] (s
+ * after the trace's t0); −1 if none. */
+static long sample_median_kib(struct soak_run *r, int k, double t0_s, double t1_s)
 {
     long m = 0;
     for (long i = 0; i < r->samples; ++i)
         if (r->sample_t_s[i] >= t0_s && r->sample_t_s[i] <= t1_s)
-            r->scratch[m++] = r->sample_rss_kib[i];
+            r->scratch[m++] = r->sample_kib[k][i];
     return m > 0 ? (long)sort_median(r->scratch, m) : -1;
 }
 
@@ -323,14 +289,18 @@ static int soak_open(struct soak_run *r, const struct rpl_soak_options *o, doubl
     /* a row per sample period and the one after the last full period */
     r->sample_capacity = (long)ceil(o->duration_s / o->sample_s) + 2;
     size_t sample_bytes = (size_t)r->sample_capacity * sizeof(double);
-    r->sample_t_s = malloc(sample_bytes), r->sample_rss_kib = malloc(sample_bytes);
-    if (!r->frame_ms || !r->cpu_ms || !r->triangles || !r->scratch || !r->display_s || !r->sample_t_s ||
-        !r->sample_rss_kib)
+    r->sample_t_s = malloc(sample_bytes);
+    int sample_ok = r->sample_t_s != NULL;
+    for (int k = 0; k < 4; ++k)
+        sample_ok &= (r->sample_kib[k] = malloc(sample_bytes)) != NULL;
+    if (!r->frame_ms || !r->cpu_ms || !r->triangles || !r->scratch || !r->display_s || !sample_ok)
         return hl_fail(err, "soak: out of memory for %ld frames", r->capacity);
     /* touched now, so their pages are resident before the start reading */
     memset(r->frame_ms, 0, bytes), memset(r->cpu_ms, 0, bytes), memset(r->triangles, 0, bytes);
     memset(r->scratch, 0, bytes), memset(r->display_s, 0, bytes);
-    memset(r->sample_t_s, 0, sample_bytes), memset(r->sample_rss_kib, 0, sample_bytes);
+    memset(r->sample_t_s, 0, sample_bytes);
+    for (int k = 0; k < 4; ++k)
+        memset(r->sample_kib[k], 0, sample_bytes);
     return rpl_soak_tracker_start(&r->tracker, r->rows, n_rows, o->duration_s, err);
 }
 
@@ -341,7 +311,9 @@ static void soak_close(struct soak_run *r)
         rpl_session_close(&r->session);
     trk_imu_csv_free(r->rows);
     free(r->frame_ms), free(r->cpu_ms), free(r->triangles), free(r->scratch), free(r->display_s);
-    free(r->sample_t_s), free(r->sample_rss_kib);
+    free(r->sample_t_s);
+    for (int k = 0; k < 4; ++k)
+        free(r->sample_kib[k]);
     if (r->csv_open)
         hl_out_abort(&r->csv);
 }
@@ -350,17 +322,22 @@ static void soak_close(struct soak_run *r)
 static int sample_row(struct soak_run *r, double t_s, long frames, long from, long missed, struct hl_error *err)
 {
     struct rpl_soak_tracker *t = &r->tracker;
-    long rss = rss_kib();
+    struct rpl_soak_memory m;
+    rpl_soak_memory_read(&m, 1);
     if (r->samples < r->sample_capacity) {
         r->sample_t_s[r->samples] = hl_clock_now_s() - r->t0_s;
-        r->sample_rss_kib[r->samples] = (double)rss;
+        const long kib[4] = {m.rss_kib, m.heap_map_kib, m.anon_map_kib, m.file_map_kib};
+        for (int k = 0; k < 4; ++k)
+            r->sample_kib[k][r->samples] = (double)kib[k];
         r->samples++;
     }
-    fprintf(r->csv.f, "%.3f,%ld,%ld,%ld,%ld,%llu,%ld,%.4f,%.4f,%.1f,%llu,%ld,%llu\n", t_s, rss, heap_in_use_kib(), open_fds(), frames,
+    fprintf(r->csv.f, "%.3f,%ld,%ld,%ld,%ld,%llu,%ld,%.4f,%.4f,%.1f,%llu,%ld,%llu,%ld,%ld,%ld,%ld,%ld\n", t_s, m.rss_kib,
+            m.heap_in_use_kib, m.fds, frames,
             (unsigned long long)atomic_load(&t->reports), missed, mean_of(r->frame_ms + from, frames - from),
             mean_of(r->cpu_ms + from, frames - from), mean_of(r->triangles + from, frames - from),
             (unsigned long long)atomic_load(&t->nonfinite), rpl_soak_source_loops(r->session.source),
-            (unsigned long long)atomic_load(&t->loops));
+            (unsigned long long)atomic_load(&t->loops), m.heap_free_kib, m.heap_map_kib, m.anon_map_kib,
+            m.file_map_kib, m.mappings);
     return hl_out_mark(&r->csv, err); /* flushed: a long run can be watched (tail -f on the temporary) */
 }
 
@@ -398,7 +375,9 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
         now = hl_clock_now_ns();
         rpl_pacer_presented(&pacer, now);
         if (!warm && now - start_ns >= warmup_ns) {
-            s->rss_start_kib = rss_kib(), s->heap_start_kib = heap_in_use_kib(), s->fds_start = open_fds();
+            struct rpl_soak_memory m;
+            rpl_soak_memory_read(&m, 0);
+            s->rss_start_kib = m.rss_kib, s->heap_start_kib = m.heap_in_use_kib, s->fds_start = m.fds;
             s->warm_frames = f + 1;
             warm = 1;
         }
@@ -417,7 +396,9 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
         s->samples++;
     }
     s->elapsed_s = (double)(end_ns - start_ns) * 1e-9;
-    s->rss_end_kib = rss_kib(), s->heap_end_kib = heap_in_use_kib(), s->fds_end = open_fds();
+    struct rpl_soak_memory m;
+    rpl_soak_memory_read(&m, 0);
+    s->rss_end_kib = m.rss_kib, s->heap_end_kib = m.heap_in_use_kib, s->fds_end = m.fds;
     if (!warm)
         s->rss_start_kib = s->rss_end_kib, s->heap_start_kib = s->heap_end_kib, s->fds_start = s->fds_end;
     s->frames = f;
@@ -471,7 +452,9 @@ int rpl_soak_run(const struct rpl_soak_options *o, struct rpl_soak_summary *s, s
                 out[k][j] = stretch_stats(series[k] + from[j], count[j], r.scratch);
         for (int j = 0; j < 2; ++j) {
             s->triangles_mean[j] = mean_of(r.triangles + from[j], count[j]);
-            s->rss_median_kib[j] = rss_median_kib(&r, s->stretch_s[j][0], s->stretch_s[j][1]);
+            s->rss_median_kib[j] = sample_median_kib(&r, 0, s->stretch_s[j][0], s->stretch_s[j][1]);
+            for (int k = 0; k < 3; ++k)
+                s->map_median_kib[k][j] = sample_median_kib(&r, k + 1, s->stretch_s[j][0], s->stretch_s[j][1]);
         }
         s->frame_ms_ratio = s->frame_ms[1].median / s->frame_ms[0].median;
         s->cpu_ms_ratio = s->cpu_ms[1].median / s->cpu_ms[0].median;

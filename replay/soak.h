@@ -40,6 +40,9 @@ struct rpl_soak_summary {
     int period_matched;
     double period_s, stretch_s[2][2];
     long rss_median_kib[2];          /* median RSS of the soak.csv rows in each stretch; −1 if none */
+    /* the same medians of the rows' resident kB by mapping (soak_internal.h: rpl_soak_memory):
+     * [0] the [heap] mapping, [1] anonymous mappings, [2] file-backed ones */
+    long map_median_kib[3][2];
     long trace_loops, imu_loops;     /* times each input wrapped */
     uint64_t reports, rejected;      /* tracker reports fed; refused by the parser */
     uint64_t fusion_nonfinite;       /* fused poses with a non-finite component (0 when healthy) */

@@ -46,4 +46,17 @@ int rpl_soak_tracker_start(struct rpl_soak_tracker *t, const struct trk_imu_csv_
 void rpl_soak_tracker_rates(const struct rpl_soak_tracker *t, double out[2]);
 void rpl_soak_tracker_stop(struct rpl_soak_tracker *t);
 
+/* The process's memory at one moment (soak_memory.c), KiB; −1 where unknown. RSS from
+ * /proc/self/statm; malloc's bytes in use (arenas + mmapped blocks) and free inside its arenas from
+ * glibc's mallinfo2; with smaps, the resident pages of /proc/self/smaps summed by kind of mapping:
+ * [heap] (the main arena's brk heap), anonymous (thread arenas, large mmapped blocks, a driver's own
+ * mappings, JIT code) and file-backed (libraries, mapped files), and the number of mappings. */
+struct rpl_soak_memory {
+    long rss_kib, heap_in_use_kib, heap_free_kib;
+    long heap_map_kib, anon_map_kib, file_map_kib, mappings;
+    long fds; /* open file descriptors */
+};
+/* with_smaps 0 skips smaps (it walks every mapping's pages: about a millisecond here). */
+void rpl_soak_memory_read(struct rpl_soak_memory *m, int with_smaps);
+
 #endif

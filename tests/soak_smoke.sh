@@ -16,7 +16,7 @@ trap 'rm -rf "$tmp"' EXIT
 "$bin" bench soak --duration-s 4 --sample-s 1 --out "$tmp/out" >"$tmp/stdout" 2>"$tmp/stderr"
 rc=$?
 [ $rc -eq 0 ] || { echo "FAIL: bench soak exit $rc: $(cat "$tmp/stderr")"; exit 1; }
-for row in "RSS kB" "open fds" "frame ms median" "CPU ms per frame median" "tracker reports/s" "fusion output"; do
+for row in "RSS kB" "resident kB in [heap] mapping" "resident kB in anonymous" "resident kB in file-backed" "open fds" "frame ms median" "CPU ms per frame median" "tracker reports/s" "fusion output"; do
   grep -qF "| $row" "$tmp/stdout" || { echo "FAIL: the table lacks the row '$row'"; cat "$tmp/stdout"; exit 1; }
 done
 grep -qE "^- (machine|commit|renderer|command):" "$tmp/stdout" || { echo "FAIL: no bench context lines"; exit 1; }
@@ -26,7 +26,8 @@ import csv, json, math, sys
 d = sys.argv[1]
 rows = list(csv.DictReader(open(d + "/soak.csv")))
 want = ["t_s", "rss_kib", "heap_kib", "open_fds", "frames", "reports", "missed_slots", "frame_ms_mean", "cpu_ms_mean",
-        "triangles_mean", "fusion_nonfinite", "trace_loops", "imu_loops"]
+        "triangles_mean", "fusion_nonfinite", "trace_loops", "imu_loops", "heap_free_kib", "heap_map_kib",
+        "anon_map_kib", "file_map_kib", "mappings"]
 fails = []
 if not rows or list(rows[0].keys()) != want:
     fails.append("soak.csv header is %s" % (list(rows[0].keys()) if rows else "missing"))
@@ -44,6 +45,10 @@ for i, r in enumerate(rows):
         break
     if float(r["rss_kib"]) <= 0 or float(r["open_fds"]) <= 0 or float(r["frames"]) <= 0:
         fails.append("row %d: RSS, fds or frames not positive: %s" % (i + 1, r))
+    # the split by mapping covers what is resident: its parts sum to about the RSS (read a moment apart)
+    parts = float(r["heap_map_kib"]) + float(r["anon_map_kib"]) + float(r["file_map_kib"])
+    if not (float(r["mappings"]) > 10 and float(r["file_map_kib"]) > 0 and 0.8 * float(r["rss_kib"]) <= parts <= 1.05 * float(r["rss_kib"])):
+        fails.append("row %d: resident by mapping %.0f kB (%s maps) against RSS %s kB" % (i + 1, parts, r["mappings"], r["rss_kib"]))
     if float(r["fusion_nonfinite"]) != 0:
         fails.append("row %d: non-finite fusion output" % (i + 1))
 if not fails:

@@ -61,7 +61,7 @@ struct rpl_soak_summary {
     char feed[96];                    /* how reports reach the parser */
 };
 
-/* Runs the soak; writes out_dir/soak.csv (a row per sample, flushed as it goes under a .partial name,
+/* Runs the soak; writes out_dir/soak.csv (a row per sample, flushed as it goes under a temporary name,
  * renamed at the end) and out_dir/summary.json. 0, or −1 with err. */
 int rpl_soak_run(const struct rpl_soak_options *o, struct rpl_soak_summary *s, struct hl_error *err);
 

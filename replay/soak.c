@@ -283,24 +283,17 @@ static int soak_open(struct soak_run *r, const struct rpl_soak_options *o, doubl
     *rate_hz = r->session.display.refresh_hz;
     /* every frame the duration can hold at the refresh, plus a second of slack */
     r->capacity = (long)ceil(o->duration_s * *rate_hz) + (long)ceil(*rate_hz) + 1;
-    size_t bytes = (size_t)r->capacity * sizeof(double);
-    r->frame_ms = malloc(bytes), r->cpu_ms = malloc(bytes), r->triangles = malloc(bytes), r->scratch = malloc(bytes);
-    r->display_s = malloc(bytes);
+    r->frame_ms = rpl_soak_series_alloc(r->capacity), r->cpu_ms = rpl_soak_series_alloc(r->capacity);
+    r->triangles = rpl_soak_series_alloc(r->capacity), r->scratch = rpl_soak_series_alloc(r->capacity);
+    r->display_s = rpl_soak_series_alloc(r->capacity);
     /* a row per sample period and the one after the last full period */
     r->sample_capacity = (long)ceil(o->duration_s / o->sample_s) + 2;
-    size_t sample_bytes = (size_t)r->sample_capacity * sizeof(double);
-    r->sample_t_s = malloc(sample_bytes);
+    r->sample_t_s = rpl_soak_series_alloc(r->sample_capacity);
     int sample_ok = r->sample_t_s != NULL;
     for (int k = 0; k < 4; ++k)
-        sample_ok &= (r->sample_kib[k] = malloc(sample_bytes)) != NULL;
+        sample_ok &= (r->sample_kib[k] = rpl_soak_series_alloc(r->sample_capacity)) != NULL;
     if (!r->frame_ms || !r->cpu_ms || !r->triangles || !r->scratch || !r->display_s || !sample_ok)
         return hl_fail(err, "soak: out of memory for %ld frames", r->capacity);
-    /* touched now, so their pages are resident before the start reading */
-    memset(r->frame_ms, 0, bytes), memset(r->cpu_ms, 0, bytes), memset(r->triangles, 0, bytes);
-    memset(r->scratch, 0, bytes), memset(r->display_s, 0, bytes);
-    memset(r->sample_t_s, 0, sample_bytes);
-    for (int k = 0; k < 4; ++k)
-        memset(r->sample_kib[k], 0, sample_bytes);
     return rpl_soak_tracker_start(&r->tracker, r->rows, n_rows, o->duration_s, err);
 }
 

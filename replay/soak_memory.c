@@ -4,7 +4,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include <dirent.h>
 #include <malloc.h>
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -102,4 +105,15 @@ void rpl_soak_memory_read(struct rpl_soak_memory *m, int with_smaps)
     m->heap_map_kib = m->anon_map_kib = m->file_map_kib = m->mappings = -1;
     if (with_smaps)
         read_smaps(m);
+}
+
+double *rpl_soak_series_alloc(long n)
+{
+    if (n < 1 || (unsigned long)n > SIZE_MAX / sizeof(double))
+        return NULL;
+    double *v = malloc((size_t)n * sizeof *v);
+    if (v)
+        for (long i = 0; i < n; ++i)
+            v[i] = NAN;
+    return v;
 }

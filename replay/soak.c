@@ -68,6 +68,8 @@ static double mean_of(const double *v, long n)
     return n > 0 ? s / (double)n : NAN;
 }
 
+enum { SOAK_MEMORY_COLUMNS = 4 }; /* the memory kept per row for the stretch medians */
+
 struct soak_run {
     struct rpl_session session;
     int session_open;
@@ -78,7 +80,7 @@ struct soak_run {
     long capacity;
     double t0_s;                /* the looped trace's start on the monotonic clock */
     double *sample_t_s;         /* each soak.csv row's time (s after t0_s) */
-    double *sample_kib[4];      /* and its RSS, [heap], anonymous and file-backed resident kB */
+    double *sample_kib[SOAK_MEMORY_COLUMNS]; /* and its RSS, [heap], anonymous and file-backed resident kB */
     long sample_capacity, samples;
     struct hl_out csv; /* soak.csv, a row marked every sample (base.h: hl_out) */
     int csv_open;
@@ -290,7 +292,7 @@ static int soak_open(struct soak_run *r, const struct rpl_soak_options *o, doubl
     r->sample_capacity = (long)ceil(o->duration_s / o->sample_s) + 2;
     r->sample_t_s = rpl_soak_series_alloc(r->sample_capacity);
     int sample_ok = r->sample_t_s != NULL;
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < SOAK_MEMORY_COLUMNS; ++k)
         sample_ok &= (r->sample_kib[k] = rpl_soak_series_alloc(r->sample_capacity)) != NULL;
     if (!r->frame_ms || !r->cpu_ms || !r->triangles || !r->scratch || !r->display_s || !sample_ok)
         return hl_fail(err, "soak: out of memory for %ld frames", r->capacity);
@@ -305,7 +307,7 @@ static void soak_close(struct soak_run *r)
     trk_imu_csv_free(r->rows);
     free(r->frame_ms), free(r->cpu_ms), free(r->triangles), free(r->scratch), free(r->display_s);
     free(r->sample_t_s);
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < SOAK_MEMORY_COLUMNS; ++k)
         free(r->sample_kib[k]);
     if (r->csv_open)
         hl_out_abort(&r->csv);
@@ -319,8 +321,8 @@ static int sample_row(struct soak_run *r, double t_s, long frames, long from, lo
     rpl_soak_memory_read(&m, 1);
     if (r->samples < r->sample_capacity) {
         r->sample_t_s[r->samples] = hl_clock_now_s() - r->t0_s;
-        const long kib[4] = {m.rss_kib, m.heap_map_kib, m.anon_map_kib, m.file_map_kib};
-        for (int k = 0; k < 4; ++k)
+        const long kib[SOAK_MEMORY_COLUMNS] = {m.rss_kib, m.heap_map_kib, m.anon_map_kib, m.file_map_kib};
+        for (int k = 0; k < SOAK_MEMORY_COLUMNS; ++k)
             r->sample_kib[k][r->samples] = (double)kib[k];
         r->samples++;
     }

@@ -81,10 +81,14 @@ static int read_smaps(struct rpl_soak_memory *m)
             continue;
         long v;
         const char *path;
-        if (sscanf(line, "Rss: %ld kB", &v) == 1)
-            kib[kind] += v;
-        else if ((path = smaps_header_path(line)))
+        /* field lines start with a capital ("Rss:", "Pss:", "VmFlags:"); headers with the address, in
+         * lower-case hex */
+        if (strncmp(line, "Rss:", 4) == 0) {
+            if (sscanf(line + 4, "%ld", &v) == 1)
+                kib[kind] += v;
+        } else if (!(line[0] >= 'A' && line[0] <= 'Z') && (path = smaps_header_path(line))) {
             kind = smaps_kind_of(path), maps++;
+        }
     }
     fclose(f);
     m->heap_map_kib = kib[KIND_HEAP], m->anon_map_kib = kib[KIND_ANON], m->file_map_kib = kib[KIND_FILE];

@@ -88,11 +88,11 @@ def wrapper_for(name, path):
     os.chmod(w, 0o755)
     return w
 
-# The slowest under memcheck (seconds on the 2-core machine) start first, so that two at a time
-# does not end with one long test running alone.
-slow_first = {"test_lodgen": 430, "test_tracking_accuracy": 300, "test_measure": 165, "test_domes": 40,
-              "test_resolver": 120, "test_trace_hard_cases": 90, "test_trace": 85, "test_normals": 80,
-              "test_lod_optimize_hard_cases": 70}
+# The slowest under memcheck (seconds on the 2-core machine, without --track-origins) start first, so
+# that two at a time does not end with one long test running alone.
+slow_first = {"test_lodgen": 81, "test_tracking_accuracy": 67, "test_resolver": 44, "test_measure": 43,
+              "test_alloc_fail": 29, "test_scenefile": 24, "test_normals": 21, "test_trace": 18,
+              "test_fusion": 18, "test_domes": 16}
 selected = []
 for t in tests:
     labels = prop(t, "LABELS", [])

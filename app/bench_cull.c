@@ -207,7 +207,7 @@ struct size_result {
 };
 
 static int run_size(uint32_t n, const struct cull_opts *o, struct trk_pose_source *src,
-                    const struct rpl_cull_frustum *frustum, double rate_hz, struct size_result *r)
+                    const struct frm_cull_frustum *frustum, double rate_hz, struct size_result *r)
 {
     struct scn_scene s;
     struct hl_error err = {{0}};
@@ -239,7 +239,7 @@ static int run_size(uint32_t n, const struct cull_opts *o, struct trk_pose_sourc
         if (!pose.has_position)
             pose.position_m = hl_v3(0, 0, 0);
         struct scn_plane planes[5];
-        int np = rpl_cull_frustum_planes(frustum, &pose, planes);
+        int np = frm_cull_frustum_planes(frustum, &pose, planes);
         struct scn_cull_stats hs, fs;
         uint32_t nh = 0, nf = 0;
         int64_t t0, t1, t2;
@@ -323,8 +323,8 @@ int bench_cull(int argc, char **argv, int full_argc, char **full_argv)
         fprintf(stderr, "hmdlod bench cull: %s\n", err.msg);
         return 1;
     }
-    struct rpl_cull_frustum frustum;
-    rpl_cull_frustum_init(&frustum, &display, 0.05);
+    struct frm_cull_frustum frustum;
+    frm_cull_frustum_init(&frustum, &display, 0.05);
     double rate_hz = display.refresh_hz;
     struct size_result res[N_SIZES];
     for (int k = 0; k < N_SIZES && rc == 0; ++k) {
@@ -372,7 +372,7 @@ int bench_cull(int argc, char **argv, int full_argc, char **full_argv)
                "around the viewer (heights −1.5…3 m about the eyes, radii 0.3–0.8 m, seed %ld), grouped as a quadtree "
                "of 4 × 4 objects per leaf and 4 × 4 groups per parent. Each frame takes the trace's head pose on a "
                "virtual clock, builds the five world planes of the union of both eye frusta (replay's "
-               "rpl_cull_frustum_planes) and culls once flat (every object against the planes, scn_cull_flat) "
+               "frm_cull_frustum_planes) and culls once flat (every object against the planes, scn_cull_flat) "
                "and once through the hierarchy (scn_cull, with plane masks), alternating which runs first; both "
                "must find the same number of objects. Times are CLOCK_MONOTONIC around each call on a machine shared "
                "with other work: compare the ratios within one run.\n",

@@ -152,16 +152,16 @@ static int run_all(struct gaze_bench *b)
                 struct rpl_options o;
                 rpl_options_defaults(&o);
                 o.trace_path = b->traces[t].path;
-                o.scene = scenes[sc];
-                o.display = "vive";
-                o.selector = models[m].selector;
-                o.gaze = models[m].gaze;
-                o.velocity_term_off = models[m].velocity_off;
+                o.frame.scene = scenes[sc];
+                o.frame.display = "vive";
+                o.frame.selector = models[m].selector;
+                o.frame.gaze = models[m].gaze;
+                o.frame.velocity_term_off = models[m].velocity_off;
                 o.out_dir = out_dir;
                 o.frames = b->frames;
-                o.object_count = (int)b->objects;
-                o.render_scale = b->render_scale;
-                o.quiet = 1;
+                o.frame.object_count = (int)b->objects;
+                o.frame.render_scale = b->render_scale;
+                o.frame.quiet = 1;
                 fprintf(stderr, "hmdlod bench gaze: run %d of %d: %s, %s, %s\n", run, total, b->traces[t].label,
                         scenes[sc], models[m].label);
                 struct hl_error err = {{0}};
@@ -180,13 +180,13 @@ static int run_all(struct gaze_bench *b)
             struct rpl_options o;
             rpl_options_defaults(&o);
             o.trace_path = b->traces[t].path;
-            o.scene = "field";
-            o.selector = whole_selectors[k];
-            o.gaze = "tracked";
+            o.frame.scene = "field";
+            o.frame.selector = whole_selectors[k];
+            o.frame.gaze = "tracked";
             o.out_dir = out_dir;
             o.frames = b->quick ? 1200 : 0;
-            o.render_scale = 0.25;
-            o.quiet = 1;
+            o.frame.render_scale = 0.25;
+            o.frame.quiet = 1;
             fprintf(stderr, "hmdlod bench gaze: %s, whole log, field (100 objects), tracked, %s\n",
                     b->traces[t].label, whole_selectors[k]);
             struct hl_error err = {{0}};
@@ -285,7 +285,7 @@ static void print_notes(const struct gaze_bench *b, double wall_s, int runs)
                "Saccades: I-VT on the gaze's world speed (onset 100, offset 50 deg/s), suppression 50 ms after each, "
                "refinement due 28 ms after that (acuity/saccade.c); a miss is a frame past the deadline with an "
                "object still coarser than its target (the coarser of its ceiling and its level before the saccade) "
-               "that the budget had room to raise (replay/saccade_step.c). "
+               "that the budget had room to raise (frame/saccade_step.c). "
                "Timings vary by ±20 %% between runs on a shared machine: compare ratios within one run.\n",
                runs, wall_s, b->frames, s->display, s->rate_hz, b->render_scale);
 }

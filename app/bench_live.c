@@ -93,8 +93,8 @@ static int pacing_table(long frames)
         bench_emit("### Present intervals\n\nskipped: no DISPLAY (run under xvfb-run -a)\n\n");
         return 0;
     }
-    struct rpl_options so;
-    rpl_options_defaults(&so);
+    struct frm_options so;
+    frm_options_defaults(&so);
     so.scene = "field";
     so.display = "vive";
     so.render_scale = 0.1;

@@ -19,7 +19,7 @@ struct bopt_view {
     struct hmd_eye eye[2];
     double width_px, height_px;
     struct acu_limits limits;
-    struct rpl_cull_frustum frustum;
+    struct frm_cull_frustum frustum;
     struct lod_chain chains[BOPT_CHAINS];
     struct lod_cost_model cost;
     struct lod_benefit_params benefit;

@@ -24,7 +24,7 @@ void bopt_view_init(struct bopt_view *v, const struct hmd_profile *display)
     v->width_px = display->eye_width_px;
     v->height_px = display->eye_height_px;
     acu_limits_init(&v->limits, hmd_compute_xi(display).used_cpd, 1.0);
-    rpl_cull_frustum_init(&v->frustum, display, 0.05);
+    frm_cull_frustum_init(&v->frustum, display, 0.05);
     for (int c = 0; c < BOPT_CHAINS; ++c) {
         v->chains[c].lod_count = BOPT_LEVELS;
         for (int l = 0; l < BOPT_LEVELS; ++l)
@@ -98,7 +98,7 @@ size_t bopt_cull(const struct bopt_view *v, const struct scn_scene *s, struct sc
                  const struct trk_pose *pose, struct bopt_work *w)
 {
     struct scn_plane planes[6];
-    int np = rpl_cull_frustum_planes(&v->frustum, pose, planes);
+    int np = frm_cull_frustum_planes(&v->frustum, pose, planes);
     if (v->far_m > 0) { /* inside when closer than far_m along the view direction */
         hl_vec3d n = hl_q_rotate(pose->orientation, hl_v3(0, 0, 1));
         planes[np].normal[0] = n.x, planes[np].normal[1] = n.y, planes[np].normal[2] = n.z;

@@ -121,14 +121,14 @@ static int run_all(struct replay_bench *b)
                 struct rpl_options o;
                 rpl_options_defaults(&o);
                 o.trace_path = b->traces[t].path[0] ? b->traces[t].path : NULL;
-                o.scene = scenes[sc];
-                o.display = "vive";
-                o.selector = selectors[se];
+                o.frame.scene = scenes[sc];
+                o.frame.display = "vive";
+                o.frame.selector = selectors[se];
                 o.out_dir = out_dir;
                 o.frames = b->traces[t].frames;
-                o.object_count = (int)b->objects;
-                o.render_scale = b->render_scale;
-                o.quiet = 1;
+                o.frame.object_count = (int)b->objects;
+                o.frame.render_scale = b->render_scale;
+                o.frame.quiet = 1;
                 fprintf(stderr, "hmdlod bench replay: run %d of %d: %s, %s, %s\n", run, total, b->traces[t].label,
                         scenes[sc], selectors[se]);
                 struct hl_error err = {{0}};
@@ -203,7 +203,7 @@ static void print_notes(const struct replay_bench *b, double wall_s)
                                                          "else running"
                                                        : "the renderer above, on a machine shared with whatever "
                                                          "else runs";
-    bench_emit("\nHow measured (replay/run.c, replay/frame.c): %d runs in %.0f s. Each run replays its trace from "
+    bench_emit("\nHow measured (replay/run.c, frame/frame.c): %d runs in %.0f s. Each run replays its trace from "
                "the start on a virtual clock at the display's %.0f Hz (frame f at t0 + f / %.0f s, whatever the "
                "wall clock did), both eyes rendered headless at render scale %g of the %s profile's pixels; none always "
                "draws the finest LOD, reddy picks each object's LOD from the acuity model and each level's "

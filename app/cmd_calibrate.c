@@ -87,8 +87,8 @@ static int check_writable(const char *path)
     return 0;
 }
 
-static void print_fit(const char *name, const struct lod_cost_model *m, const struct rpl_cost_fit_report *fit,
-                      const struct rpl_cost_accuracy *acc)
+static void print_fit(const char *name, const struct lod_cost_model *m, const struct frm_cost_fit_report *fit,
+                      const struct frm_cost_accuracy *acc)
 {
     printf("  %-8s  %7.3f  %10.5f  %10.5f  %9.4f  %9.3f   %6.1f %%   %6.1f %%  %6.1f %%  %6.1f %%\n", name, m->c0_ms,
            m->c1_ms_per_triangle * 1e3, m->c2_ms_per_vertex * 1e3, m->c3_ms_per_pixel * 1e6, m->c4_ms_per_draw * 1e3,
@@ -116,8 +116,8 @@ static int write_csv(const char *path, const struct rnd_calibration *cal, const 
             t += o->triangles, v += o->vertices, p += o->pixels_px, d += o->draws;
         }
         fprintf(f, "%u,%u,%.0f,%.0f,%.0f,%.0f,%.4f,%.4f,%.4f,%d\n", order[n], fr->object_count, t, v, p, d,
-                fr->measured_ms, rpl_cost_predict_frame_ms(&fits[0], fr, cal->objects),
-                rpl_cost_predict_frame_ms(&fits[1], fr, cal->objects), n >= train);
+                fr->measured_ms, frm_cost_predict_frame_ms(&fits[0], fr, cal->objects),
+                frm_cost_predict_frame_ms(&fits[1], fr, cal->objects), n >= train);
     }
     if (hl_out_commit(&out, &err) != 0) {
         fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
@@ -132,7 +132,7 @@ static int write_csv(const char *path, const struct rnd_calibration *cal, const 
  * per triangle, which make a pixel of a finely tessellated object dearer than one of a coarse one.
  * Fitted on the same training points (relative error, NNLS), judged on the same held-out ones. */
 static int edge_proposal(const struct rnd_calibration *cal, const uint32_t *order, size_t train,
-                         struct rpl_cost_accuracy *acc, double c[6])
+                         struct frm_cost_accuracy *acc, double c[6])
 {
     size_t n = cal->frame_count;
     double *a = malloc(n * 7 * sizeof *a), *e = malloc(n * sizeof *e);
@@ -155,7 +155,7 @@ static int edge_proposal(const struct rnd_calibration *cal, const uint32_t *orde
         b[r] = 1.0;
     }
     struct hl_error err;
-    int rc = rpl_cost_nnls(a, train, 6, b, c, NULL, &err);
+    int rc = frm_cost_nnls(a, train, 6, b, c, NULL, &err);
     size_t held = n - train, under = 0;
     for (size_t r = train; r < n && rc == 0; ++r) {
         double pred = 0; /* relative prediction: Σ a·c is predicted / measured */
@@ -172,12 +172,12 @@ static int edge_proposal(const struct rnd_calibration *cal, const uint32_t *orde
                 e[j - 1] = t;
             }
         double q[2] = {0.5, 0.95}, v[2];
-        for (int i = 0; i < 2; ++i) { /* type-7 quantiles, as rpl_cost_evaluate */
+        for (int i = 0; i < 2; ++i) { /* type-7 quantiles, as frm_cost_evaluate */
             double pos = q[i] * (double)(held - 1);
             size_t lo = (size_t)pos, hi = lo + 1 < held ? lo + 1 : lo;
             v[i] = e[lo] + (pos - (double)lo) * (e[hi] - e[lo]);
         }
-        *acc = (struct rpl_cost_accuracy){v[0], v[1], (double)under / (double)held, (uint32_t)held};
+        *acc = (struct frm_cost_accuracy){v[0], v[1], (double)under / (double)held, (uint32_t)held};
     }
     free(a);
     free(e);
@@ -213,14 +213,14 @@ int cmd_calibrate(int argc, char **argv)
         fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
         return 1;
     }
-    struct rpl_cost_profile prof;
+    struct frm_cost_profile prof;
     memset(&prof, 0, sizeof prof);
     struct rnd_cost_grid *g = &prof.grid;
     rnd_cost_grid_default(g, a.quick);
     g->render_scale = a.render_scale;
     struct rnd_calibration cal;
     prof.load_before = load_average();
-    if (rpl_cost_calibrate(&display, g, (uint64_t)a.seed, &cal, &err) != 0) {
+    if (frm_cost_calibrate(&display, g, (uint64_t)a.seed, &cal, &err) != 0) {
         fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
         return 1;
     }
@@ -247,17 +247,17 @@ int cmd_calibrate(int argc, char **argv)
     rnd_cost_split(cal.frame_count, (uint64_t)a.seed, order, &train);
     size_t held = cal.frame_count - train;
     struct lod_cost_model fits[2];
-    struct rpl_cost_fit_report reports[2];
-    struct rpl_cost_accuracy acc[2];
+    struct frm_cost_fit_report reports[2];
+    struct frm_cost_accuracy acc[2];
     static const enum lod_cost_form forms[2] = {LOD_COST_MAX, LOD_COST_ADDITIVE};
     int rc = 0;
     for (int f = 0; f < 2 && rc == 0; ++f) {
-        if (rpl_cost_fit(forms[f], cal.frames, order, train, cal.objects, &fits[f], &reports[f], &err) != 0) {
-            fprintf(stderr, "hmdlod calibrate: fitting the %s form: %s\n", rpl_cost_form_name(forms[f]), err.msg);
+        if (frm_cost_fit(forms[f], cal.frames, order, train, cal.objects, &fits[f], &reports[f], &err) != 0) {
+            fprintf(stderr, "hmdlod calibrate: fitting the %s form: %s\n", frm_cost_form_name(forms[f]), err.msg);
             rc = 1;
             break;
         }
-        acc[f] = rpl_cost_evaluate(&fits[f], cal.frames, order + train, held, cal.objects);
+        acc[f] = frm_cost_evaluate(&fits[f], cal.frames, order + train, held, cal.objects);
     }
     if (rc == 0) {
         printf("fitted on %zu points, held out %zu (seed %ld); relative errors |predicted - measured| / measured\n",
@@ -265,8 +265,8 @@ int cmd_calibrate(int argc, char **argv)
         printf("  form        c0 ms   c1 us/tri  c2 us/vert   c3 ns/px  c4 us/draw  train rms  held-out median"
                "    p95  under >5 %%\n");
         for (int f = 0; f < 2; ++f)
-            print_fit(rpl_cost_form_name(forms[f]), &fits[f], &reports[f], &acc[f]);
-        struct rpl_cost_accuracy edge;
+            print_fit(frm_cost_form_name(forms[f]), &fits[f], &reports[f], &acc[f]);
+        struct frm_cost_accuracy edge;
         double ce[6];
         if (edge_proposal(&cal, order, train, &edge, ce) == 0)
             printf("  proposal: additive + c5·sum sqrt(tri·px), c5 = %.4f us: held-out median %.1f %%, p95 %.1f %%, "
@@ -275,7 +275,7 @@ int cmd_calibrate(int argc, char **argv)
         if (a.csv && write_csv(a.csv, &cal, order, train, fits) != 0)
             rc = 1;
         int keep = acc[1].p95_rel < acc[0].p95_rel ? 1 : 0; /* a tie keeps Funkhouser's max */
-        printf("kept: %s (held-out p95 %.1f %% against %.1f %%)\n", rpl_cost_form_name(forms[keep]),
+        printf("kept: %s (held-out p95 %.1f %% against %.1f %%)\n", frm_cost_form_name(forms[keep]),
                100.0 * acc[keep].p95_rel, 100.0 * acc[!keep].p95_rel);
         prof.model = fits[keep];
         prof.held_out = acc[keep];
@@ -289,7 +289,7 @@ int cmd_calibrate(int argc, char **argv)
         snprintf(prof.renderer, sizeof prof.renderer, "%s", cal.renderer);
         snprintf(prof.display, sizeof prof.display, "%s", display.name);
         prof.eye_width_px = g->eye_width_px, prof.eye_height_px = g->eye_height_px;
-        if (rpl_cost_profile_write(a.out, &prof, &err) != 0) {
+        if (frm_cost_profile_write(a.out, &prof, &err) != 0) {
             fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
             rc = 1;
         } else {

@@ -106,8 +106,8 @@ int cmd_live(int argc, char **argv)
         fputs(live_usage, stdout);
         return 0;
     }
-    struct rpl_options so;
-    rpl_options_defaults(&so);
+    struct frm_options so;
+    frm_options_defaults(&so);
     struct rpl_live_options o;
     rpl_live_options_defaults(&o);
     o.session = &so;

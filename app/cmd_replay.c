@@ -77,7 +77,7 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
         long n = 0;
         double d = 0.0;
         if (!strcmp(opt, "--quiet")) {
-            o->quiet = 1;
+            o->frame.quiet = 1;
             continue;
         }
         if (!val) {
@@ -90,13 +90,13 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
         else if (!strcmp(opt, "--raw"))
             o->raw_path = val;
         else if (!strcmp(opt, "--scene"))
-            o->scene = val;
+            o->frame.scene = val;
         else if (!strcmp(opt, "--display"))
-            o->display = val;
+            o->frame.display = val;
         else if (!strcmp(opt, "--selector"))
-            o->selector = val;
+            o->frame.selector = val;
         else if (!strcmp(opt, "--frequency-reading"))
-            o->frequency_reading = val;
+            o->frame.frequency_reading = val;
         else if (!strcmp(opt, "--out"))
             o->out_dir = val;
         else if (!strcmp(opt, "--rate")) {
@@ -111,15 +111,15 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
         } else if (!strcmp(opt, "--objects")) {
             if (app_parse_long(opt, val, 1, 100000, &n))
                 return 1;
-            o->object_count = (int)n;
+            o->frame.object_count = (int)n;
         } else if (!strcmp(opt, "--seed")) {
             if (app_parse_long(opt, val, 0, 2147483647, &n))
                 return 1;
-            o->seed = (uint64_t)n;
+            o->frame.seed = (uint64_t)n;
         } else if (!strcmp(opt, "--acuity-scale")) {
             if (app_parse_double(opt, val, &d))
                 return 1;
-            o->acuity_scale = d;
+            o->frame.acuity_scale = d;
         } else if (!strcmp(opt, "--budget-ms")) {
             if (app_parse_double(opt, val, &d))
                 return 1;
@@ -127,29 +127,29 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
                 fprintf(stderr, "hmdlod: --budget-ms: %s is not a positive number of milliseconds\n", val);
                 return 1;
             }
-            o->budget_ms = d;
+            o->frame.budget_ms = d;
         } else if (!strcmp(opt, "--cost-profile")) {
-            o->cost_profile = val;
+            o->frame.cost_profile = val;
         } else if (!strcmp(opt, "--opt-limit-us")) {
-            if (app_parse_double(opt, val, &o->opt_limit_us))
+            if (app_parse_double(opt, val, &o->frame.opt_limit_us))
                 return 1;
         } else if (!strcmp(opt, "--static-px")) {
-            if (app_parse_double(opt, val, &o->static_px_per_triangle))
+            if (app_parse_double(opt, val, &o->frame.static_px_per_triangle))
                 return 1;
-        } else if (!strcmp(opt, "--saccade-onset-degps")) { /* replay/saccade_step.c */
-            if (app_parse_double(opt, val, &o->saccade_onset_degps))
+        } else if (!strcmp(opt, "--saccade-onset-degps")) { /* frame/saccade_step.c */
+            if (app_parse_double(opt, val, &o->frame.saccade_onset_degps))
                 return 1;
-            if (!(o->saccade_onset_degps > 0.0 && o->saccade_onset_degps < 1e5)) {
+            if (!(o->frame.saccade_onset_degps > 0.0 && o->frame.saccade_onset_degps < 1e5)) {
                 fprintf(stderr, "hmdlod: --saccade-onset-degps: %s is not a speed in (0, 1e5) deg/s\n", val);
                 return 1;
             }
         } else if (!strcmp(opt, "--cost-correction")) {
             if (!strcmp(val, "on") || !strcmp(val, "ratio"))
-                o->cost_correction = RPL_CORRECTION_RATIO;
+                o->frame.cost_correction = FRM_CORRECTION_RATIO;
             else if (!strcmp(val, "affine"))
-                o->cost_correction = RPL_CORRECTION_AFFINE;
+                o->frame.cost_correction = FRM_CORRECTION_AFFINE;
             else if (!strcmp(val, "off"))
-                o->cost_correction = RPL_CORRECTION_OFF;
+                o->frame.cost_correction = FRM_CORRECTION_OFF;
             else {
                 fprintf(stderr, "hmdlod: --cost-correction: '%s' is not on, ratio, affine or off\n", val);
                 return 1;
@@ -160,7 +160,7 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
                 fprintf(stderr, "hmdlod: --gaze: '%s' is not a gaze model (auto, head, vor, tracked)\n", val);
                 return 1;
             }
-            o->gaze = val;
+            o->frame.gaze = val;
         } else if (!strcmp(opt, "--vor-gain")) {
             if (app_parse_double(opt, val, &d))
                 return 1;
@@ -168,7 +168,7 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
                 fprintf(stderr, "hmdlod: --vor-gain: %s is outside [0, 1.2]\n", val);
                 return 1;
             }
-            o->vor_gain = d;
+            o->frame.vor_gain = d;
         } else if (!strcmp(opt, "--vor-latency-ms")) {
             if (app_parse_double(opt, val, &d))
                 return 1;
@@ -176,7 +176,7 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
                 fprintf(stderr, "hmdlod: --vor-latency-ms: %s is outside [0, 100] ms\n", val);
                 return 1;
             }
-            o->vor_latency_ms = d;
+            o->frame.vor_latency_ms = d;
         } else if (!strcmp(opt, "--fixation-m")) {
             if (app_parse_double(opt, val, &d))
                 return 1;
@@ -184,14 +184,14 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
                 fprintf(stderr, "hmdlod: --fixation-m: %s is not a distance in (0, 1e6] m\n", val);
                 return 1;
             }
-            o->fixation_m = d;
+            o->frame.fixation_m = d;
         } else if (!strcmp(opt, "--reference")) {
             if (app_parse_long(opt, val, 0, 100000000, &o->reference_every))
                 return 1;
         } else if (!strcmp(opt, "--mb-simplify")) {
             if (app_parse_long(opt, val, 0, 8, &n))
                 return 1;
-            o->mb_simplify = (int)n;
+            o->frame.mb_simplify = (int)n;
         } else if (!strcmp(opt, "--velocity-term") || !strcmp(opt, "--eccentricity-term")) {
             int off = !strcmp(val, "off");
             if (!off && strcmp(val, "on")) {
@@ -199,13 +199,13 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
                 return 1;
             }
             if (opt[2] == 'v')
-                o->velocity_term_off = off;
+                o->frame.velocity_term_off = off;
             else
-                o->eccentricity_term_off = off;
+                o->frame.eccentricity_term_off = off;
         } else if (!strcmp(opt, "--render-scale")) {
             if (app_parse_double(opt, val, &d))
                 return 1;
-            o->render_scale = d;
+            o->frame.render_scale = d;
         } else {
             fprintf(stderr, "hmdlod: unknown option '%s'\n%s", opt, usage);
             return 1;
@@ -244,7 +244,7 @@ int cmd_replay(int argc, char **argv)
     }
     struct rpl_summary summary;
     int rc = run_and_report(&o, &summary);
-    if (rc == 0 && !o.quiet)
+    if (rc == 0 && !o.frame.quiet)
         printf("  wrote %s/frames.csv and %s/summary.json\n", o.out_dir, o.out_dir);
     return rc;
 }
@@ -278,7 +278,7 @@ int cmd_demo(int argc, char **argv)
     char dirs[RUNS][4096];
     for (int k = 0; k < RUNS; ++k) {
         snprintf(dirs[k], sizeof dirs[k], "%s/%s", base_dir, selectors[k]);
-        o.selector = selectors[k];
+        o.frame.selector = selectors[k];
         o.out_dir = dirs[k];
         if (run_and_report(&o, &summaries[k]) != 0)
             return 1;

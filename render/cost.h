@@ -1,6 +1,6 @@
 /* render/cost.h: measuring the machine's cost — timed stereo frames over a grid of triangle counts,
  * screen coverage and draw counts (`hmdlod calibrate`), recorded as plain numbers per frame and
- * object. The fits, their accuracy and the cost profile are replay's (replay/cost.h), which joins
+ * object. The fits, their accuracy and the cost profile are replay's (frame/cost.h), which joins
  * this measurement with acuity's coverage estimate and lod's cost arithmetic (DESIGN.md: render
  * depends on scene, hmd and base only). Included by render/render.h. */
 #ifndef HMDLOD_RENDER_COST_H
@@ -12,7 +12,7 @@
 /* ---- samples ----------------------------------------------------------------------------------
  * One timed frame holds object_count objects, objects[first_object …]. Each object's counts are for
  * both eyes, in the cost model's units (lod.h): triangles and vertices drawn, draw calls, and its
- * world bounding sphere; pixels_px is left 0 here and filled by replay (rpl_cost_calibrate) with
+ * world bounding sphere; pixels_px is left 0 here and filled by replay (frm_cost_calibrate) with
  * acu_compute_pixels' estimate — not a rasterised count: the replay predicts with the same
  * estimate. measured_ms is the median over repeats of draw + glFinish. */
 struct rnd_cost_object {

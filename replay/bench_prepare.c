@@ -62,13 +62,13 @@ static int domes_full_cost(const char *out_dir, enum rpl_bench_mode mode, const 
     struct rpl_options o;
     rpl_options_defaults(&o);
     o.trace_path = probe.traces[0];
-    o.scene = "domes";
-    o.display = run.display;
-    o.selector = "none";
+    o.frame.scene = "domes";
+    o.frame.display = run.display;
+    o.frame.selector = "none";
     o.frames = run.frames;
-    o.render_scale = run.render_scale;
+    o.frame.render_scale = run.render_scale;
     o.out_dir = dir;
-    o.quiet = 1;
+    o.frame.quiet = 1;
     rpl_bench_plan_free(&probe);
     if (hl_dir_make(calib, err) != 0 || hl_dir_make(dir, err) != 0)
         return -1;

@@ -103,7 +103,7 @@ static int capture_write(struct rnd_window *w, const char *path, struct hl_error
 }
 
 struct live_state {
-    struct rpl_session s;
+    struct frm_session s;
     struct rnd_window *window;
     struct rnd_distortion *distortion;
     struct rpl_live_record record;
@@ -116,17 +116,17 @@ struct live_state {
 };
 
 /* S: the next selector (mb only when the session started with it: it needs the groups' state). */
-static const enum rpl_selector live_selectors[] = {RPL_SELECT_NONE, RPL_SELECT_REDDY, RPL_SELECT_STATIC,
-                                                   RPL_SELECT_FEEDBACK, RPL_SELECT_FS, RPL_SELECT_MB};
+static const enum frm_selector live_selectors[] = {FRM_SELECT_NONE, FRM_SELECT_REDDY, FRM_SELECT_STATIC,
+                                                   FRM_SELECT_FEEDBACK, FRM_SELECT_FS, FRM_SELECT_MB};
 static const char *const live_selector_names[] = {"none", "reddy", "static", "feedback", "fs", "mb"};
-static int selector_index(enum rpl_selector sel)
+static int selector_index(enum frm_selector sel)
 {
     int k = 0;
     while (k < 5 && live_selectors[k] != sel)
         ++k;
     return k;
 }
-static void next_selector(struct rpl_session *s, int started_mb)
+static void next_selector(struct frm_session *s, int started_mb)
 {
     int n = started_mb ? 6 : 5, k = (selector_index(s->select.selector) + 1) % n;
     s->select.selector = s->selector = live_selectors[k];
@@ -141,7 +141,7 @@ static int handle_keys(struct live_state *st, double dt_s)
     int key;
     double look_yaw = 0.0, look_pitch = 0.0; /* this frame's turn from keys and mouse, applied once */
     while (rnd_window_next_key(st->window, &key)) {
-        struct rpl_session *s = &st->s;
+        struct frm_session *s = &st->s;
         if (key == RND_KEY_ESCAPE || key == 'Q')
             return 1;
         if (key == '+' || key == '-') {
@@ -208,7 +208,7 @@ static void check_health(struct live_state *st, struct rpl_live_summary *sum, ch
     }
 }
 
-static void status_line(struct live_state *st, const struct rpl_frame_record *rec, double interval_ms, int terminal,
+static void status_line(struct live_state *st, const struct frm_frame_record *rec, double interval_ms, int terminal,
                         int quiet)
 {
     char line[256];
@@ -224,7 +224,7 @@ static void status_line(struct live_state *st, const struct rpl_frame_record *re
 static int run_loop(struct live_state *st, const struct rpl_live_options *o, double rate_hz, struct rpl_live_summary *sum,
                     struct hl_error *err)
 {
-    struct rpl_session *s = &st->s;
+    struct frm_session *s = &st->s;
     struct rpl_pacer pacer;
     sum->self_paced = !swap_throttles(st->window, 1000.0 / rate_hz);
     if (sum->self_paced)
@@ -243,8 +243,8 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
         long missed_before = pacer.missed;
         rpl_pacer_plan(&pacer, last_work_ns);
         double display_s = (double)rpl_pacer_due_ns(&pacer) * 1e-9;
-        struct rpl_frame_record rec;
-        if (rpl_frame_run(s, f, display_s, &rec, err) != 0)
+        struct frm_frame_record rec;
+        if (frm_frame_run(s, f, display_s, &rec, err) != 0)
             return -1;
         int64_t t0 = hl_clock_now_ns();
         if (rnd_distortion_draw(st->distortion, 1, err) != 0)
@@ -340,10 +340,10 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     struct live_state st;
     memset(&st, 0, sizeof st);
     int rc = -1;
-    const struct rpl_options *so = o->session;
+    const struct frm_options *so = o->session;
     struct hmd_profile display;
-    struct rpl_session_made made = {NULL, NULL};
-    if (!so || rpl_session_check_options(so, 0, &st.s.selector, &st.s.reading, err) != 0)
+    struct frm_session_made made = {NULL, NULL};
+    if (!so || frm_options_check(so, &st.s.selector, &st.s.reading, err) != 0)
         return so ? -1 : hl_fail(err, "live: no session options");
     if (o->frames < 0)
         return hl_fail(err, "--frames: %ld must be >= 0", o->frames);
@@ -367,7 +367,7 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
         goto done;
     }
     snprintf(sum->source, sizeof sum->source, "%s", made.source->name);
-    if (rpl_session_open(&st.s, so, &made, err) != 0)
+    if (frm_session_open(&st.s, so, &made, err) != 0)
         goto done;
     int ww, wh;
     rnd_window_size(st.window, &ww, &wh);
@@ -384,7 +384,7 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     }
     snprintf(sum->scene, sizeof sum->scene, "%s", so->scene);
     snprintf(sum->selector, sizeof sum->selector, "%s", so->selector);
-    st.started_mb = st.s.selector == RPL_SELECT_MB;
+    st.started_mb = st.s.selector == FRM_SELECT_MB;
 
     struct sigaction sa, old_int, old_term;
     memset(&sa, 0, sizeof sa);
@@ -428,7 +428,7 @@ done:
     rpl_live_series_free(&st.to_present_ms);
     rpl_live_series_free(&st.on_time_ms);
     rnd_distortion_destroy(st.distortion);
-    rpl_session_close(&st.s); /* the renderer before the window it draws in */
+    frm_session_close(&st.s); /* the renderer before the window it draws in */
     rnd_window_destroy(st.window);
     return rc;
 }

@@ -6,10 +6,10 @@
 
 #include <stdio.h>
 
-struct rpl_options;
+struct frm_options;
 
 struct rpl_live_options {
-    const struct rpl_options *session; /* scene, display, selector, budget, gaze …; out_dir unused */
+    const struct frm_options *session; /* scene, display, selector, budget, gaze …; out_dir unused */
     const char *device;       /* "none" (desk), "auto" (a tracker if one is found, else desk) or a hidraw path */
     int monitor;              /* −1: a window on the desktop; else fullscreen on that monitor */
     long frames;              /* 0: until Esc, the window's close button or SIGINT */

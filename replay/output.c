@@ -38,7 +38,7 @@ static void write_optional(FILE *f, const char *format, double v)
 }
 
 /* --reference frames' columns (render/image_error.h); empty on other frames. */
-static void write_image_error(FILE *f, const struct rpl_frame_record *r)
+static void write_image_error(FILE *f, const struct frm_frame_record *r)
 {
     if (!r->has_image_error) {
         fputs(",,,,,,,,,", f);
@@ -54,7 +54,7 @@ static void write_image_error(FILE *f, const struct rpl_frame_record *r)
     write_optional(f, ",%.6f", e->px_over_32_share);
 }
 
-void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int max_lods)
+void rpl_output_row(struct rpl_output *o, const struct frm_frame_record *r, int max_lods)
 {
     fprintf(o->csv, "%ld,%.6f,%.3f,%u,%llu,%llu,%llu", r->frame, r->time_s, r->head_speed_degps, r->visible,
             (unsigned long long)r->acuity_evaluations, (unsigned long long)r->triangles_per_eye,
@@ -62,7 +62,7 @@ void rpl_output_row(struct rpl_output *o, const struct rpl_frame_record *r, int 
     for (int k = 0; k < max_lods; ++k)
         fprintf(o->csv, ",%u", r->lod_histogram[k]);
     /* lp_gap: the share of the LP bound the choice misses (empty where no bound was computed). */
-    const struct rpl_select_record *q = &r->sel;
+    const struct frm_select_record *q = &r->sel;
     fprintf(o->csv, ",%u,%.4f,%.4f,%.6g", q->dropped, q->predicted_ms, q->optimizer_budget_ms, q->benefit);
     if (isfinite(q->lp_bound) && q->lp_bound > 0.0)
         fprintf(o->csv, ",%.6g,%.6f", q->lp_bound, 1.0 - q->benefit / q->lp_bound);
@@ -159,7 +159,7 @@ void rpl_accumulator_free(struct rpl_accumulator *a)
 }
 
 
-static void accumulate_image_error(struct rpl_accumulator *a, const struct rpl_frame_record *r)
+static void accumulate_image_error(struct rpl_accumulator *a, const struct frm_frame_record *r)
 {
     const struct rnd_image_error *e = &r->image;
     if (a->ref_n < a->ref_capacity) {
@@ -182,7 +182,7 @@ static void accumulate_image_error(struct rpl_accumulator *a, const struct rpl_f
             a->ref_band_sum[b] += e->fssim_band[b], a->ref_band_n[b]++;
 }
 
-void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
+void rpl_accumulate(struct rpl_accumulator *a, const struct frm_frame_record *r)
 {
     if (a->n < a->capacity) {
         a->frame_ms[a->n] = r->frame_ms;
@@ -208,7 +208,7 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
     a->triangles_sum += (double)r->triangles_per_eye;
     a->finest_sum += (double)r->triangles_finest;
     a->deadlines_met += r->deadline_met;
-    const struct rpl_select_record *q = &r->sel;
+    const struct frm_select_record *q = &r->sel;
     a->predicted_within += q->predicted_ms <= q->budget_ms;
     a->truncated_frames += q->truncated;
     a->over_budget_frames += q->over_budget;
@@ -226,7 +226,7 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct rpl_frame_record *r)
     a->visible_error_max = fmax(a->visible_error_max, r->visible_error);
     if (r->has_image_error)
         accumulate_image_error(a, r);
-    a->gaze_frames += q->saccade_active; /* saccades (replay/saccade_step.c) */
+    a->gaze_frames += q->saccade_active; /* saccades (frame/saccade_step.c) */
     a->saccades += q->saccade_started;
     a->suppressed_frames += q->saccade_phase != 0;
     a->refine_miss_frames += q->refine_miss;
@@ -416,7 +416,7 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
         cJSON_AddNullToObject(root, "benefit_share_of_lp_mean");
         cJSON_AddNullToObject(root, "benefit_share_of_lp_min");
     }
-    if (s->gaze_frames > 0) { /* saccades (replay/saccade_step.c): only when the trace has gaze */
+    if (s->gaze_frames > 0) { /* saccades (frame/saccade_step.c): only when the trace has gaze */
         cJSON *sac = cJSON_AddObjectToObject(root, "saccades");
         cJSON_AddNumberToObject(sac, "count", (double)s->saccades);
         cJSON_AddNumberToObject(sac, "suppressed_frames", (double)s->suppressed_frames);
@@ -525,7 +525,7 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
     if (s->vm_hwm_kib >= 0 && s->vm_rss_kib >= 0)
         fprintf(f, "  %-34s %10.1f / %.1f MiB\n", "resident memory peak / at the end", s->vm_hwm_kib / 1024.0,
                 s->vm_rss_kib / 1024.0);
-    if (s->gaze_frames > 0) { /* saccades (replay/saccade_step.c): only when the trace has gaze */
+    if (s->gaze_frames > 0) { /* saccades (frame/saccade_step.c): only when the trace has gaze */
         fprintf(f, "  %-34s %10ld, %.1f %% of frames suppressed\n", "saccades", s->saccades,
                 100.0 * s->suppressed_fraction);
         fprintf(f, "  %-34s %10ld frames, %ld saccades (%.1f %%)\n", "refinements missing 28 ms", s->refine_miss_frames,

@@ -1,7 +1,8 @@
-/* replay: sessions over time. Head-motion trace formats (the project's CSV, Corbillon MMSys'18,
- * Nasrabadi MMSys'19, the EDVAM eye-tracker log),
- * resampling by slerp with sane angular velocity, the trace pose source, the frame loop on a
- * virtual clock, per-frame CSV and summaries. Prefix rpl_. The only module that joins the others. */
+/* replay: recorded head motion on a virtual clock. Head-motion trace formats (the project's CSV,
+ * Corbillon MMSys'18, Nasrabadi MMSys'19, the EDVAM eye-tracker log), resampling by slerp with sane
+ * angular velocity, the trace pose source, the replay run (frame/'s frame at each tick of the
+ * virtual clock), per-frame CSV and summaries (table + JSON). Prefix rpl_. It runs frame/ and may
+ * not touch live/ or bench/. */
 #ifndef HMDLOD_REPLAY_H
 #define HMDLOD_REPLAY_H
 
@@ -9,8 +10,7 @@
 
 #include "base/base.h"
 #include "tracking/tracking.h"
-#include "replay/assets.h"
-#include "replay/cost.h"
+#include "frame/frame.h"
 #include "replay/bench.h"
 #include "replay/live.h"
 #include "replay/soak.h"
@@ -96,52 +96,26 @@ void rpl_trace_sample(const struct rpl_trace *trace, double time_s, struct trk_p
 /* A pose source over a trace (takes ownership of *trace's arrays; zeroes *trace). */
 int rpl_trace_source_create(struct rpl_trace *trace, struct trk_pose_source **out, struct hl_error *err);
 
-/* ---- the frame loop ------------------------------------------------------------------------- */
-struct scn_asset_resolver;
-/* How fs and mb correct their budget from measured draw times (lod.h): not at all, by the smoothed
- * measured/predicted ratio (the default), or by the affine fit measured = a + b·x. */
-enum rpl_correction { RPL_CORRECTION_OFF = 0, RPL_CORRECTION_RATIO = 1, RPL_CORRECTION_AFFINE = 2 };
+/* ---- the replay run ------------------------------------------------------------------------- */
+/* A replay: the session's options (frame/frame.h) and where its head motion comes from and goes. */
 struct rpl_options {
+    struct frm_options frame; /* scene, display, selector, budget, gaze …; quiet also hides the summary table */
     const char *trace_path;  /* NULL → built-in clip */
     const char *raw_path;    /* raw tracker recording fused into the trace (excludes trace_path) */
-    const char *scene;       /* built-in scene name, or a scene file (rpl_scene_is_file) */
-    const struct scn_asset_resolver *resolver; /* scene files' meshes; NULL = scene/'s default */
-    const char *display;     /* built-in name or JSON file */
-    const char *selector;    /* "none" | "reddy" | "static" | "feedback" | "fs" */
-    const char *frequency_reading; /* "narrow" (default) | "long" | "geometric" (replay/assets.h) */
     const char *out_dir;     /* created if missing */
     double rate_hz;          /* 0 → the display's refresh */
     long frames;             /* 0 → the whole trace */
     long capture_every;      /* 0 → no PNG; N → frames 0, N, 2N … */
-    int object_count;        /* field: objects, domes: domes; 0 = the scene's default (100, 10) */
-    uint64_t seed;
-    double acuity_scale;     /* Reddy §6 s; 1 by default */
-    double render_scale;     /* per-eye resolution factor (1 = the display's pixels) */
-    int quiet;               /* no summary table on stdout */
-    double budget_ms;        /* frame budget; 0 → the display's frame period */
-    const char *cost_profile; /* JSON from hmdlod calibrate; NULL → the built-in llvmpipe profile */
-    double opt_limit_us;     /* fs/mb time limit per frame (Nirenstein §5.5); 0 = none */
-    double static_px_per_triangle; /* static: the average triangle covers at least this (default 64) */
-    int cost_correction;     /* enum rpl_correction; RPL_CORRECTION_RATIO by default */
-    /* Gaze models (acuity/gaze.h; docs/gaze.md) */
-    const char *gaze;        /* NULL/"auto" (default): tracked when the trace has gaze, else vor;
-                              * or "head" | "vor" | "tracked" */
-    double vor_gain;         /* < 0 → acu_vor_params_default's; 0 … 1.2 */
-    double vor_latency_ms;   /* < 0 → default */
-    double fixation_m;       /* ≤ 0 → the scene's default fixation distance */
-    double saccade_onset_degps; /* ≤ 0 → acu_saccade_params_default's */
-    int velocity_term_off;   /* 1: acu_limits.use_velocity = 0 (bench gaze: what the velocity term saves) */
-    int eccentricity_term_off; /* 1: acu_limits.use_eccentricity = 0 (Reddy's study: size + velocity) */
     /* Image error (render/image_error.h; docs/replay-output.md): 0 → none; N → frames 0, N, 2N … are
      * also drawn at full detail (selector none, same pose and eyes) after being timed, and both images
      * are compared: PSNR, SSIM, foveated SSIM around the frame's gaze. */
     long reference_every;
-    int mb_simplify;         /* mb: Nirenstein et al.'s hierarchy simplification applied 0 (default) … 8 times */
 };
 void rpl_options_defaults(struct rpl_options *o);
-/* 1 when a --scene value names a scene file (docs/scene-format.md): it ends in .json or is an
- * existing regular file; otherwise it is a built-in scene's name. */
-int rpl_scene_is_file(const char *scene);
+/* frm_options_check, then the replay's own: an output folder (when need_out_dir), the rate, frame,
+ * capture and reference counts. 0, or −1 with err naming the option. */
+int rpl_options_check(const struct rpl_options *o, int need_out_dir, enum frm_selector *selector,
+                      enum frm_freq_reading *reading, struct hl_error *err);
 
 /* Head-speed bands of the summary, deg/s: [0,10) [10,30) [30,60) [60,120) [120,∞). */
 enum { RPL_SPEED_BAND_COUNT = 5 };
@@ -180,7 +154,7 @@ struct rpl_summary {
     double eye_speed_degps_mean;
     char renderer[128];
     char selector[16], scene[256], display[64];
-    /* saccades (replay/saccade_step.c; docs/gaze.md), only when the trace has gaze (gaze_frames > 0) */
+    /* saccades (frame/saccade_step.c; docs/gaze.md), only when the trace has gaze (gaze_frames > 0) */
     long gaze_frames, saccades, suppressed_frames;
     double suppressed_fraction;           /* frames inside a saccade or its window / frames */
     long refine_miss_frames, refine_missed_saccades; /* frames past the 28 ms deadline; saccades with one */
@@ -202,30 +176,11 @@ struct rpl_summary {
     double visible_error_reference_mean;   /* predicted visible error over the compared frames only */
 };
 
-/* The visible-set test of a frame (DESIGN.md step 3): the union of both eyes' frusta of a display
- * as world-space planes for scn_cull (scene/cull.h). Init once per display; the planes per pose. */
-struct hmd_profile;
-struct scn_plane;
-struct rpl_cull_frustum {
-    hl_vec3d normals_head[4]; /* unit inward normals of the side planes, head frame, through its centre */
-    double near_m, margin_m;  /* near plane; half the IPD, by which every plane moves out */
-};
-void rpl_cull_frustum_init(struct rpl_cull_frustum *f, const struct hmd_profile *display, double near_m);
-/* Writes the five planes (left, right, top, bottom, near) for a head pose (position, body-to-world
- * orientation) and returns 5. */
-int rpl_cull_frustum_planes(const struct rpl_cull_frustum *f, const struct trk_pose *pose, struct scn_plane *planes);
-
 /* Runs the replay and writes DIR/frames.csv, DIR/summary.json and PNG captures. */
 int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_error *err);
 void rpl_summary_print(FILE *f, const struct rpl_summary *s);
 
-/* ---- motion (replay/motion_step.c) ----------------------------------------------------------- */
-struct scn_scene;
-/* Moves the scene to time t_s (scene/motion.h): instance poses, bounding-sphere centres, group
- * spheres and frames. Returns the instances' world velocities (3 per instance, m/s) for
- * acu_compute_geometry, or NULL for a static scene (s->motion == NULL), which it leaves untouched.
- * Allocates nothing. */
-const double *rpl_motion_step(struct scn_scene *s, double t_s);
+/* ---- memory (replay/output.c) ---------------------------------------------------------------- */
 /* Peak and current resident set of this process in KiB (VmHWM, VmRSS of /proc/self/status); −1 each
  * where the file or the line is missing (not Linux). */
 void rpl_resident_memory(long *vm_hwm_kib, long *vm_rss_kib);

@@ -11,19 +11,56 @@
 void rpl_options_defaults(struct rpl_options *o)
 {
     memset(o, 0, sizeof *o);
-    o->scene = "field";
-    o->display = "vive";
-    o->selector = "reddy";
-    o->frequency_reading = "narrow"; /* docs/analysis.md: why narrow */
-    o->object_count = 0; /* each scene's own default: field 100 objects, domes 10 */
-    o->seed = 1;
-    o->acuity_scale = 1.0;
-    o->render_scale = 1.0;
-    o->static_px_per_triangle = 64.0;
-    o->cost_correction = RPL_CORRECTION_RATIO;
-    o->gaze = "auto";
-    o->vor_gain = -1.0;
-    o->vor_latency_ms = -1.0;
+    frm_options_defaults(&o->frame);
+}
+
+int rpl_options_check(const struct rpl_options *o, int need_out_dir, enum frm_selector *selector,
+                      enum frm_freq_reading *reading, struct hl_error *err)
+{
+    if (frm_options_check(&o->frame, selector, reading, err) != 0)
+        return -1;
+    if (need_out_dir && (!o->out_dir || !*o->out_dir))
+        return hl_fail(err, "--out: an output folder is required");
+    if (o->rate_hz < 0.0 || !isfinite(o->rate_hz) || (o->rate_hz > 0.0 && o->rate_hz < 1.0) || o->rate_hz > 10000.0)
+        return hl_fail(err, "--rate: %g Hz is outside [1, 10000]", o->rate_hz);
+    if (o->frames < 0 || o->capture_every < 0 || o->reference_every < 0)
+        return hl_fail(err, "--frames, --capture and --reference must be >= 0");
+    if (o->frames > RPL_MAX_FRAMES)
+        return hl_fail(err, "--frames: %ld is more than the %ld frames a replay holds", o->frames, (long)RPL_MAX_FRAMES);
+    return 0;
+}
+
+/* The options' trace (a raw recording, a trace file or the built-in clip) as the session's source,
+ * opened after the display and before the scene (frm_session_open_display, _scene). */
+static int open_trace(struct frm_session *s, const struct rpl_options *o, struct hl_error *err)
+{
+    struct rpl_trace trace;
+    int rc = o->raw_path     ? rpl_trace_from_recording(o->raw_path, &trace, err)
+             : o->trace_path ? rpl_trace_load(o->trace_path, &trace, err)
+                             : rpl_trace_builtin_clip(&trace, err);
+    if (rc != 0)
+        return -1;
+    const struct rpl_trace_report *tr = &trace.report;
+    if (o->trace_path && (tr->repeated_timestamps || tr->low_confidence_gaze || tr->placeholder_rows ||
+                          tr->held_orientations || tr->speed_outliers)) {
+        /* What loading had to do to a file is said once, not silently (docs/trace-format.md). */
+        char line[512];
+        rpl_trace_report_format(tr, line, sizeof line);
+        fprintf(stderr, "hmdlod: note: %s: %s\n", o->trace_path, line);
+    }
+    s->trace_has_gaze = trace.gaze_dir != NULL;
+    s->trace_has_position = trace.position_m != NULL;
+    return rpl_trace_source_create(&trace, &s->source, err);
+}
+
+/* The session of a replay: display, then the trace, then the rest. */
+static int open_session(struct frm_session *s, const struct rpl_options *o, struct hl_error *err)
+{
+    struct frm_options fo = o->frame;
+    fo.source_name = o->raw_path ? o->raw_path : o->trace_path ? o->trace_path : "the built-in clip";
+    if (frm_session_open_display(s, &fo, NULL, err) != 0 || open_trace(s, o, err) != 0)
+        return -1;
+    return frm_session_open_scene(s, &fo, err);
 }
 
 static int make_dirs(const char *dir, struct hl_error *err)
@@ -48,14 +85,7 @@ static int make_dirs(const char *dir, struct hl_error *err)
     return 0;
 }
 
-int rpl_scene_is_file(const char *scene)
-{
-    size_t len = scene ? strlen(scene) : 0;
-    struct stat st;
-    return (len > 5 && strcmp(scene + len - 5, ".json") == 0) || (len > 0 && stat(scene, &st) == 0 && S_ISREG(st.st_mode));
-}
-
-static int write_png(struct rpl_session *s, const uint8_t *rgba, const char *dir, long frame, const char *suffix,
+static int write_png(struct frm_session *s, const uint8_t *rgba, const char *dir, long frame, const char *suffix,
                      struct hl_error *err)
 {
     int w, h;
@@ -65,7 +95,7 @@ static int write_png(struct rpl_session *s, const uint8_t *rgba, const char *dir
     return rnd_png_write(path, rgba, w, h, err);
 }
 
-static int capture_frame(struct rpl_session *s, uint8_t *rgba, const char *dir, long frame, struct hl_error *err)
+static int capture_frame(struct frm_session *s, uint8_t *rgba, const char *dir, long frame, struct hl_error *err)
 {
     if (rnd_renderer_read_rgba(s->renderer, rgba, err) != 0)
         return -1;
@@ -97,7 +127,7 @@ static int frame_count(const struct rpl_options *o, const struct trk_pose_source
 
 int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_error *err)
 {
-    struct rpl_session s;
+    struct frm_session s;
     memset(&s, 0, sizeof s);
     memset(summary, 0, sizeof *summary);
     struct rpl_output out;
@@ -112,7 +142,7 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
 
     /* The inputs (trace, scene, display) are opened before the output folder is made, so bad input
      * leaves no empty folder behind. */
-    if (rpl_session_check_options(o, 1, &s.selector, &s.reading, err) != 0 || rpl_session_open(&s, o, NULL, err) != 0 ||
+    if (rpl_options_check(o, 1, &s.selector, &s.reading, err) != 0 || open_session(&s, o, err) != 0 ||
         make_dirs(o->out_dir, err) != 0)
         goto done;
     double rate_hz = o->rate_hz > 0.0 ? o->rate_hz : s.display.refresh_hz;
@@ -145,14 +175,14 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     for (long f = 0; f < frames; ++f) {
         /* Virtual clock: frame f is displayed at start + f / rate, whatever the wall clock did. */
         double t_s = s.source->start_time_s + (double)f / rate_hz;
-        struct rpl_frame_record rec;
-        if (rpl_frame_run(&s, f, t_s, &rec, err) != 0)
+        struct frm_frame_record rec;
+        if (frm_frame_run(&s, f, t_s, &rec, err) != 0)
             goto done;
         int captured = o->capture_every > 0 && f % o->capture_every == 0;
         if (captured && capture_frame(&s, rgba, o->out_dir, f, err) != 0)
             goto done;
         if (o->reference_every > 0 && f % o->reference_every == 0) {
-            if (rpl_frame_reference(&s, &rec, rgba, captured, ref_rgba, image_work, err) != 0)
+            if (frm_frame_reference(&s, &rec, rgba, captured, ref_rgba, image_work, err) != 0)
                 goto done;
             /* A captured frame gets its reference beside it, for the eye to compare. */
             if (captured && write_png(&s, ref_rgba, o->out_dir, f, "_reference", err) != 0)
@@ -178,8 +208,8 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     summary->frame_ms_stddev_share_of_budget = summary->frame_ms_stddev / summary->budget_ms;
     snprintf(summary->cost_profile, sizeof summary->cost_profile, "%s", s.cost_label);
     snprintf(summary->renderer, sizeof summary->renderer, "%s", rnd_renderer_name(s.renderer));
-    snprintf(summary->selector, sizeof summary->selector, "%s", o->selector);
-    snprintf(summary->scene, sizeof summary->scene, "%s", o->scene);
+    snprintf(summary->selector, sizeof summary->selector, "%s", o->frame.selector);
+    snprintf(summary->scene, sizeof summary->scene, "%s", o->frame.scene);
     summary->scene_instances = s.scene.instance_count;
     summary->scene_groups = s.scene.group_count;
     rpl_resident_memory(&summary->vm_hwm_kib, &summary->vm_rss_kib);
@@ -197,7 +227,7 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
         hl_out_commit(&summary_out, err) != 0)
         goto done;
     rc = 0;
-    if (rc == 0 && !o->quiet)
+    if (rc == 0 && !o->frame.quiet)
         rpl_summary_print(stdout, summary);
 done:
     rpl_accumulator_free(&acc);
@@ -206,6 +236,6 @@ done:
     free(rgba);
     free(ref_rgba);
     rnd_image_error_work_destroy(image_work);
-    rpl_session_close(&s);
+    frm_session_close(&s);
     return rc;
 }

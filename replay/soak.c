@@ -1,5 +1,5 @@
 /* The soak (replay/soak.h; issue 17 item 7). One process, two threads: this one runs the replay
- * frame (rpl_frame_run, the code `hmdlod replay` and `hmdlod live` use) over a looped trace, paced
+ * frame (frm_frame_run, the code `hmdlod replay` and `hmdlod live` use) over a looped trace, paced
  * by the live loop's pacer (live_pace.c) on the wall clock at the display's refresh; the other is the
  * fake tracker (soak_tracker.c). Threads rather than one loop that also drains the tracker, because
  * a live tracker's reports arrive while a frame renders (tracking/hid.c reads on its own thread too),
@@ -71,7 +71,7 @@ static double mean_of(const double *v, long n)
 enum { SOAK_MEMORY_COLUMNS = 4 }; /* the memory kept per row for the stretch medians */
 
 struct soak_run {
-    struct rpl_session session;
+    struct frm_session session;
     int session_open;
     struct rpl_soak_tracker tracker;
     struct trk_imu_csv_row *rows;
@@ -259,28 +259,28 @@ static int soak_open(struct soak_run *r, const struct rpl_soak_options *o, doubl
     size_t n_rows = 0;
     if (trk_imu_csv_read(o->imu_path, &r->rows, &n_rows, err) != 0 || rpl_trace_load(o->trace_path, &trace, err) != 0)
         return -1;
-    struct rpl_session_made made = {NULL, NULL};
+    struct frm_session_made made = {NULL, NULL};
     r->t0_s = hl_clock_now_s();
     if (rpl_soak_source_create(&trace, r->t0_s, &made.source, err) != 0) {
         rpl_trace_free(&trace);
         return -1;
     }
-    struct rpl_options so;
-    rpl_options_defaults(&so);
+    struct frm_options so;
+    frm_options_defaults(&so);
     so.scene = "field";
     so.display = "vive";
     so.selector = "fs";
     so.render_scale = o->render_scale;
     so.quiet = 1;
-    enum rpl_selector sel;
-    enum rpl_freq_reading reading;
-    r->session_open = 1; /* rpl_session_open adopts the source even when it fails: close it then too */
-    if (rpl_session_check_options(&so, 0, &sel, &reading, err) != 0) {
+    enum frm_selector sel;
+    enum frm_freq_reading reading;
+    r->session_open = 1; /* frm_session_open adopts the source even when it fails: close it then too */
+    if (frm_options_check(&so, &sel, &reading, err) != 0) {
         trk_source_destroy(made.source);
         r->session_open = 0;
         return -1;
     }
-    if (rpl_session_open(&r->session, &so, &made, err) != 0)
+    if (frm_session_open(&r->session, &so, &made, err) != 0)
         return -1;
     *rate_hz = r->session.display.refresh_hz;
     /* every frame the duration can hold at the refresh, plus a second of slack */
@@ -303,7 +303,7 @@ static void soak_close(struct soak_run *r)
 {
     rpl_soak_tracker_stop(&r->tracker);
     if (r->session_open)
-        rpl_session_close(&r->session);
+        frm_session_close(&r->session);
     trk_imu_csv_free(r->rows);
     free(r->frame_ms), free(r->cpu_ms), free(r->triangles), free(r->scratch), free(r->display_s);
     free(r->sample_t_s);
@@ -355,10 +355,10 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
             return hl_fail(err, "%s", r->tracker.error);
         rpl_pacer_plan(&pacer, last_work_ns);
         double display_s = (double)rpl_pacer_due_ns(&pacer) * 1e-9;
-        struct rpl_frame_record rec;
+        struct frm_frame_record rec;
         double cpu0 = process_cpu_s();
         int64_t t0 = hl_clock_now_ns();
-        if (rpl_frame_run(&r->session, f, display_s, &rec, err) != 0)
+        if (frm_frame_run(&r->session, f, display_s, &rec, err) != 0)
             return -1;
         int64_t t1 = hl_clock_now_ns();
         r->cpu_ms[f] = (process_cpu_s() - cpu0) * 1e3;

@@ -27,7 +27,7 @@ struct scn_chain {
     double bound_center_m[3]; /* bounding-sphere centre, model space (the origin for the built-ins) */
     double bound_radius_m;    /* bounding-sphere radius about bound_center_m, at scale 1 */
     double box_min_m[3], box_max_m[3]; /* model-space box around every level's vertices, at scale 1
-                                        * (projected coverage of large objects, replay/select.c) */
+                                        * (projected coverage of large objects, frame/select.c) */
     int null_impostor; /* 1: drawing nothing (lod 255) is a legal choice for its instances (Mason & Blake §8) */
     int analysis_views, analysis_size_px; /* of the image-based tables its asset (.lod) came with; 0: none */
 };
@@ -67,7 +67,7 @@ struct scn_scene {
     /* instances[0 … instance_count − 1] are the scene's objects. The group impostors' instances
      * follow them, instances[instance_count … + impostor_instance_count − 1] (and the per-instance
      * arrays center_m, radius_m, chain_of_instance, importance have room for them): each sits at its
-     * group's frame (origin at the group's rest centre, moved with the group by rpl_motion_step), is
+     * group's frame (origin at the group's rest centre, moved with the group by frm_motion_step), is
      * drawn only when an optimizer chooses the impostor, and is no scene object — culling, acuity,
      * summaries and every loop up to instance_count never see it. */
     struct scn_instance *instances;

@@ -361,7 +361,7 @@ expect_ok "replay --gaze vor flags" "gain 0.8, latency 20 ms" -- "$bin" replay -
 grep -Eq '"model":[[:space:]]*"vor"' "$tmp/gz-vor/summary.json" && grep -Eq '"fixation_m":[[:space:]]*3,' "$tmp/gz-vor/summary.json" \
   || fail "summary.json does not name the gaze model and fixation"
 expect_ok "display shows the neck offset" "eyes from the neck pivot \(mm\) +80.5 forward, 75.0 up" -- "$bin" display show vive
-# Saccades (replay/saccade_step.c): the onset flag is checked; the EDVAM log loads as it is and the
+# Saccades (frame/saccade_step.c): the onset flag is checked; the EDVAM log loads as it is and the
 # summary reports its saccades.
 expect_error "replay bad --saccade-onset-degps" "--saccade-onset-degps: -5 is not a speed" -- "$bin" replay \
   --saccade-onset-degps -5 --out "$tmp/sac-bad"

@@ -1,5 +1,5 @@
 /* Reddy's offline spatial-frequency analysis (render/analyze.h) and the replay glue that applies it
- * to the built-in chains (replay/assets.c): CIELUV against published values, the comparison of two
+ * to the built-in chains (frame/assets.c): CIELUV against published values, the comparison of two
  * images, a chain with a feature of known size, the built-in field object, parameters refused. */
 #include <dlfcn.h>
 #include <float.h>
@@ -328,7 +328,7 @@ static void test_field(struct rnd_renderer *r)
     struct scn_lodset set;
     struct hl_error err = {{0}};
     CHECK(scn_scene_build("field", NULL, &sc, &err) == 0);
-    CHECK(rpl_lodset_from_chain(&sc, 0, &set, &err) == 0);
+    CHECK(frm_lodset_from_chain(&sc, 0, &set, &err) == 0);
     CHECK(set.level_count == 4 && set.levels[0].index_count == 3 * 3906 && set.levels[3].index_count == 3 * 78);
     CHECK(scn_mesh_hash(&set.levels[0]) != scn_mesh_hash(&set.levels[1]));
     for (int views = 6; views <= 18; views += 12) {
@@ -391,14 +391,14 @@ static void test_cache(void)
     CHECK(mkdtemp(dir) != NULL);
     setenv("HMDLOD_CACHE_DIR", dir, 1);
     struct rnd_analyze_params p;
-    rpl_assets_params(&p);
+    frm_assets_params(&p);
     struct hl_error err = {{0}};
     struct scn_scene a, b;
-    struct rpl_assets_report rep;
+    struct frm_assets_report rep;
     CHECK(scn_scene_build("field", NULL, &a, &err) == 0 && scn_scene_build("field", NULL, &b, &err) == 0);
-    CHECK(rpl_assets_prepare(&a, &p, RPL_READING_LONG, &rep, &err) == 0);
+    CHECK(frm_assets_prepare(&a, &p, FRM_READING_LONG, &rep, &err) == 0);
     CHECK(rep.chains_analysed == 1 && rep.chains_cached == 0 && !rep.cache_unwritable && rep.analysis_s > 0);
-    CHECK(rpl_assets_prepare(&b, &p, RPL_READING_LONG, &rep, &err) == 0);
+    CHECK(frm_assets_prepare(&b, &p, FRM_READING_LONG, &rep, &err) == 0);
     CHECK(rep.chains_analysed == 0 && rep.chains_cached == 1 && rep.analysis_s == 0);
     for (int l = 0; l < 4; ++l) {
         CHECK(a.chains[0].lods[l].freq.long_cpdiam == b.chains[0].lods[l].freq.long_cpdiam);
@@ -407,23 +407,23 @@ static void test_cache(void)
     }
     /* A lodset of the same meshes (what a scene file's resolver would hand over) hits the same file. */
     struct scn_lodset set;
-    CHECK(rpl_lodset_from_chain(&a, 0, &set, &err) == 0);
+    CHECK(frm_lodset_from_chain(&a, 0, &set, &err) == 0);
     for (int l = 0; l < 4; ++l)
         set.freq[l].narrow_cpdiam = set.freq[l].long_cpdiam = NAN;
-    CHECK(rpl_assets_measure(&set, "bumpy_sphere", &p, &rep, &err) == 0 && rep.chains_cached == 1);
+    CHECK(frm_assets_measure(&set, "bumpy_sphere", &p, &rep, &err) == 0 && rep.chains_cached == 1);
     CHECK(set.freq[2].long_cpdiam == a.chains[0].lods[2].freq.long_cpdiam && set.analysis_views == 18);
     scn_lodset_free(&set);
     /* The readings: narrow and geometric tables land in unique_freq_cpdiam, still falling. */
-    rpl_assets_apply_reading(&b, RPL_READING_NARROW);
+    frm_assets_apply_reading(&b, FRM_READING_NARROW);
     for (int l = 1; l < 4; ++l)
         CHECK(b.chains[0].lods[l].unique_freq_cpdiam == b.chains[0].lods[l].freq.narrow_cpdiam);
-    rpl_assets_apply_reading(&b, RPL_READING_GEOMETRIC);
+    frm_assets_apply_reading(&b, FRM_READING_GEOMETRIC);
     for (int l = 1; l < 4; ++l)
         CHECK(b.chains[0].lods[l].unique_freq_cpdiam == b.chains[0].lods[l].freq.geometric_cpdiam &&
               b.chains[0].lods[l].unique_freq_cpdiam < b.chains[0].lods[l - 1].unique_freq_cpdiam);
-    enum rpl_freq_reading rd;
-    CHECK(rpl_freq_reading_parse("narrow", &rd, &err) == 0 && rd == RPL_READING_NARROW);
-    CHECK(rpl_freq_reading_parse("widest", &rd, &err) != 0 && strstr(err.msg, "widest"));
+    enum frm_freq_reading rd;
+    CHECK(frm_freq_reading_parse("narrow", &rd, &err) == 0 && rd == FRM_READING_NARROW);
+    CHECK(frm_freq_reading_parse("widest", &rd, &err) != 0 && strstr(err.msg, "widest"));
 
     /* Corrupt the one file: one changed digit breaks the check line; it is analysed and rewritten. */
     char cmd[512], path[600] = "";
@@ -446,17 +446,17 @@ static void test_cache(void)
     }
     scn_scene_free(&b);
     CHECK(scn_scene_build("field", NULL, &b, &err) == 0);
-    CHECK(rpl_assets_prepare(&b, &p, RPL_READING_LONG, &rep, &err) == 0);
+    CHECK(frm_assets_prepare(&b, &p, FRM_READING_LONG, &rep, &err) == 0);
     CHECK(rep.chains_analysed == 1 && rep.chains_cached == 0);
     CHECK(b.chains[0].lods[1].freq.long_cpdiam == a.chains[0].lods[1].freq.long_cpdiam);
     scn_scene_free(&b);
     CHECK(scn_scene_build("field", NULL, &b, &err) == 0);
-    CHECK(rpl_assets_prepare(&b, &p, RPL_READING_LONG, &rep, &err) == 0 && rep.chains_cached == 1);
+    CHECK(frm_assets_prepare(&b, &p, FRM_READING_LONG, &rep, &err) == 0 && rep.chains_cached == 1);
 
     /* Other parameters: another key, another file; the first stays valid. */
     struct rnd_analyze_params q = p;
     q.views = 6;
-    CHECK(rpl_assets_prepare(&b, &q, RPL_READING_LONG, &rep, &err) == 0 && rep.chains_analysed == 1);
+    CHECK(frm_assets_prepare(&b, &q, FRM_READING_LONG, &rep, &err) == 0 && rep.chains_analysed == 1);
     snprintf(cmd, sizeof cmd, "test $(ls %s | wc -l) -eq 2", dir);
     CHECK(system(cmd) == 0);
 
@@ -464,7 +464,7 @@ static void test_cache(void)
     char blocked[600];
     snprintf(blocked, sizeof blocked, "%s/sub", path);
     setenv("HMDLOD_CACHE_DIR", blocked, 1);
-    CHECK(rpl_assets_prepare(&b, &p, RPL_READING_LONG, &rep, &err) == 0);
+    CHECK(frm_assets_prepare(&b, &p, FRM_READING_LONG, &rep, &err) == 0);
     CHECK(rep.chains_analysed == 1 && rep.cache_unwritable);
     CHECK(!file_exists(blocked));
     unsetenv("HMDLOD_CACHE_DIR");
@@ -490,7 +490,7 @@ static void test_cli(void)
     struct scn_scene sc;
     struct scn_lodset set, back;
     struct hl_error err = {{0}};
-    CHECK(scn_scene_build("field", NULL, &sc, &err) == 0 && rpl_lodset_from_chain(&sc, 0, &set, &err) == 0);
+    CHECK(scn_scene_build("field", NULL, &sc, &err) == 0 && frm_lodset_from_chain(&sc, 0, &set, &err) == 0);
     CHECK(scn_lodfile_write(lod, &set, &err) == 0);
     /* Under a sanitizer build the child runs with LeakSanitizer on: hmdlod pins Mesa's driver
      * itself (render/gl_driver_pin.c), so a leak it reports is ours. */

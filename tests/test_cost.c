@@ -1,4 +1,4 @@
-/* render/cost.h (measurement) and replay/cost.h (fits, profiles): NNLS against a brute-force
+/* render/cost.h (measurement) and frame/cost.h (fits, profiles): NNLS against a brute-force
  * enumeration of active sets, both cost forms recovering
  * known coefficients from synthetic frames (exact and noisy), held-out accuracy arithmetic, the
  * split, the profile JSON round trip and bad
@@ -111,7 +111,7 @@ static void test_nnls_brute_force(void)
         }
         double rnorm = -1;
         struct hl_error err = {""};
-        CHECK(rpl_cost_nnls(a, (size_t)m, (size_t)n, b, x, &rnorm, &err) == 0);
+        CHECK(frm_cost_nnls(a, (size_t)m, (size_t)n, b, x, &rnorm, &err) == 0);
         int nonneg = 1;
         for (int j = 0; j < n; ++j) {
             nonneg &= x[j] >= 0;
@@ -129,8 +129,8 @@ static void test_nnls_brute_force(void)
     /* Bad input: one message, no result. */
     struct hl_error err = {""};
     double a[2] = {1, NAN}, b[2] = {1, 1}, x[1];
-    CHECK(rpl_cost_nnls(a, 2, 1, b, x, NULL, &err) != 0 && strstr(err.msg, "not finite"));
-    CHECK(rpl_cost_nnls(a, 2, 0, b, x, NULL, &err) != 0 && strstr(err.msg, "bad sizes"));
+    CHECK(frm_cost_nnls(a, 2, 1, b, x, NULL, &err) != 0 && strstr(err.msg, "not finite"));
+    CHECK(frm_cost_nnls(a, 2, 0, b, x, NULL, &err) != 0 && strstr(err.msg, "bad sizes"));
     /* Exactly collinear columns (vertices = 2·triangles, one mesh): a solution, residual zero. */
     double a3[6 * 3], b3[6], x3[3], r3 = -1;
     for (int i = 0; i < 6; ++i) {
@@ -138,14 +138,14 @@ static void test_nnls_brute_force(void)
         a3[3 * i] = 1, a3[3 * i + 1] = t, a3[3 * i + 2] = 2 * t;
         b3[i] = 1.0 + 3e-3 * t;
     }
-    CHECK(rpl_cost_nnls(a3, 6, 3, b3, x3, &r3, &err) == 0);
+    CHECK(frm_cost_nnls(a3, 6, 3, b3, x3, &r3, &err) == 0);
     CHECK_NEAR(r3, 0.0, 1e-9);
     CHECK_NEAR(x3[1] + 2 * x3[2], 3e-3, 1e-12);
     /* Columns of wildly different scale (1 and 10⁶, as frames and pixels) still fit exactly. */
     double a2[3 * 2] = {1, 2e6, 1, 5e5, 1, 1e6}, b2[3], x2[2];
     for (int i = 0; i < 3; ++i)
         b2[i] = 1.5 * a2[2 * i] + 3e-6 * a2[2 * i + 1];
-    CHECK(rpl_cost_nnls(a2, 3, 2, b2, x2, NULL, &err) == 0);
+    CHECK(frm_cost_nnls(a2, 3, 2, b2, x2, NULL, &err) == 0);
     CHECK_NEAR(x2[0], 1.5, 1e-9);
     CHECK_NEAR(x2[1] * 1e6, 3.0, 1e-9);
 }
@@ -171,7 +171,7 @@ static void synthesize(const struct lod_cost_model *truth, double noise)
             o->pixels_px = pow(10, 2 + 4 * uniform());
             o->draws = 2.0 * (1 + (int)(4 * uniform())); /* several sub-meshes: draws separable from objects */
         }
-        double ms = rpl_cost_predict_frame_ms(truth, &frames[f], objects);
+        double ms = frm_cost_predict_frame_ms(truth, &frames[f], objects);
         frames[f].measured_ms = ms * (1 + noise * gaussian());
     }
 }
@@ -188,27 +188,27 @@ static void check_recovered(const struct lod_cost_model *fit, const struct lod_c
 
 static void test_fit_form(enum lod_cost_form form)
 {
-    const char *name = rpl_cost_form_name(form);
+    const char *name = frm_cost_form_name(form);
     struct lod_cost_model truth = {form, 1.5, 4e-5, 2e-5, 3e-6, 0.01};
     uint32_t order[FRAMES];
     size_t train = 0;
     rnd_cost_split(FRAMES, 7, order, &train);
     struct hl_error err = {""};
     struct lod_cost_model fit;
-    struct rpl_cost_fit_report rep;
+    struct frm_cost_fit_report rep;
 
     synthesize(&truth, 0.0); /* exact data: the coefficients themselves */
-    CHECK(rpl_cost_fit(form, frames, order, train, objects, &fit, &rep, &err) == 0);
+    CHECK(frm_cost_fit(form, frames, order, train, objects, &fit, &rep, &err) == 0);
     check_recovered(&fit, &truth, 1e-6);
-    struct rpl_cost_accuracy acc = rpl_cost_evaluate(&fit, frames, order + train, FRAMES - train, objects);
+    struct frm_cost_accuracy acc = frm_cost_evaluate(&fit, frames, order + train, FRAMES - train, objects);
     printf("fit %s, exact data: c0 %.6g c1 %.6g c2 %.6g c3 %.6g c4 %.6g; held-out p95 %.2g, %d rounds\n", name,
            fit.c0_ms, fit.c1_ms_per_triangle, fit.c2_ms_per_vertex, fit.c3_ms_per_pixel, fit.c4_ms_per_draw,
            acc.p95_rel, rep.rounds);
     CHECK(acc.p95_rel < 1e-6 && acc.under5_share == 0.0 && acc.frames == FRAMES - train);
 
     synthesize(&truth, 0.02); /* 2 % Gaussian timing noise */
-    CHECK(rpl_cost_fit(form, frames, order, train, objects, &fit, &rep, &err) == 0);
-    acc = rpl_cost_evaluate(&fit, frames, order + train, FRAMES - train, objects);
+    CHECK(frm_cost_fit(form, frames, order, train, objects, &fit, &rep, &err) == 0);
+    acc = frm_cost_evaluate(&fit, frames, order + train, FRAMES - train, objects);
     printf("fit %s, 2 %% noise: c0 %.4g c1 %.4g c2 %.4g c3 %.4g c4 %.4g; held-out median %.4f p95 %.4f "
            "under-5 %% %.3f\n",
            name, fit.c0_ms, fit.c1_ms_per_triangle, fit.c2_ms_per_vertex, fit.c3_ms_per_pixel, fit.c4_ms_per_draw,
@@ -227,10 +227,10 @@ static void test_fit_misc(void)
     size_t train = 0;
     rnd_cost_split(FRAMES, 3, order, &train);
     struct hl_error err = {""};
-    CHECK(rpl_cost_fit(LOD_COST_ADDITIVE, frames, order, train, objects, &add, NULL, &err) == 0);
-    CHECK(rpl_cost_fit(LOD_COST_MAX, frames, order, train, objects, &mx, NULL, &err) == 0);
-    struct rpl_cost_accuracy a = rpl_cost_evaluate(&add, frames, order + train, FRAMES - train, objects);
-    struct rpl_cost_accuracy m = rpl_cost_evaluate(&mx, frames, order + train, FRAMES - train, objects);
+    CHECK(frm_cost_fit(LOD_COST_ADDITIVE, frames, order, train, objects, &add, NULL, &err) == 0);
+    CHECK(frm_cost_fit(LOD_COST_MAX, frames, order, train, objects, &mx, NULL, &err) == 0);
+    struct frm_cost_accuracy a = frm_cost_evaluate(&add, frames, order + train, FRAMES - train, objects);
+    struct frm_cost_accuracy m = frm_cost_evaluate(&mx, frames, order + train, FRAMES - train, objects);
     CHECK(m.p95_rel < 1e-6 && a.p95_rel > 0.01);
     CHECK(add.c0_ms >= 0 && add.c1_ms_per_triangle >= 0 && add.c2_ms_per_vertex >= 0 && add.c3_ms_per_pixel >= 0 &&
           add.c4_ms_per_draw >= 0);
@@ -238,8 +238,8 @@ static void test_fit_misc(void)
     /* Bad frames are refused with the frame named. */
     struct rnd_cost_frame bad = {0.0, 0, 1};
     uint32_t row = 0;
-    CHECK(rpl_cost_fit(LOD_COST_MAX, &bad, &row, 1, objects, &mx, NULL, &err) != 0 && strstr(err.msg, "frame 0"));
-    CHECK(rpl_cost_fit(LOD_COST_MAX, frames, order, 0, objects, &mx, NULL, &err) != 0);
+    CHECK(frm_cost_fit(LOD_COST_MAX, &bad, &row, 1, objects, &mx, NULL, &err) != 0 && strstr(err.msg, "frame 0"));
+    CHECK(frm_cost_fit(LOD_COST_MAX, frames, order, 0, objects, &mx, NULL, &err) != 0);
 
     /* Accuracy arithmetic on hand-made frames: errors −10 %, 0, +2 %, +4 %, +20 % → median 4 %,
      * p95 (type 7: 0.8 of the way from 10 % to 20 %) 18 %, under-predicted by > 5 %: 1 of 5. */
@@ -247,7 +247,7 @@ static void test_fit_misc(void)
     struct rnd_cost_object ob = {.triangles = 0, .vertices = 0, .pixels_px = 0, .draws = 1};
     struct rnd_cost_frame hand[5] = {{1 / 0.9, 0, 1}, {1, 0, 1}, {1 / 1.02, 0, 1}, {1 / 1.04, 0, 1}, {1 / 1.2, 0, 1}};
     uint32_t rows[5] = {0, 1, 2, 3, 4};
-    struct rpl_cost_accuracy h = rpl_cost_evaluate(&one, hand, rows, 5, &ob);
+    struct frm_cost_accuracy h = frm_cost_evaluate(&one, hand, rows, 5, &ob);
     CHECK_NEAR(h.median_rel, 0.04, 1e-12);
     CHECK_NEAR(h.p95_rel, 0.18, 1e-12);
     CHECK_NEAR(h.under5_share, 0.2, 1e-12);
@@ -258,7 +258,7 @@ static void test_fit_misc(void)
     struct rnd_cost_object two[2] = {{.triangles = 1000, .vertices = 10, .pixels_px = 100, .draws = 2},
                                      {.triangles = 10, .vertices = 10, .pixels_px = 1e5, .draws = 2}};
     struct rnd_cost_frame fr = {1, 0, 2};
-    CHECK_NEAR(rpl_cost_predict_frame_ms(&m2, &fr, two), 2 + (1 + 1) + (10 + 1), 1e-12);
+    CHECK_NEAR(frm_cost_predict_frame_ms(&m2, &fr, two), 2 + (1 + 1) + (10 + 1), 1e-12);
 }
 
 static void test_split(void)
@@ -298,9 +298,9 @@ static const char *write_text(const char *name, const char *text)
 static void expect_bad(const char *name, const char *text, const char *message)
 {
     const char *path = write_text(name, text);
-    struct rpl_cost_profile p;
+    struct frm_cost_profile p;
     struct hl_error err = {""};
-    int rc = rpl_cost_profile_read(path, &p, &err);
+    int rc = frm_cost_profile_read(path, &p, &err);
     CHECK(rc != 0);
     if (rc == 0 || !strstr(err.msg, path) || !strstr(err.msg, message)) {
         ++tu_failures;
@@ -313,11 +313,11 @@ static void expect_bad(const char *name, const char *text, const char *message)
 
 static void test_profile(void)
 {
-    struct rpl_cost_profile p, q;
+    struct frm_cost_profile p, q;
     memset(&p, 0, sizeof p);
     p.model = (struct lod_cost_model){LOD_COST_ADDITIVE, 1.25, 3.0e-5, 1.0 / 3.0 * 1e-5, 2.7e-6, 0.0071};
-    p.held_out = (struct rpl_cost_accuracy){0.081, 0.23, 0.12, 25};
-    p.held_out_other = (struct rpl_cost_accuracy){0.09, 0.31, 0.2, 25};
+    p.held_out = (struct frm_cost_accuracy){0.081, 0.23, 0.12, 25};
+    p.held_out_other = (struct frm_cost_accuracy){0.09, 0.31, 0.2, 25};
     snprintf(p.label, sizeof p.label, "test profile");
     snprintf(p.renderer, sizeof p.renderer, "llvmpipe (LLVM 15.0.6, 256 bits)");
     snprintf(p.display, sizeof p.display, "vive");
@@ -329,11 +329,11 @@ static void test_profile(void)
     char path[128];
     snprintf(path, sizeof path, "%s/round.json", dir);
     struct hl_error err = {""};
-    CHECK(rpl_cost_profile_write(path, &p, &err) == 0);
+    CHECK(frm_cost_profile_write(path, &p, &err) == 0);
     char partial[160];
     snprintf(partial, sizeof partial, "%s.partial", path);
     CHECK(access(partial, F_OK) != 0);
-    CHECK(rpl_cost_profile_read(path, &q, &err) == 0);
+    CHECK(frm_cost_profile_read(path, &q, &err) == 0);
     CHECK(q.model.form == p.model.form && q.model.c0_ms == p.model.c0_ms &&
           q.model.c1_ms_per_triangle == p.model.c1_ms_per_triangle &&
           q.model.c2_ms_per_vertex == p.model.c2_ms_per_vertex && q.model.c3_ms_per_pixel == p.model.c3_ms_per_pixel &&
@@ -349,14 +349,14 @@ static void test_profile(void)
           q.grid.coverage[0] == p.grid.coverage[0]);
 
     /* The unwritable: one message, nothing left. */
-    CHECK(rpl_cost_profile_write("/nonexistent-dir/x.json", &p, &err) != 0 && strstr(err.msg, "/nonexistent-dir"));
+    CHECK(frm_cost_profile_write("/nonexistent-dir/x.json", &p, &err) != 0 && strstr(err.msg, "/nonexistent-dir"));
     p.model.c3_ms_per_pixel = -1;
-    CHECK(rpl_cost_profile_write(path, &p, &err) != 0 && strstr(err.msg, "c3_ms_per_pixel"));
+    CHECK(frm_cost_profile_write(path, &p, &err) != 0 && strstr(err.msg, "c3_ms_per_pixel"));
 
     /* A minimal file reads (everything but format, form, coefficients and renderer is optional). */
     const char *minimal = write_text("minimal.json", GOOD_HEAD "\"coefficients\": {" GOOD_COEF
                                                                ", \"c4_ms_per_draw\": 0.01}}");
-    CHECK(rpl_cost_profile_read(minimal, &q, &err) == 0 && q.model.form == LOD_COST_MAX &&
+    CHECK(frm_cost_profile_read(minimal, &q, &err) == 0 && q.model.form == LOD_COST_MAX &&
           q.model.c4_ms_per_draw == 0.01);
 
     expect_bad("missing.json", GOOD_HEAD "\"coefficients\": {" GOOD_COEF "}}", "'c4_ms_per_draw': missing");
@@ -384,18 +384,18 @@ static void test_profile(void)
     expect_bad("notjson.json", "{\"format\": ", "not valid JSON");
     expect_bad("array.json", "[1, 2]", "expected a JSON object");
     struct hl_error e2 = {""};
-    CHECK(rpl_cost_profile_read("/nonexistent-dir/x.json", &q, &e2) != 0 && strstr(e2.msg, "/nonexistent-dir/x.json"));
+    CHECK(frm_cost_profile_read("/nonexistent-dir/x.json", &q, &e2) != 0 && strstr(e2.msg, "/nonexistent-dir/x.json"));
 
     /* The built-in reference is labelled as such, on llvmpipe, with non-negative coefficients. */
-    struct rpl_cost_profile b;
-    rpl_cost_profile_builtin_llvmpipe(&b);
+    struct frm_cost_profile b;
+    frm_cost_profile_builtin_llvmpipe(&b);
     CHECK(strstr(b.label, "built-in llvmpipe reference (2-core, measured") != NULL);
     CHECK(strstr(b.renderer, "llvmpipe") != NULL);
     CHECK(b.model.c0_ms > 0 && b.model.c1_ms_per_triangle >= 0 && b.model.c2_ms_per_vertex >= 0 &&
           b.model.c3_ms_per_pixel >= 0 && b.model.c4_ms_per_draw >= 0);
     CHECK(b.model.c1_ms_per_triangle + b.model.c2_ms_per_vertex > 0 && b.model.c3_ms_per_pixel > 0);
     snprintf(path, sizeof path, "%s/builtin.json", dir);
-    CHECK(rpl_cost_profile_write(path, &b, &err) == 0 && rpl_cost_profile_read(path, &q, &err) == 0 &&
+    CHECK(frm_cost_profile_write(path, &b, &err) == 0 && frm_cost_profile_read(path, &q, &err) == 0 &&
           q.model.c0_ms == b.model.c0_ms && !strcmp(q.label, b.label));
 }
 
@@ -413,7 +413,7 @@ static void test_measure(void)
     g.repeats = 1;
     struct rnd_calibration cal;
     struct hl_error err = {""};
-    int rc = rpl_cost_calibrate(vive, &g, 1, &cal, &err);
+    int rc = frm_cost_calibrate(vive, &g, 1, &cal, &err);
     if (rc != 0) {
         fprintf(stderr, "measure: %s\n", err.msg);
         CHECK(rc == 0);

@@ -397,17 +397,17 @@ static void test_replay_unchanged(void)
     for (size_t k = 0; k < sizeof golden / sizeof golden[0]; ++k) {
         struct rpl_options o;
         rpl_options_defaults(&o);
-        o.gaze = "head";
-        o.display = vive0;
-        o.scene = golden[k].scene;
-        o.selector = golden[k].selector;
+        o.frame.gaze = "head";
+        o.frame.display = vive0;
+        o.frame.scene = golden[k].scene;
+        o.frame.selector = golden[k].selector;
         /* The goldens predate the measured tables: the geometric reading reproduces what the
          * selector saw then, so only the cull can make a difference here. */
-        o.frequency_reading = "geometric";
+        o.frame.frequency_reading = "geometric";
         o.frames = 240;
-        o.render_scale = 0.1;
+        o.frame.render_scale = 0.1;
         o.out_dir = dir;
-        o.quiet = 1;
+        o.frame.quiet = 1;
         struct rpl_summary sum;
         struct hl_error err = {{0}};
         int rc = rpl_run(&o, &sum, &err);

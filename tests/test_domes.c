@@ -7,7 +7,7 @@
 
 #include "lod/lod.h"
 #include "replay/replay.h"
-#include "replay/select_mb.h"
+#include "frame/select_mb.h"
 #include "scene/scene.h"
 #include "test_util.h"
 
@@ -115,7 +115,7 @@ static void test_domes_counts(void)
     hl_vec3d c0 = hl_v3(s.groups[1].center_m[0], s.groups[1].center_m[1], s.groups[1].center_m[2]);
     const double times[] = {0.37, 2.5, 11.0, 60.25};
     for (int k = 0; k < 4; ++k) {
-        CHECK(rpl_motion_step(&s, times[k]) == s.motion->velocity_mps);
+        CHECK(frm_motion_step(&s, times[k]) == s.motion->velocity_mps);
         check_groups(&s, "after motion");
     }
     hl_vec3d c1 = hl_v3(s.groups[1].center_m[0], s.groups[1].center_m[1], s.groups[1].center_m[2]);
@@ -123,12 +123,12 @@ static void test_domes_counts(void)
     CHECK_NEAR(s.groups[1].radius_m, radius0, 1e-9 * radius0); /* rigid: the sphere keeps its size */
     /* Each strut keeps its distance to its dome's centre (rigid motion of the group). */
     double worst = 0;
-    rpl_motion_step(&s, 0.0);
+    frm_motion_step(&s, 0.0);
     double d0[120];
     for (uint32_t e = 0; e < 120; ++e)
         d0[e] = hl_v3_length(hl_v3_sub(center_of(&s, 120 + e), hl_v3(s.groups[1].center_m[0], s.groups[1].center_m[1],
                                                                        s.groups[1].center_m[2])));
-    rpl_motion_step(&s, 3.3);
+    frm_motion_step(&s, 3.3);
     for (uint32_t e = 0; e < 120; ++e) {
         double d = hl_v3_length(hl_v3_sub(center_of(&s, 120 + e), hl_v3(s.groups[1].center_m[0], s.groups[1].center_m[1],
                                                                            s.groups[1].center_m[2])));
@@ -139,11 +139,11 @@ static void test_domes_counts(void)
     /* Velocities handed to acuity agree with finite differences of the moved centres. */
     const double t = 1.7, h = 1e-5;
     double before[3 * 360], after[3 * 360], vel[3 * 360];
-    rpl_motion_step(&s, t - h);
+    frm_motion_step(&s, t - h);
     memcpy(before, s.center_m, sizeof before);
-    rpl_motion_step(&s, t + h);
+    frm_motion_step(&s, t + h);
     memcpy(after, s.center_m, sizeof after);
-    memcpy(vel, rpl_motion_step(&s, t), sizeof vel);
+    memcpy(vel, frm_motion_step(&s, t), sizeof vel);
     double max_dev = 0, max_speed = 0;
     for (int i = 0; i < 3 * 360; ++i) {
         max_dev = fmax(max_dev, fabs((after[i] - before[i]) / (2 * h) - vel[i]));
@@ -171,7 +171,7 @@ static void test_domes_determinism(void)
     /* Every dome stays at least 3 m from the viewer at the origin, whatever its swing. */
     double nearest = INFINITY;
     for (int k = 0; k < 200; ++k) {
-        rpl_motion_step(&d, 0.05 * k);
+        frm_motion_step(&d, 0.05 * k);
         for (uint32_t i = 0; i < d.instance_count; ++i)
             nearest = fmin(nearest, hl_v3_length(center_of(&d, i)) - d.radius_m[i]);
     }
@@ -341,11 +341,11 @@ static void test_motion_nested(void)
     const double h = 1e-6;
     for (int k = 0; k < 5; ++k) {
         double t = 0.2 + 0.9 * k, before[6], after[6];
-        rpl_motion_step(&s, t - h);
+        frm_motion_step(&s, t - h);
         memcpy(before, s.center_m, sizeof before);
-        rpl_motion_step(&s, t + h);
+        frm_motion_step(&s, t + h);
         memcpy(after, s.center_m, sizeof after);
-        const double *v = rpl_motion_step(&s, t);
+        const double *v = frm_motion_step(&s, t);
         for (int c = 0; c < 6; ++c)
             CHECK_NEAR((after[c] - before[c]) / (2 * h), v[c], 1e-6);
         check_groups(&s, "nested");
@@ -363,7 +363,7 @@ static void test_motion_nested(void)
         CHECK(reach + child->radius_m <= root->radius_m * (1 + 1e-12));
     }
     /* The root's centre is at its rest centre, moved by its own oscillation only (it spins about it). */
-    rpl_motion_step(&s, 0.75);
+    frm_motion_step(&s, 0.75);
     CHECK_NEAR(s.groups[0].center_m[0], 11, 1e-12);
     CHECK_NEAR(s.groups[0].center_m[1], 0.5, 1e-12);
     scn_mesh_free(&box);
@@ -382,7 +382,7 @@ static void test_static_scene(void)
     double *centers = malloc(3 * sizeof(double) * s.instance_count);
     memcpy(copy, s.instances, bytes);
     memcpy(centers, s.center_m, 3 * sizeof(double) * s.instance_count);
-    CHECK(rpl_motion_step(&s, 12.5) == NULL);
+    CHECK(frm_motion_step(&s, 12.5) == NULL);
     CHECK(memcmp(copy, s.instances, bytes) == 0);
     CHECK(memcmp(centers, s.center_m, 3 * sizeof(double) * s.instance_count) == 0);
     free(copy);
@@ -457,7 +457,7 @@ static void test_impostor(enum scn_simplifier simplifier, uint64_t hausdorff_sam
     struct scn_scene s;
     struct scn_scene_params p = {.object_count = 2, .seed = 5};
     CHECK(scn_scene_build("domes", &p, &s, &err) == 0);
-    rpl_motion_step(&s, 2.0); /* the impostor is modelled at rest whatever the scene's time */
+    frm_motion_step(&s, 2.0); /* the impostor is modelled at rest whatever the scene's time */
     uint32_t g = scn_scene_find_group(&s, "dome1");
     CHECK(g == 1);
     CHECK(scn_scene_find_group(&s, "dome7") == SCN_NONE);
@@ -580,7 +580,7 @@ static void test_domes_impostor_instances(void)
     scn_culler_free(&culler);
     /* After 4.2 s of spin and swing: at the moved centre, turned by the group's rotation, so a strut
      * keeps its place in the impostor's frame. */
-    rpl_motion_step(&s, 4.2);
+    frm_motion_step(&s, 4.2);
     for (uint32_t g = 0; g < s.group_count; ++g) {
         const struct scn_group *gr = &s.groups[g];
         uint32_t k = gr->impostor_instance;
@@ -695,8 +695,8 @@ static void test_domes_mb(int simplify)
     for (int e = 0; e < 2; ++e)
         eyes[e] = (struct acu_eye){hl_v3(e ? 0.032 : -0.032, 0, 0), hl_q_identity(), 1.2, 1.2, 1.0, 1.0, 1080, 1200};
     static struct domes_frame f;
-    struct rpl_mb *mb = NULL;
-    CHECK(rpl_mb_create(&s, s.instance_count, simplify, &mb, &err) == 0);
+    struct frm_mb *mb = NULL;
+    CHECK(frm_mb_create(&s, s.instance_count, simplify, &mb, &err) == 0);
     if (!mb) {
         scn_scene_free(&s);
         return;
@@ -706,7 +706,7 @@ static void test_domes_mb(int simplify)
     const double share[] = {0.5, 1.0, 2.0};
     for (int b = 0; b < 3; ++b) {
         for (int frame = 0; frame < 8; ++frame) {
-            rpl_motion_step(&s, 0.25 * frame);
+            frm_motion_step(&s, 0.25 * frame);
             /* Mason & Blake's nominal cost: every visible strut at its coarsest drawn level. The
              * problem is built without a budget cap first to find it, then with the frame's. */
             struct lod_problem p = domes_problem(&f, &s, eyes, &m, &bp, INFINITY);
@@ -719,7 +719,7 @@ static void test_domes_mb(int simplify)
             p = domes_problem(&f, &s, eyes, &m, &bp, share[b] * nominal);
             size_t extra = 0;
             struct lod_result r;
-            rpl_mb_select(mb, &s, &p, &m, &bp, eyes, 0.0, f.level_out, extra_index, extra_level, &extra, &r);
+            frm_mb_select(mb, &s, &p, &m, &bp, eyes, 0.0, f.level_out, extra_index, extra_level, &extra, &r);
             /* The drawn set's own cost: objects at their levels plus the impostors. */
             double cost = 0;
             int holes = 0;
@@ -761,7 +761,7 @@ static void test_domes_mb(int simplify)
                        simplify, share[b], nominal, extra, s.group_count, r.cost_ms, r.benefit, r.iterations);
         }
     }
-    rpl_mb_destroy(mb);
+    frm_mb_destroy(mb);
     scn_scene_free(&s);
 }
 
@@ -780,12 +780,12 @@ int main(int argc, char **argv)
     test_domes_impostor_instances();
     test_domes_mb(0);
     test_domes_mb(1);
-    struct rpl_mb *bad = NULL;
+    struct frm_mb *bad = NULL;
     struct hl_error err = {{0}};
     struct scn_scene s;
     struct scn_scene_params sp = {0};
     CHECK(scn_scene_build("domes", &sp, &s, &err) == 0);
-    CHECK(rpl_mb_create(&s, s.instance_count, 9, &bad, &err) != 0 && bad == NULL && strstr(err.msg, "--mb-simplify"));
+    CHECK(frm_mb_create(&s, s.instance_count, 9, &bad, &err) != 0 && bad == NULL && strstr(err.msg, "--mb-simplify"));
     scn_scene_free(&s);
     test_impostor(SCN_SIMPLIFIER_OPENMESH, samples);
     test_impostor(SCN_SIMPLIFIER_MESHOPT, samples);

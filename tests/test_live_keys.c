@@ -105,8 +105,8 @@ int main(void)
         perror(dir);
         return 1;
     }
-    struct rpl_options so;
-    rpl_options_defaults(&so);
+    struct frm_options so;
+    frm_options_defaults(&so);
     so.scene = "field";
     so.object_count = 10;
     so.display = "vive";

@@ -171,8 +171,8 @@ int main(void)
     snprintf(capture, sizeof capture, "%s/live.png", dir);
     snprintf(record, sizeof record, "%s/head.csv", dir);
 
-    struct rpl_options so;
-    rpl_options_defaults(&so);
+    struct frm_options so;
+    frm_options_defaults(&so);
     so.scene = "field";
     so.display = "dk2";
     so.render_scale = 0.2;

@@ -60,12 +60,12 @@ static int run(const char *selector, const char *dir, struct rpl_summary *s)
 {
     struct rpl_options o;
     rpl_options_defaults(&o);
-    o.selector = selector;
+    o.frame.selector = selector;
     o.out_dir = dir;
-    o.gaze = "head"; /* the velocity term's check below needs the head-locked eye (docs/gaze.md) */
-    o.render_scale = 0.25; /* the pixels do not matter here; the selection does */
+    o.frame.gaze = "head"; /* the velocity term's check below needs the head-locked eye (docs/gaze.md) */
+    o.frame.render_scale = 0.25; /* the pixels do not matter here; the selection does */
     o.capture_every = 200;
-    o.quiet = 1;
+    o.frame.quiet = 1;
     struct hl_error err;
     int rc = rpl_run(&o, s, &err);
     if (rc != 0)
@@ -78,12 +78,12 @@ static int run_reference(const char *selector, double static_px, const char *dir
 {
     struct rpl_options o;
     rpl_options_defaults(&o);
-    o.selector = selector;
-    o.static_px_per_triangle = static_px;
+    o.frame.selector = selector;
+    o.frame.static_px_per_triangle = static_px;
     o.out_dir = dir;
-    o.render_scale = 0.25;
+    o.frame.render_scale = 0.25;
     o.reference_every = 60;
-    o.quiet = 1;
+    o.frame.quiet = 1;
     struct hl_error err;
     int rc = rpl_run(&o, s, &err);
     if (rc != 0)
@@ -262,15 +262,15 @@ int main(void)
     rpl_options_defaults(&o);
     snprintf(path, sizeof path, "%s/bad", base);
     o.out_dir = path;
-    o.selector = "fastest";
+    o.frame.selector = "fastest";
     struct hl_error err;
     struct rpl_summary s;
     CHECK(rpl_run(&o, &s, &err) != 0 && strstr(err.msg, "selector"));
-    o.selector = "reddy";
-    o.display = "no-such-display";
+    o.frame.selector = "reddy";
+    o.frame.display = "no-such-display";
     CHECK(rpl_run(&o, &s, &err) != 0 && strstr(err.msg, "no-such-display"));
-    o.display = "vive";
-    o.scene = "no-such-scene";
+    o.frame.display = "vive";
+    o.frame.scene = "no-such-scene";
     CHECK(rpl_run(&o, &s, &err) != 0 && strstr(err.msg, "no-such-scene"));
     char csv[700];
     snprintf(csv, sizeof csv, "%s/frames.csv", path);

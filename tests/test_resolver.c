@@ -1,4 +1,4 @@
-/* Scene files' mesh entries through replay's caching resolver (replay/asset_resolver.c): the first
+/* Scene files' mesh entries through replay's caching resolver (frame/asset_resolver.c): the first
  * load makes the chain and keeps it as a .lod in the cache, a later load reads that file (proved by
  * planting a marked copy), a corrupt or foreign cache file is rebuilt, an unwritable cache is not an
  * error, a .lod entry passes straight through, and a .lod's own measured tables are used as they are. */
@@ -30,7 +30,7 @@ static int find_cached(const char *dir, char *out, size_t size)
 
 static int resolve(const char *path, struct scn_lodset *out, struct hl_error *err)
 {
-    const struct scn_asset_resolver *r = rpl_cached_resolver();
+    const struct scn_asset_resolver *r = frm_cached_resolver();
     return r->resolve(r->user, path, out, err);
 }
 
@@ -119,9 +119,9 @@ int main(void)
     struct scn_scene scene = {0};
     CHECK(scn_scene_add_lodset(&scene, "measured", &first, &err) == 0);
     struct rnd_analyze_params ap;
-    rpl_assets_params(&ap);
-    struct rpl_assets_report rep;
-    CHECK(rpl_assets_prepare(&scene, &ap, RPL_READING_NARROW, &rep, &err) == 0);
+    frm_assets_params(&ap);
+    struct frm_assets_report rep;
+    CHECK(frm_assets_prepare(&scene, &ap, FRM_READING_NARROW, &rep, &err) == 0);
     CHECK(rep.chains_from_file == 1 && rep.chains_analysed == 0 && rep.chains_cached == 0);
     CHECK(scene.chains[0].lods[2].unique_freq_cpdiam == 20.0);
     scn_scene_free(&scene);

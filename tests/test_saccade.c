@@ -1,4 +1,4 @@
-/* Saccades (acuity/saccade.c) and their use in replay (replay/saccade_step.c): the I-VT classifier
+/* Saccades (acuity/saccade.c) and their use in replay (frame/saccade_step.c): the I-VT classifier
  * with hysteresis and the suppression window on synthetic gaze-speed series; the selection step
  * with a synthetic scene (suppressed frames draw the coarsest levels, reddy refines at once, an fs
  * that cannot raise anything is counted as missing the 28 ms deadline); and a headless replay of a
@@ -12,7 +12,7 @@
 #include "acuity/acuity.h"
 #include "lod/lod.h"
 #include "replay/replay.h"
-#include "replay/select.h"
+#include "frame/select.h"
 #include "scene/scene.h"
 #include "tracking/tracking.h"
 #include "test_util.h"
@@ -112,7 +112,7 @@ struct step_result {
     long visible;
 };
 
-static int saccade_seen(const struct rpl_select *s)
+static int saccade_seen(const struct frm_select *s)
 {
     return s->saccade.state.saccades > 0;
 }
@@ -120,7 +120,7 @@ static int saccade_seen(const struct rpl_select *s)
 /* 1 s at 90 Hz, a 40 ms 300 deg/s saccade at 0.3 s. Every object is 4° across at the gaze, still:
  * with ξ = 10 c/deg and level k losing 64/2^(k−1) cycles per diameter (16, 8, 4 … c/deg), only
  * level 1's loss is above the limit, so the ceiling is level 1 (Reddy 1998 §3.3). */
-static int run_selection(enum rpl_selector selector, double limit_after_saccade_us, struct step_result *r)
+static int run_selection(enum frm_selector selector, double limit_after_saccade_us, struct step_result *r)
 {
     memset(r, 0, sizeof *r);
     struct hl_error err = {{0}};
@@ -139,14 +139,14 @@ static int run_selection(enum rpl_selector selector, double limit_after_saccade_
     }
     struct acu_limits lim;
     acu_limits_init(&lim, 10.0, 1.0);
-    struct rpl_select s;
+    struct frm_select s;
     memset(&s, 0, sizeof s);
     s.selector = selector;
     s.budget_ms = 1000.0; /* room for everything: any coarse object is a refinement delay */
     s.opt_limit_us = 0.0; /* fs: none until the saccade */
     s.static_px = 64.0;
     char label[160];
-    int rc = rpl_cost_model_load(NULL, &s.cost, label, sizeof label, &err) != 0 || rpl_select_init(&s, &scene, &err) != 0;
+    int rc = frm_cost_model_load(NULL, &s.cost, label, sizeof label, &err) != 0 || frm_select_init(&s, &scene, &err) != 0;
     uint32_t n_all = scene.instance_count, n = 0;
     uint32_t *visible = calloc(n_all, sizeof *visible);
     double *ecc = calloc(n_all, sizeof(double)), *vel = calloc(n_all, sizeof(double)), *diam = calloc(n_all, sizeof(double));
@@ -168,7 +168,7 @@ static int run_selection(enum rpl_selector selector, double limit_after_saccade_
         eyes[e] = (struct acu_eye){.position_m = hl_v3(e ? 0.03 : -0.03, 0, 0), .orientation = hl_q_identity(),
                                    .tan_left = 1, .tan_right = 1, .tan_up = 1, .tan_down = 1,
                                    .width_px = 800, .height_px = 800};
-    struct rpl_view_inputs in = {visible, n, ecc, vel, diam, &lim, chains, eyes};
+    struct frm_view_inputs in = {visible, n, ecc, vel, diam, &lim, chains, eyes};
     int after_window = 0;
     for (long f = 0; f <= 90 && !rc && n > 0; ++f) {
         double t = f / 90.0;
@@ -177,12 +177,12 @@ static int run_selection(enum rpl_selector selector, double limit_after_saccade_
         pose.has_gaze = 1;
         double speed = t >= 0.3 && t < 0.34 ? 300.0 : 1.0;
         pose.gaze_angular_velocity_radps = hl_v3(0, speed / HL_DEG_PER_RAD, 0);
-        rpl_select_saccade(&s, &pose, t);
+        frm_select_saccade(&s, &pose, t);
         if (saccade_seen(&s))
             s.opt_limit_us = limit_after_saccade_us;
-        struct rpl_select_record rec;
+        struct frm_select_record rec;
         size_t extra = 0;
-        rpl_select_frame(&s, &scene, &in, lod, extra_index, extra_level, &extra, &rec);
+        frm_select_frame(&s, &scene, &in, lod, extra_index, extra_level, &extra, &rec);
         r->frames++;
         if (rec.saccade_phase != ACU_SACCADE_NONE) {
             r->suppressed++;
@@ -200,7 +200,7 @@ static int run_selection(enum rpl_selector selector, double limit_after_saccade_
         r->early_misses += rec.refine_miss && t <= 0.34 + 0.050 + 0.028;
     }
     free(visible), free(ecc), free(vel), free(diam), free(lod);
-    rpl_select_free(&s);
+    frm_select_free(&s);
     scn_scene_free(&scene);
     if (rc)
         fprintf(stderr, "select: %s\n", err.msg);
@@ -210,7 +210,7 @@ static int run_selection(enum rpl_selector selector, double limit_after_saccade_
 static void check_selection(void)
 {
     struct step_result r;
-    CHECK(run_selection(RPL_SELECT_REDDY, 0.0, &r) == 0);
+    CHECK(run_selection(FRM_SELECT_REDDY, 0.0, &r) == 0);
     printf("reddy: %ld visible, %ld suppressed frames, %ld at the ceiling after, %ld misses\n", r.visible,
            r.suppressed, r.refined_frame_at_ceiling, r.miss_frames);
     CHECK(r.visible > 5);
@@ -221,7 +221,7 @@ static void check_selection(void)
     CHECK(r.miss_frames == 0 && r.missed_saccades == 0);
 
     /* fs with no time limit refines as soon as the window ends. */
-    CHECK(run_selection(RPL_SELECT_FS, 0.0, &r) == 0);
+    CHECK(run_selection(FRM_SELECT_FS, 0.0, &r) == 0);
     printf("fs: %ld suppressed frames, %ld not coarsest, %ld at the ceiling after, %ld misses\n", r.suppressed,
            r.suppressed_not_coarsest, r.refined_frame_at_ceiling, r.miss_frames);
     CHECK(r.suppressed_not_coarsest == 0);
@@ -231,7 +231,7 @@ static void check_selection(void)
     /* fs refined before the saccade, then stopped before its first raise (a 1 ns limit from the
      * saccade on, as under a sudden load): it drops with the ceilings and never refines again, so every
      * frame past the deadline is a miss, all belonging to the one saccade. */
-    CHECK(run_selection(RPL_SELECT_FS, 1e-3, &r) == 0);
+    CHECK(run_selection(FRM_SELECT_FS, 1e-3, &r) == 0);
     printf("fs --opt-limit-us 0.001: %ld misses, %ld missed saccades\n", r.miss_frames, r.missed_saccades);
     CHECK(r.refined_frame_pending == r.visible);
     CHECK(r.missed_saccades == 1);
@@ -264,11 +264,11 @@ static int replay(const char *trace, const char *selector, double opt_limit_us, 
     struct rpl_options o;
     rpl_options_defaults(&o);
     o.trace_path = trace;
-    o.selector = selector;
-    o.opt_limit_us = opt_limit_us;
+    o.frame.selector = selector;
+    o.frame.opt_limit_us = opt_limit_us;
     o.out_dir = dir;
-    o.render_scale = 0.25;
-    o.quiet = 1;
+    o.frame.render_scale = 0.25;
+    o.frame.quiet = 1;
     struct hl_error err = {{0}};
     int rc = rpl_run(&o, s, &err);
     if (rc != 0)

@@ -1,4 +1,4 @@
-/* Fuzz target: cost profiles (rpl_cost_profile_read, replay/cost_profile.c) from a scratch file. */
+/* Fuzz target: cost profiles (frm_cost_profile_read, frame/cost_profile.c) from a scratch file. */
 #include "fuzz_util.h"
 
 #include "replay/replay.h"
@@ -6,8 +6,8 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     const char *path = fuzz_write_file("fuzz-cost.json", data, size);
-    struct rpl_cost_profile p;
+    struct frm_cost_profile p;
     struct hl_error err;
-    (void)rpl_cost_profile_read(path, &p, &err);
+    (void)frm_cost_profile_read(path, &p, &err);
     return 0;
 }

@@ -6,31 +6,31 @@
 #include <sys/stat.h>
 #include <string.h>
 
-#include "replay/replay.h"
+#include "frame/frame.h"
 
 /* Version of the default resolver's chain recipe (scene/scenefile_build.c): bump it when that changes. */
-enum { RPL_CHAIN_RECIPE = 2 }; /* 2: crease normals on every level */
+enum { FRM_CHAIN_RECIPE = 2 }; /* 2: crease normals on every level */
 
 /* lodcache/mesh-STEM-HASH-rN.lod, STEM the mesh file's name up to its first '.'; −1 when the cache
  * folder cannot be named. */
-static int rpl_chain_path(const char *mesh_path, uint64_t hash, char *dir, size_t dir_size, char *out, size_t size)
+static int frm_chain_path(const char *mesh_path, uint64_t hash, char *dir, size_t dir_size, char *out, size_t size)
 {
     struct hl_error err;
-    if (rpl_cache_dir(dir, dir_size, &err) != 0)
+    if (frm_cache_dir(dir, dir_size, &err) != 0)
         return -1;
     const char *base = strrchr(mesh_path, '/');
     base = base ? base + 1 : mesh_path;
     char label[64], suffix[16];
     snprintf(label, sizeof label, "mesh-%.*s", (int)strcspn(base, "."), base);
-    snprintf(suffix, sizeof suffix, "-r%d.lod", RPL_CHAIN_RECIPE);
-    return rpl_cache_file(out, size, dir, label, hash, suffix);
+    snprintf(suffix, sizeof suffix, "-r%d.lod", FRM_CHAIN_RECIPE);
+    return frm_cache_file(out, size, dir, label, hash, suffix);
 }
 
-static int rpl_chain_load(void *user, const char *path, uint64_t hash, struct scn_lodset *out)
+static int frm_chain_load(void *user, const char *path, uint64_t hash, struct scn_lodset *out)
 {
     (void)user;
     char dir[4096], file[4600];
-    if (rpl_chain_path(path, hash, dir, sizeof dir, file, sizeof file) != 0)
+    if (frm_chain_path(path, hash, dir, sizeof dir, file, sizeof file) != 0)
         return -1;
     struct stat st;
     if (stat(file, &st) != 0)
@@ -44,18 +44,18 @@ static int rpl_chain_load(void *user, const char *path, uint64_t hash, struct sc
     return -1;
 }
 
-static void rpl_chain_save(void *user, const char *path, uint64_t hash, const struct scn_lodset *set)
+static void frm_chain_save(void *user, const char *path, uint64_t hash, const struct scn_lodset *set)
 {
     (void)user;
     char dir[4096], file[4600];
     struct hl_error err = {{0}};
-    if (rpl_chain_path(path, hash, dir, sizeof dir, file, sizeof file) != 0 || rpl_cache_make_dir(dir) != 0 ||
+    if (frm_chain_path(path, hash, dir, sizeof dir, file, sizeof file) != 0 || frm_cache_make_dir(dir) != 0 ||
         scn_lodfile_write(file, set, &err) != 0)
         fprintf(stderr, "hmdlod: note: cannot keep the chain of %s in the cache%s%s; it is rebuilt at every load\n",
                 path, err.msg[0] ? ": " : "", err.msg);
 }
 
-static const struct scn_chain_store rpl_chain_store = {rpl_chain_load, rpl_chain_save, NULL};
-static const struct scn_asset_resolver rpl_resolver = {scn_scenefile_resolve_default, (void *)&rpl_chain_store};
+static const struct scn_chain_store frm_chain_store = {frm_chain_load, frm_chain_save, NULL};
+static const struct scn_asset_resolver frm_resolver = {scn_scenefile_resolve_default, (void *)&frm_chain_store};
 
-const struct scn_asset_resolver *rpl_cached_resolver(void) { return &rpl_resolver; }
+const struct scn_asset_resolver *frm_cached_resolver(void) { return &frm_resolver; }

@@ -1,28 +1,32 @@
-/* Internal to replay/: steps 5–7 of a frame (DESIGN.md "One frame") — perceptual ceiling, cost and
+/* frame/select.h (part of frame/frame.h): steps 5–7 of a frame (DESIGN.md "One frame") — perceptual ceiling, cost and
  * benefit, selection — for every selector: none, reddy, static, feedback, fs. The arrays are
  * sized when the scene loads; a frame allocates nothing. */
-#ifndef HMDLOD_REPLAY_SELECT_H
-#define HMDLOD_REPLAY_SELECT_H
+#ifndef HMDLOD_FRAME_SELECT_H
+#define HMDLOD_FRAME_SELECT_H
 
 #include "acuity/acuity.h"
 #include "lod/lod.h"
 #include "scene/scene.h"
 
-enum rpl_selector {
-    RPL_SELECT_NONE = 0,
-    RPL_SELECT_REDDY,
-    RPL_SELECT_STATIC,
-    RPL_SELECT_FEEDBACK,
-    RPL_SELECT_FS,
-    RPL_SELECT_MB,
+/* How fs and mb correct their budget from measured draw times (lod.h): not at all, by the smoothed
+ * measured/predicted ratio (the default), or by the affine fit measured = a + b·x. */
+enum frm_correction { FRM_CORRECTION_OFF = 0, FRM_CORRECTION_RATIO = 1, FRM_CORRECTION_AFFINE = 2 };
+
+enum frm_selector {
+    FRM_SELECT_NONE = 0,
+    FRM_SELECT_REDDY,
+    FRM_SELECT_STATIC,
+    FRM_SELECT_FEEDBACK,
+    FRM_SELECT_FS,
+    FRM_SELECT_MB,
 };
 /* "none" … "fs" → the enum; −1 with the known names in err for anything else. */
-int rpl_selector_parse(const char *name, enum rpl_selector *out, struct hl_error *err);
+int frm_selector_parse(const char *name, enum frm_selector *out, struct hl_error *err);
 
 /* Saccade suppression and the 28 ms refinement rule (acuity/saccade.h; docs/gaze.md). Active only
  * when the frame's pose has a measured gaze and the gaze model is tracked (head and vor stand for a
  * headset without an eye tracker, which cannot see saccades); otherwise the phase stays NONE. */
-struct rpl_saccade {
+struct frm_saccade {
     struct acu_saccade_params params;
     struct acu_saccade_state state;
     int active;           /* this frame's pose has gaze */
@@ -33,16 +37,16 @@ struct rpl_saccade {
     double time_s;        /* this frame's time */
 };
 
-struct rpl_select {
-    enum rpl_selector selector;
+struct frm_select {
+    enum frm_selector selector;
     struct lod_cost_model cost;
     struct lod_benefit_params benefit;
     double budget_ms;          /* the frame's whole budget (display period unless --budget-ms) */
     double opt_limit_us;       /* Nirenstein's time limit for fs and mb; 0 = none */
     double static_px;          /* static: pixels per triangle */
-    int correct;               /* enum rpl_correction (replay.h) */
+    int correct;               /* enum frm_correction */
     struct lod_cost_correction correction;
-    struct lod_cost_rls rls;   /* the affine correction, when correct is RPL_CORRECTION_AFFINE */
+    struct lod_cost_rls rls;   /* the affine correction, when correct is FRM_CORRECTION_AFFINE */
     double overhead_ms;        /* smoothed frame time outside the draw (pose, cull, selection) */
     struct lod_feedback feedback;
 
@@ -65,15 +69,15 @@ struct rpl_select {
     uint8_t *chain_lod_count;
     void *scratch;
     double fs_margin_value;    /* last frame's lod_result.margin_value (fs), 0 before the first */
-    struct rpl_mb *mb; /* the mb selector's tree and last solution (replay/select_mb.h); NULL otherwise */
-    int mb_simplify;   /* set before rpl_select_init: hierarchy simplifications for mb (select_mb.h) */
-    double saccade_onset_degps; /* set before rpl_select_init; ≤ 0 → acu_saccade_params_default's */
+    struct frm_mb *mb; /* the mb selector's tree and last solution (frame/select_mb.h); NULL otherwise */
+    int mb_simplify;   /* set before frm_select_init: hierarchy simplifications for mb (select_mb.h) */
+    double saccade_onset_degps; /* set before frm_select_init; ≤ 0 → acu_saccade_params_default's */
     int saccade_off;            /* 1: a gaze model without an eye tracker (head, vor): no saccades known */
-    struct rpl_saccade saccade;
+    struct frm_saccade saccade;
 };
 
 /* What selection did in one frame, for its CSV row. */
-struct rpl_select_record {
+struct frm_select_record {
     double budget_ms, optimizer_budget_ms; /* the frame's budget; what the optimizer was given */
     double predicted_ms;                   /* c0 + Σ predicted object costs of what is drawn */
     double benefit, lp_bound;              /* Σ benefit of the choice; the LP upper bound (fs, mb) */
@@ -82,7 +86,7 @@ struct rpl_select_record {
     int truncated, over_budget;
     double optimizer_us;
     double lp_us;                          /* the LP bound's own time, left out of the frame's */
-    /* saccades (replay/saccade_step.c): phase this frame; once suppression has ended and until the
+    /* saccades (frame/saccade_step.c): phase this frame; once suppression has ended and until the
      * objects are refined, the objects drawn coarser than their ceiling (pending) and those among them
      * whose refinement the budget's slack would have paid for; miss = such objects past the deadline */
     int saccade_active, saccade_phase, saccade_started;
@@ -93,16 +97,16 @@ struct rpl_select_record {
 
 /* The machine cost profile: `path` (a JSON file written by hmdlod calibrate) or, for NULL, the
  * built-in profile for llvmpipe; label_out says which, for the summary. */
-int rpl_cost_model_load(const char *path, struct lod_cost_model *out, char *label_out, size_t label_size,
+int frm_cost_model_load(const char *path, struct lod_cost_model *out, char *label_out, size_t label_size,
                         struct hl_error *err);
 
-int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct hl_error *err);
-void rpl_select_free(struct rpl_select *s);
+int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct hl_error *err);
+void frm_select_free(struct frm_select *s);
 
 /* Chooses a level for each of the n visible objects (lod_out; LOD_DROP = not drawn) and, for mb,
  * the group impostor instances to draw after them (extra_index/extra_level, *extra_count). eyes are
  * the two eyes' views for projected coverage. */
-struct rpl_view_inputs {
+struct frm_view_inputs {
     const uint32_t *visible;
     size_t count;
     const double *eccentricity_deg, *velocity_degps, *diameter_deg;
@@ -110,35 +114,35 @@ struct rpl_view_inputs {
     const struct lod_chain *chains;
     const struct acu_eye *eyes; /* two */
 };
-void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
+void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                       uint8_t *lod_out, uint32_t *extra_index, uint8_t *extra_level, size_t *extra_count,
-                      struct rpl_select_record *rec);
-/* Before rpl_select_frame, once per frame: the gaze's world speed (pose's gaze angular velocity, deg/s)
+                      struct frm_select_record *rec);
+/* Before frm_select_frame, once per frame: the gaze's world speed (pose's gaze angular velocity, deg/s)
  * into the saccade classifier. While suppressed (inside a saccade and its window) the selectors that
  * use the perceptual ceiling (reddy, fs, mb) see every object's ceiling at its coarsest level; static,
- * feedback and none do not use the ceiling and are left as they are (replay/saccade_step.c). */
+ * feedback and none do not use the ceiling and are left as they are (frame/saccade_step.c). */
 struct trk_pose;
-void rpl_select_saccade(struct rpl_select *s, const struct trk_pose *pose, double time_s);
-/* Inside rpl_select_frame (replay/saccade_step.c): while suppressed, lowers the ceilings of the n
+void frm_select_saccade(struct frm_select *s, const struct trk_pose *pose, double time_s);
+/* Inside frm_select_frame (frame/saccade_step.c): while suppressed, lowers the ceilings of the n
  * visible objects to their coarsest levels; after the choice, the refinement accounting of rec. */
-void rpl_saccade_lower_ceilings(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in);
-void rpl_saccade_account(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
-                         const uint8_t *lod, struct rpl_select_record *rec);
-/* After rpl_select_frame, outside the frame's timing: the predicted visible error of the levels lod
+void frm_saccade_lower_ceilings(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in);
+void frm_saccade_account(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
+                         const uint8_t *lod, struct frm_select_record *rec);
+/* After frm_select_frame, outside the frame's timing: the predicted visible error of the levels lod
  * (per visible object, LOD_DROP for not drawn): the share of the visible objects' projected pixels
  * whose object is drawn coarser than its perceptual ceiling, or dropped where the ceiling draws it.
  * Computes the ceilings for selectors that do not use them (none, static, feedback). In [0, 1]; 0 when
  * nothing is visible. */
-double rpl_select_visible_error(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
+double frm_select_visible_error(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                                 const uint8_t *lod);
 /* After the draw: the measured draw and frame times feed the correction and the feedback controller. */
-void rpl_select_measured(struct rpl_select *s, const struct rpl_select_record *rec, double draw_ms, double frame_ms);
+void frm_select_measured(struct frm_select *s, const struct frm_select_record *rec, double draw_ms, double frame_ms);
 
-/* Projected pixels of the visible objects, summed over the eyes (replay/coverage.c): bounding
+/* Projected pixels of the visible objects, summed over the eyes (frame/coverage.c): bounding
  * spheres (acu_compute_pixels), and for objects that claim over 2 % of the image also their
  * oriented model box (acu_compute_pixels_box), keeping the smaller. pixels_px[k] per visible[k]. */
 struct acu_eye;
-void rpl_coverage_compute(const struct scn_scene *scene, const struct acu_eye *eyes, int eye_count,
+void frm_coverage_compute(const struct scn_scene *scene, const struct acu_eye *eyes, int eye_count,
                           const uint32_t *visible, size_t count, double *pixels_px);
 
 #endif

@@ -4,12 +4,12 @@
 #include <math.h>
 #include <string.h>
 
-#include "replay/run_internal.h"
+#include "frame/frame.h"
 
 /* The right eye mirrors the left, so the union of both frusta spans max(L, R) to either side; the
  * eyes sit ±ipd/2 off the head centre, which culling adds to each radius (the planes move out by it).
  * A point p is inside a side plane when n·p ≥ 0 with n the plane's inward normal. */
-void rpl_cull_frustum_init(struct rpl_cull_frustum *f, const struct hmd_profile *display, double near_m)
+void frm_cull_frustum_init(struct frm_cull_frustum *f, const struct hmd_profile *display, double near_m)
 {
     struct hmd_eye e = hmd_eye_frustum(display, HMD_EYE_LEFT);
     double side = fmax(e.tan_left, e.tan_right);
@@ -24,7 +24,7 @@ void rpl_cull_frustum_init(struct rpl_cull_frustum *f, const struct hmd_profile 
 /* The head-frame normals rotated into the world, through the head centre, and the near plane near_m
  * in front of it; each moved out by the eye margin so a sphere is kept when any part of it is within
  * reach of either eye. Five rotations, no allocation. */
-int rpl_cull_frustum_planes(const struct rpl_cull_frustum *f, const struct trk_pose *pose, struct scn_plane *planes)
+int frm_cull_frustum_planes(const struct frm_cull_frustum *f, const struct trk_pose *pose, struct scn_plane *planes)
 {
     for (int k = 0; k < 5; ++k) {
         hl_vec3d n_head = k < 4 ? f->normals_head[k] : hl_v3(0, 0, -1);
@@ -35,14 +35,14 @@ int rpl_cull_frustum_planes(const struct rpl_cull_frustum *f, const struct trk_p
     return 5;
 }
 
-static uint32_t cull_scene(struct rpl_session *s, const struct trk_pose *pose, struct scn_cull_stats *stats)
+static uint32_t cull_scene(struct frm_session *s, const struct trk_pose *pose, struct scn_cull_stats *stats)
 {
     struct scn_plane planes[5];
-    int count = rpl_cull_frustum_planes(&s->cull_frustum, pose, planes);
+    int count = frm_cull_frustum_planes(&s->cull_frustum, pose, planes);
     return scn_cull(&s->scene, planes, count, &s->culler, s->arrays.visible, stats);
 }
 
-static void eye_views(const struct rpl_session *s, const struct trk_pose *pose, struct rnd_eye_view views[2])
+static void eye_views(const struct frm_session *s, const struct trk_pose *pose, struct rnd_eye_view views[2])
 {
     for (int eye = 0; eye < 2; ++eye) {
         hl_vec3d offset = hl_q_rotate(pose->orientation, hl_v3(s->eyes[eye].offset_x_m, 0, 0));
@@ -56,7 +56,7 @@ static void eye_views(const struct rpl_session *s, const struct trk_pose *pose, 
 
 /* Orientation-only poses pivot about the neck at the origin; a pose with a position gives the eyes'
  * position already (a headset tracks its display, which sits at the eyes): docs/gaze.md. */
-static void head_state_of(const struct rpl_session *s, const struct trk_pose *pose, struct acu_head_state *h)
+static void head_state_of(const struct frm_session *s, const struct trk_pose *pose, struct acu_head_state *h)
 {
     hl_vec3d offset = pose->has_position ? hl_v3(0, 0, 0) : s->neck_to_eye_head_m;
     hl_vec3d position = pose->has_position ? pose->position_m : hl_v3(0, 0, 0);
@@ -64,7 +64,7 @@ static void head_state_of(const struct rpl_session *s, const struct trk_pose *po
     acu_head_state_from_neck(pose->orientation, position, velocity, pose->angular_velocity_radps, offset, h);
 }
 
-int rpl_frame_head_state(struct rpl_session *s, double time_s, struct trk_pose *eye_pose,
+int frm_frame_head_state(struct frm_session *s, double time_s, struct trk_pose *eye_pose,
                          struct acu_head_state *head, struct hl_error *err)
 {
     if (trk_source_pose_at(s->source, time_s, eye_pose, err) != 0)
@@ -91,7 +91,7 @@ int rpl_frame_head_state(struct rpl_session *s, double time_s, struct trk_pose *
 }
 
 /* The eyes as acuity/ sees them for projected coverage: the views' poses, the frusta, the image. */
-static void acuity_eyes(const struct rpl_session *s, const struct rnd_eye_view views[2], struct acu_eye eyes[2])
+static void acuity_eyes(const struct frm_session *s, const struct rnd_eye_view views[2], struct acu_eye eyes[2])
 {
     int w, h;
     rnd_renderer_size(s->renderer, &w, &h);
@@ -106,10 +106,10 @@ static void acuity_eyes(const struct rpl_session *s, const struct rnd_eye_view v
     }
 }
 
-int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_frame_record *rec,
+int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_frame_record *rec,
                   struct hl_error *err)
 {
-    struct rpl_frame_arrays *a = &s->arrays;
+    struct frm_frame_arrays *a = &s->arrays;
     memset(rec, 0, sizeof *rec);
     rec->frame = frame;
     rec->time_s = time_s;
@@ -117,11 +117,11 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
     int64_t t0 = hl_clock_now_ns();
     struct trk_pose pose; /* position_m: the cyclopean eye, for the cull, the geometry and the views */
     struct acu_head_state head;
-    if (rpl_frame_head_state(s, time_s, &pose, &head, err) != 0)
+    if (frm_frame_head_state(s, time_s, &pose, &head, err) != 0)
         return -1;
     rec->head_speed_degps = hl_v3_length(pose.angular_velocity_radps) * HL_DEG_PER_RAD;
-    rpl_select_saccade(&s->select, &pose, time_s); /* saccade suppression (replay/saccade_step.c) */
-    const double *object_velocity_mps = rpl_motion_step(&s->scene, time_s); /* NULL: static scene */
+    frm_select_saccade(&s->select, &pose, time_s); /* saccade suppression (frame/saccade_step.c) */
+    const double *object_velocity_mps = frm_motion_step(&s->scene, time_s); /* NULL: static scene */
 
     struct scn_cull_stats cull = {0};
     uint32_t n = cull_scene(s, &pose, &cull);
@@ -141,10 +141,10 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
     eye_views(s, &pose, views);
     struct acu_eye eyes[2];
     acuity_eyes(s, views, eyes);
-    struct rpl_view_inputs in = {a->visible, n, a->eccentricity_deg, a->velocity_degps, a->diameter_deg,
+    struct frm_view_inputs in = {a->visible, n, a->eccentricity_deg, a->velocity_degps, a->diameter_deg,
                                  &s->limits, s->chains, eyes};
     size_t extra = 0;
-    rpl_select_frame(&s->select, &s->scene, &in, a->lod, a->draw_index + n, a->draw_lod + n, &extra, &rec->sel);
+    frm_select_frame(&s->select, &s->scene, &in, a->lod, a->draw_index + n, a->draw_lod + n, &extra, &rec->sel);
     rec->acuity_evaluations = rec->sel.acuity_evaluations;
     for (uint32_t k = 0; k < n; ++k) {
         const struct scn_chain *chain = &s->scene.chains[s->scene.chain_of_instance[a->visible[k]]];
@@ -167,14 +167,14 @@ int rpl_frame_run(struct rpl_session *s, long frame, double time_s, struct rpl_f
     rec->draw_ms = (double)(t3 - t2) * 1e-6;
     rec->frame_ms = (double)(t3 - t0) * 1e-6 - rec->sel.lp_us * 1e-3;
     rec->deadline_met = rec->frame_ms <= s->select.budget_ms;
-    rpl_select_measured(&s->select, &rec->sel, rec->draw_ms, rec->frame_ms);
-    rec->visible_error = rpl_select_visible_error(&s->select, &s->scene, &in, a->lod); /* after the timing */
+    frm_select_measured(&s->select, &rec->sel, rec->draw_ms, rec->frame_ms);
+    rec->visible_error = frm_select_visible_error(&s->select, &s->scene, &in, a->lod); /* after the timing */
     s->frame_views[0] = views[0], s->frame_views[1] = views[1];
     s->frame_gaze_dir = viewer.gaze_dir;
     return 0;
 }
 
-int rpl_frame_warm_up(struct rpl_session *s, struct hl_error *err)
+int frm_frame_warm_up(struct frm_session *s, struct hl_error *err)
 {
     const struct scn_scene *scene = &s->scene;
     uint32_t total = scene->instance_count + scene->impostor_instance_count;
@@ -220,10 +220,10 @@ static double reddy_weight(double eccentricity_deg, void *user)
     return acu_eccentricity_factor(eccentricity_deg); /* Reddy 1998 eq. 3: error counts as it is seen */
 }
 
-int rpl_frame_reference(struct rpl_session *s, struct rpl_frame_record *rec, uint8_t *test, int test_read,
+int frm_frame_reference(struct frm_session *s, struct frm_frame_record *rec, uint8_t *test, int test_read,
                         uint8_t *ref, struct rnd_image_error_work *w, struct hl_error *err)
 {
-    struct rpl_frame_arrays *a = &s->arrays;
+    struct frm_frame_arrays *a = &s->arrays;
     if (!test_read && rnd_renderer_read_rgba(s->renderer, test, err) != 0)
         return -1;
     /* The same visible set at full detail (selector none's choice), no group impostors. */

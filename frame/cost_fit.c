@@ -6,13 +6,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "replay/cost.h"
+#include "frame/cost.h"
 
 enum { NNLS_MAX_COLS = 16, COST_COLS = 5, MAX_ROUNDS = 50 };
 
 /* The coverage is acuity's estimate from each object's sphere, for the eyes render measured with:
- * the very numbers a replay frame prices its candidates with (replay/select.c). */
-int rpl_cost_calibrate(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
+ * the very numbers a replay frame prices its candidates with (frame/select.c). */
+int frm_cost_calibrate(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
                        struct rnd_calibration *out, struct hl_error *err)
 {
     if (rnd_cost_measure(display, grid, seed, out, err) != 0)
@@ -31,7 +31,7 @@ int rpl_cost_calibrate(const struct hmd_profile *display, struct rnd_cost_grid *
     return 0;
 }
 
-double rpl_cost_predict_frame_ms(const struct lod_cost_model *m, const struct rnd_cost_frame *frame,
+double frm_cost_predict_frame_ms(const struct lod_cost_model *m, const struct rnd_cost_frame *frame,
                                  const struct rnd_cost_object *objects)
 {
     double sum = m->c0_ms;
@@ -94,7 +94,7 @@ static void nnls_subset_ls(const double *a, size_t m, const size_t *set, size_t 
     }
 }
 
-int rpl_cost_nnls(const double *a_rows, size_t rows, size_t cols, const double *b, double *x, double *residual_norm,
+int frm_cost_nnls(const double *a_rows, size_t rows, size_t cols, const double *b, double *x, double *residual_norm,
                   struct hl_error *err)
 {
     if (!a_rows || !b || !x || rows < 1 || cols < 1 || cols > NNLS_MAX_COLS)
@@ -230,7 +230,7 @@ static double fit_objective(const struct lod_cost_model *m, const struct rnd_cos
     double sum = 0.0;
     for (size_t r = 0; r < row_count; ++r) {
         const struct rnd_cost_frame *f = &frames[rows[r]];
-        double e = (rpl_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
+        double e = (frm_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
         sum += e * e;
     }
     return sum;
@@ -261,7 +261,7 @@ static int fit_linear(const struct rnd_cost_frame *frames, const uint32_t *rows,
         memcpy(a + r * COST_COLS, row, sizeof row);
         b[r] = 1.0;
     }
-    return rpl_cost_nnls(a, row_count, COST_COLS, b, c, NULL, err);
+    return frm_cost_nnls(a, row_count, COST_COLS, b, c, NULL, err);
 }
 
 /* Resolves each object's max under model m: 1 = geometry dominates. Returns how many changed. */
@@ -283,9 +283,9 @@ static size_t assign_stages(const struct lod_cost_model *m, const struct rnd_cos
     return changed;
 }
 
-int rpl_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, const uint32_t *rows,
+int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, const uint32_t *rows,
                  size_t row_count, const struct rnd_cost_object *objects, struct lod_cost_model *out,
-                 struct rpl_cost_fit_report *report, struct hl_error *err)
+                 struct frm_cost_fit_report *report, struct hl_error *err)
 {
     if (!frames || !rows || !objects || !out || row_count == 0)
         return hl_fail(err, "cost fit: no frames to fit");
@@ -366,18 +366,18 @@ static double quantile_sorted(const double *v, size_t n, double q)
     return v[lo] + (pos - (double)lo) * (v[hi] - v[lo]);
 }
 
-struct rpl_cost_accuracy rpl_cost_evaluate(const struct lod_cost_model *m, const struct rnd_cost_frame *frames,
+struct frm_cost_accuracy frm_cost_evaluate(const struct lod_cost_model *m, const struct rnd_cost_frame *frames,
                                            const uint32_t *rows, size_t row_count,
                                            const struct rnd_cost_object *objects)
 {
-    struct rpl_cost_accuracy acc = {0, 0, 0, 0};
+    struct frm_cost_accuracy acc = {0, 0, 0, 0};
     double *e = row_count ? malloc(row_count * sizeof *e) : NULL;
     if (!e)
         return acc;
     size_t under = 0;
     for (size_t r = 0; r < row_count; ++r) {
         const struct rnd_cost_frame *f = &frames[rows[r]];
-        double rel = (rpl_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
+        double rel = (frm_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
         under += rel < -0.05;
         e[r] = fabs(rel);
     }

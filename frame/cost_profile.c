@@ -7,7 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "replay/cost.h"
+#include "frame/cost.h"
 
 #define COST_FORMAT_TAG "hmdlod-cost-profile-1"
 enum { COST_PROFILE_MAX_BYTES = 1 << 20 };
@@ -23,12 +23,12 @@ __attribute__((constructor)) static void cost_profile_json_hooks(void)
 static const char *const coefficient_keys[5] = {"c0_ms", "c1_ms_per_triangle", "c2_ms_per_vertex",
                                                  "c3_ms_per_pixel", "c4_ms_per_draw"};
 
-const char *rpl_cost_form_name(enum lod_cost_form form)
+const char *frm_cost_form_name(enum lod_cost_form form)
 {
     return form == LOD_COST_MAX ? "max" : form == LOD_COST_ADDITIVE ? "additive" : NULL;
 }
 
-int rpl_cost_form_parse(const char *name, enum lod_cost_form *form)
+int frm_cost_form_parse(const char *name, enum lod_cost_form *form)
 {
     if (name && !strcmp(name, "max"))
         return *form = LOD_COST_MAX, 0;
@@ -95,7 +95,7 @@ static int read_string(const cJSON *obj, const char *key, int required, char *ou
     return 0;
 }
 
-static int read_accuracy(const cJSON *root, const char *key, struct rpl_cost_accuracy *acc, const char *path,
+static int read_accuracy(const cJSON *root, const char *key, struct frm_cost_accuracy *acc, const char *path,
                          struct hl_error *err)
 {
     static const char *const keys[] = {"frames", "median_rel", "p95_rel", "under5_share"};
@@ -162,7 +162,7 @@ static int read_grid(const cJSON *root, struct rnd_cost_grid *g, const char *pat
     return 0;
 }
 
-int rpl_cost_profile_read(const char *path, struct rpl_cost_profile *out, struct hl_error *err)
+int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct hl_error *err)
 {
     static const char *const keys[] = {"format", "label", "form", "coefficients", "renderer", "display", "eye_px",
                                        "held_out", "held_out_other_form", "grid", "date", "commit",
@@ -197,7 +197,7 @@ int rpl_cost_profile_read(const char *path, struct rpl_cost_profile *out, struct
     }
     if (read_string(root, "form", 1, form, sizeof form, path, err) != 0)
         goto done;
-    if (rpl_cost_form_parse(form, &out->model.form) != 0) {
+    if (frm_cost_form_parse(form, &out->model.form) != 0) {
         hl_fail(err, "%s: 'form': unknown form '%s' (max or additive)", path, form);
         goto done;
     }
@@ -256,7 +256,7 @@ done:
 
 /* ---- writing --------------------------------------------------------------------------------- */
 
-static cJSON *accuracy_json(const struct rpl_cost_accuracy *a)
+static cJSON *accuracy_json(const struct frm_cost_accuracy *a)
 {
     cJSON *o = cJSON_CreateObject();
     cJSON_AddNumberToObject(o, "frames", a->frames);
@@ -266,9 +266,9 @@ static cJSON *accuracy_json(const struct rpl_cost_accuracy *a)
     return o;
 }
 
-int rpl_cost_profile_write(const char *path, const struct rpl_cost_profile *p, struct hl_error *err)
+int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, struct hl_error *err)
 {
-    const char *form = rpl_cost_form_name(p->model.form);
+    const char *form = frm_cost_form_name(p->model.form);
     if (!form)
         return hl_fail(err, "%s: unknown cost form %d", path, (int)p->model.form);
     struct lod_cost_model m = p->model;
@@ -330,7 +330,7 @@ int rpl_cost_profile_write(const char *path, const struct rpl_cost_profile *p, s
 
 /* ---- the built-in reference ------------------------------------------------------------------- */
 
-void rpl_cost_profile_builtin_llvmpipe(struct rpl_cost_profile *out)
+void frm_cost_profile_builtin_llvmpipe(struct frm_cost_profile *out)
 {
     memset(out, 0, sizeof *out);
     /* Measured by `hmdlod calibrate --out …` (default grid, seed 1, Vive, render scale 1) on the
@@ -338,8 +338,8 @@ void rpl_cost_profile_builtin_llvmpipe(struct rpl_cost_profile *out)
      * "Cost model". The additive form was kept (held-out p95 35 % against the max form's 43 %). */
     out->model = (struct lod_cost_model){LOD_COST_ADDITIVE, 2.0701873118523273, 5.8741790932592125e-05, 0.0,
                                          1.96660359366466e-06, 0.00686778371865242};
-    out->held_out = (struct rpl_cost_accuracy){0.12822384272586673, 0.34758148156478935, 0.5, 50};
-    out->held_out_other = (struct rpl_cost_accuracy){0.1477496074210039, 0.42588616699206, 0.44, 50};
+    out->held_out = (struct frm_cost_accuracy){0.12822384272586673, 0.34758148156478935, 0.5, 50};
+    out->held_out_other = (struct frm_cost_accuracy){0.1477496074210039, 0.42588616699206, 0.44, 50};
     snprintf(out->label, sizeof out->label, "built-in llvmpipe reference (2-core, measured 2026-12-01, quiet)");
     snprintf(out->renderer, sizeof out->renderer, "llvmpipe (LLVM 15.0.6, 256 bits)");
     snprintf(out->display, sizeof out->display, "vive");

@@ -6,7 +6,7 @@
  * Allocates nothing: the scene's motion set was sized when the scene was built. */
 #include <math.h>
 
-#include "replay/replay.h"
+#include "frame/frame.h"
 #include "scene/scene.h"
 
 static void mat_from_quat(hl_quatd q, double m[9])
@@ -75,7 +75,7 @@ static void grow_to(double *radius, const double *center, const double *c, doubl
         *radius = reach;
 }
 
-const double *rpl_motion_step(struct scn_scene *s, double t_s)
+const double *frm_motion_step(struct scn_scene *s, double t_s)
 {
     struct scn_motion_set *set = s->motion;
     if (!set)

@@ -1,21 +1,21 @@
-/* replay/cost.h: the machine's cost model from render/'s measurement — the non-negative fits of
+/* frame/cost.h: the machine's cost model from render/'s measurement — the non-negative fits of
  * Funkhouser & Séquin's max form and of the additive form (PAPERS.md §2, §5 "Cost models"), their
  * held-out accuracy, and the cost profile JSON (docs/cost-model.md) that hands lod/ a struct
  * lod_cost_model. Here because it joins render (the timed frames), acuity (the coverage estimate the
- * replay predicts with) and lod (the cost arithmetic). Included by replay/replay.h. */
-#ifndef HMDLOD_REPLAY_COST_H
-#define HMDLOD_REPLAY_COST_H
+ * replay predicts with) and lod (the cost arithmetic). Part of the frame/frame.h umbrella. */
+#ifndef HMDLOD_FRAME_COST_H
+#define HMDLOD_FRAME_COST_H
 
 #include "lod/lod.h"
 #include "render/render.h"
 
 /* render's measurement with every object's pixels_px filled with acu_compute_pixels' estimate for
  * the measured eyes: what `hmdlod calibrate` fits. Arguments and ownership as rnd_cost_measure. */
-int rpl_cost_calibrate(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
+int frm_cost_calibrate(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
                        struct rnd_calibration *out, struct hl_error *err);
 
 /* Frame prediction: c0 + Σ lod_cost_object_ms over the frame's objects. O(object_count). */
-double rpl_cost_predict_frame_ms(const struct lod_cost_model *m, const struct rnd_cost_frame *frame,
+double frm_cost_predict_frame_ms(const struct lod_cost_model *m, const struct rnd_cost_frame *frame,
                                  const struct rnd_cost_object *objects);
 
 /* ---- fitting (cost_fit.c) ---------------------------------------------------------------------- */
@@ -25,7 +25,7 @@ double rpl_cost_predict_frame_ms(const struct lod_cost_model *m, const struct rn
  * cols) scratch (calibration, never per frame). Returns 0, or −1 on bad sizes, non-finite input,
  * allocation failure or no convergence within 3·cols outer iterations (err says which).
  * *residual_norm (may be NULL) gets |A·x − b|₂. Cost O(iterations · rows · cols²). */
-int rpl_cost_nnls(const double *a, size_t rows, size_t cols, const double *b, double *x, double *residual_norm,
+int frm_cost_nnls(const double *a, size_t rows, size_t cols, const double *b, double *x, double *residual_norm,
                   struct hl_error *err);
 
 /* Fits one form on the frames listed in rows[0 … row_count−1] (indices into frames), all five
@@ -36,31 +36,31 @@ int rpl_cost_nnls(const double *a, size_t rows, size_t cols, const double *b, do
  * the coefficients; NNLS refits all five; repeat until no assignment changes (≤ 50 rounds), from
  * three starts (the additive fit's coefficients, all geometry, all pixels); the best true-max
  * objective wins. Needs measured_ms > 0 and finite counts on every listed frame. */
-struct rpl_cost_fit_report {
+struct frm_cost_fit_report {
     double rms_relative; /* sqrt(mean(((pred − meas)/meas)²)) on the fitted frames */
     int rounds;          /* assignment rounds of the winning start (1 for additive) */
 };
-int rpl_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, const uint32_t *rows,
+int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, const uint32_t *rows,
                  size_t row_count, const struct rnd_cost_object *objects, struct lod_cost_model *out,
-                 struct rpl_cost_fit_report *report, struct hl_error *err);
+                 struct frm_cost_fit_report *report, struct hl_error *err);
 
 /* Relative error (predicted − measured) / measured over the listed frames: median and 95th
  * percentile of its magnitude, and the share of frames under-predicted by more than 5 % (what
  * breaks a budget). Allocates row_count doubles; all zero when row_count is 0 or allocation fails. */
-struct rpl_cost_accuracy {
+struct frm_cost_accuracy {
     double median_rel, p95_rel, under5_share;
     uint32_t frames;
 };
-struct rpl_cost_accuracy rpl_cost_evaluate(const struct lod_cost_model *m, const struct rnd_cost_frame *frames,
+struct frm_cost_accuracy frm_cost_evaluate(const struct lod_cost_model *m, const struct rnd_cost_frame *frames,
                                            const uint32_t *rows, size_t row_count,
                                            const struct rnd_cost_object *objects);
 
 
 /* ---- the cost profile (cost_profile.c, docs/cost-model.md) -------------------------------------- */
-struct rpl_cost_profile {
+struct frm_cost_profile {
     struct lod_cost_model model;          /* what lod/ and the replay use */
-    struct rpl_cost_accuracy held_out;    /* of the kept form */
-    struct rpl_cost_accuracy held_out_other; /* of the form not kept (frames 0: unknown) */
+    struct frm_cost_accuracy held_out;    /* of the kept form */
+    struct frm_cost_accuracy held_out_other; /* of the form not kept (frames 0: unknown) */
     char label[160];                      /* e.g. "built-in llvmpipe reference (2-core, measured …)" */
     char renderer[128];                   /* GL_RENDERER the coefficients were measured on */
     char display[HMD_NAME_MAX];
@@ -72,14 +72,14 @@ struct rpl_cost_profile {
 
 /* Reads a profile; every problem is one message naming the file and the field: missing,
  * not a number, non-finite, negative coefficient, unknown form, unknown key. Returns 0 or −1. */
-int rpl_cost_profile_read(const char *path, struct rpl_cost_profile *out, struct hl_error *err);
+int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct hl_error *err);
 /* Writes atomically (path.partial, then rename): no half-written profile is left. 0 or −1. */
-int rpl_cost_profile_write(const char *path, const struct rpl_cost_profile *p, struct hl_error *err);
+int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, struct hl_error *err);
 /* The built-in reference measured with `hmdlod calibrate` on the 2-core llvmpipe development
  * machine (Vive, render scale 1): the replay's default when no --cost-profile is given. */
-void rpl_cost_profile_builtin_llvmpipe(struct rpl_cost_profile *out);
+void frm_cost_profile_builtin_llvmpipe(struct frm_cost_profile *out);
 /* "max" / "additive"; NULL for an unknown form. And back: 0 and *form, or −1. */
-const char *rpl_cost_form_name(enum lod_cost_form form);
-int rpl_cost_form_parse(const char *name, enum lod_cost_form *form);
+const char *frm_cost_form_name(enum lod_cost_form form);
+int frm_cost_form_parse(const char *name, enum lod_cost_form *form);
 
 #endif

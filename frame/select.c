@@ -1,47 +1,46 @@
 /* Steps 5–7 of a frame (DESIGN.md "One frame"): Reddy's perceptual ceiling, each candidate's cost
  * (the machine's cost profile) and benefit (Funkhouser & Séquin 1993 §5 capped at the ceiling), and
- * the selector. Everything here is sized in rpl_select_init; a frame allocates nothing. */
+ * the selector. Everything here is sized in frm_select_init; a frame allocates nothing. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "replay/cost.h"
-#include "replay/select.h"
-#include "replay/replay.h" /* enum rpl_correction */
-#include "replay/select_mb.h"
+#include "frame/cost.h"
+#include "frame/select.h"
+#include "frame/select_mb.h"
 
 static const char *const selector_names[] = {"none", "reddy", "static", "feedback", "fs", "mb"};
 
-int rpl_selector_parse(const char *name, enum rpl_selector *out, struct hl_error *err)
+int frm_selector_parse(const char *name, enum frm_selector *out, struct hl_error *err)
 {
     for (int k = 0; k < (int)(sizeof selector_names / sizeof *selector_names); ++k)
         if (name && !strcmp(name, selector_names[k])) {
-            *out = (enum rpl_selector)k;
+            *out = (enum frm_selector)k;
             return 0;
         }
     return hl_fail(err, "--selector: unknown selector '%s' (known: none, reddy, static, feedback, fs, mb)",
                    name ? name : "");
 }
 
-int rpl_cost_model_load(const char *path, struct lod_cost_model *out, char *label_out, size_t label_size,
+int frm_cost_model_load(const char *path, struct lod_cost_model *out, char *label_out, size_t label_size,
                         struct hl_error *err)
 {
-    struct rpl_cost_profile profile;
+    struct frm_cost_profile profile;
     if (path) {
-        if (rpl_cost_profile_read(path, &profile, err) != 0)
+        if (frm_cost_profile_read(path, &profile, err) != 0)
             return -1;
-        snprintf(label_out, label_size, "%s (%s form, %s)", path, rpl_cost_form_name(profile.model.form),
+        snprintf(label_out, label_size, "%s (%s form, %s)", path, frm_cost_form_name(profile.model.form),
                  profile.renderer);
     } else {
-        rpl_cost_profile_builtin_llvmpipe(&profile);
+        frm_cost_profile_builtin_llvmpipe(&profile);
         snprintf(label_out, label_size, "%s", profile.label);
     }
     *out = profile.model;
     return 0;
 }
 
-int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct hl_error *err)
+int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct hl_error *err)
 {
     size_t n = scene->instance_count ? scene->instance_count : 1;
     size_t cands = n * (LOD_MAX_LEVELS + 1);
@@ -75,7 +74,7 @@ int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct 
         for (int l = 0; l < s->chain_lod_count[c]; ++l)
             s->chain_triangles[c * LOD_MAX_LEVELS + l] = ch->lods[l].triangle_count;
     }
-    if (s->selector == RPL_SELECT_MB && rpl_mb_create(scene, n, s->mb_simplify, &s->mb, err) != 0)
+    if (s->selector == FRM_SELECT_MB && frm_mb_create(scene, n, s->mb_simplify, &s->mb, err) != 0)
         return -1;
     lod_benefit_params_default(&s->benefit);
     acu_saccade_params_default(&s->saccade.params);
@@ -92,7 +91,7 @@ int rpl_select_init(struct rpl_select *s, const struct scn_scene *scene, struct 
     return 0;
 }
 
-void rpl_select_free(struct rpl_select *s)
+void frm_select_free(struct frm_select *s)
 {
     free(s->pixels_px);
     free(s->ceiling_level);
@@ -110,7 +109,7 @@ void rpl_select_free(struct rpl_select *s)
     free(s->chain_lod_count);
     free(s->scratch);
     free(s->saccade.level_before);
-    rpl_mb_destroy(s->mb);
+    frm_mb_destroy(s->mb);
     s->mb = NULL;
 }
 
@@ -123,8 +122,8 @@ static double level_cost_ms(const struct lod_cost_model *m, const struct scn_lod
 /* The frame's problem over the visible objects: per object its levels coarsest first (the null
  * impostor before them where the chain allows drawing nothing), priced and valued, then reduced to
  * the convex hull. */
-static struct lod_problem build_problem(struct rpl_select *s, const struct scn_scene *scene,
-                                        const struct rpl_view_inputs *in, double budget_ms)
+static struct lod_problem build_problem(struct frm_select *s, const struct scn_scene *scene,
+                                        const struct frm_view_inputs *in, double budget_ms)
 {
     uint32_t c = 0;
     for (size_t k = 0; k < in->count; ++k) {
@@ -158,7 +157,7 @@ static struct lod_problem build_problem(struct rpl_select *s, const struct scn_s
 }
 
 /* c0 + Σ predicted cost of what is drawn, for any selector. */
-static double predicted_ms(const struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
+static double predicted_ms(const struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                            const uint8_t *lod)
 {
     double sum = s->cost.c0_ms;
@@ -172,7 +171,7 @@ static double predicted_ms(const struct rpl_select *s, const struct scn_scene *s
 }
 
 /* Popping: levels that changed for objects drawn in both frames; then this frame becomes "last". */
-static uint32_t remember_levels(struct rpl_select *s, const struct rpl_view_inputs *in, const uint8_t *lod)
+static uint32_t remember_levels(struct frm_select *s, const struct frm_view_inputs *in, const uint8_t *lod)
 {
     uint32_t changes = 0;
     for (size_t k = 0; k < in->count; ++k) {
@@ -189,60 +188,60 @@ static uint32_t remember_levels(struct rpl_select *s, const struct rpl_view_inpu
     return changes;
 }
 
-static int uses_ceiling(enum rpl_selector selector)
+static int uses_ceiling(enum frm_selector selector)
 {
-    return selector == RPL_SELECT_REDDY || selector == RPL_SELECT_FS || selector == RPL_SELECT_MB;
+    return selector == FRM_SELECT_REDDY || selector == FRM_SELECT_FS || selector == FRM_SELECT_MB;
 }
 
-void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
+void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                       uint8_t *lod_out, uint32_t *extra_index, uint8_t *extra_level, size_t *extra_count,
-                      struct rpl_select_record *rec)
+                      struct frm_select_record *rec)
 {
     memset(rec, 0, sizeof *rec);
     *extra_count = 0;
     rec->budget_ms = s->budget_ms;
     rec->lp_bound = NAN;
-    rpl_coverage_compute(scene, in->eyes, 2, in->visible, in->count, s->pixels_px);
+    frm_coverage_compute(scene, in->eyes, 2, in->visible, in->count, s->pixels_px);
     if (uses_ceiling(s->selector)) {
         struct lod_select_stats stats = {0};
         lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
                          in->velocity_degps, in->diameter_deg, s->ceiling_level, NULL, &stats);
         rec->acuity_evaluations = stats.model_evaluations;
-        rpl_saccade_lower_ceilings(s, scene, in); /* suppressed: nothing above the coarsest is seen */
+        frm_saccade_lower_ceilings(s, scene, in); /* suppressed: nothing above the coarsest is seen */
     }
 
     switch (s->selector) {
-    case RPL_SELECT_NONE:
+    case FRM_SELECT_NONE:
         lod_select_finest(in->count, lod_out);
         break;
-    case RPL_SELECT_REDDY:
+    case FRM_SELECT_REDDY:
         memcpy(lod_out, s->ceiling_level, in->count);
         break;
-    case RPL_SELECT_STATIC:
-    case RPL_SELECT_FEEDBACK: {
-        double px = s->selector == RPL_SELECT_STATIC ? s->static_px : s->feedback.min_px_per_triangle;
+    case FRM_SELECT_STATIC:
+    case FRM_SELECT_FEEDBACK: {
+        double px = s->selector == FRM_SELECT_STATIC ? s->static_px : s->feedback.min_px_per_triangle;
         lod_select_static(px, s->chain_triangles, s->chain_lod_count, scene->chain_of_instance, in->visible, in->count,
                           s->pixels_px, lod_out);
         break;
     }
-    case RPL_SELECT_FS:
-    case RPL_SELECT_MB: {
+    case FRM_SELECT_FS:
+    case FRM_SELECT_MB: {
         /* What the optimizer may spend: the budget less the frame's own CPU work (smoothed), scaled
          * by the measured/predicted ratio when correcting, less the per-frame constant c0 — or, with
          * the affine correction, what the fitted a + b·x leaves for the objects. */
         double budget = s->budget_ms - s->overhead_ms;
-        if (s->correct == RPL_CORRECTION_AFFINE) {
+        if (s->correct == FRM_CORRECTION_AFFINE) {
             budget = lod_cost_rls_objects_budget_ms(&s->rls, budget);
         } else {
-            if (s->correct == RPL_CORRECTION_RATIO)
+            if (s->correct == FRM_CORRECTION_RATIO)
                 budget = lod_cost_correction_budget_ms(&s->correction, budget);
             budget = fmax(0.0, budget - s->cost.c0_ms);
         }
         rec->optimizer_budget_ms = budget;
         struct lod_problem p = build_problem(s, scene, in, budget);
         struct lod_result r;
-        if (s->selector == RPL_SELECT_MB) { /* Mason & Blake on the visible part of the hierarchy */
-            rpl_mb_select(s->mb, scene, &p, &s->cost, &s->benefit, in->eyes, s->opt_limit_us, lod_out, extra_index,
+        if (s->selector == FRM_SELECT_MB) { /* Mason & Blake on the visible part of the hierarchy */
+            frm_mb_select(s->mb, scene, &p, &s->cost, &s->benefit, in->eyes, s->opt_limit_us, lod_out, extra_index,
                           extra_level, extra_count, &r);
         } else {
             lod_choice_start(&p, s->previous_level, s->choice);
@@ -259,7 +258,7 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
         /* Measurement only, and not part of the frame: its time is taken out of the frame's. The
          * flat problem's bound does not bound mb's (group impostors are choices it lacks): none. */
         int64_t lp_start = hl_clock_now_ns();
-        rec->lp_bound = s->selector == RPL_SELECT_MB ? NAN : lod_lp_bound(&p, NULL);
+        rec->lp_bound = s->selector == FRM_SELECT_MB ? NAN : lod_lp_bound(&p, NULL);
         rec->lp_us = (double)(hl_clock_now_ns() - lp_start) * 1e-3;
         break;
     }
@@ -271,18 +270,18 @@ void rpl_select_frame(struct rpl_select *s, const struct scn_scene *scene, const
         acu_compute_pixels(in->eyes, 2, scene->center_m, scene->radius_m, &extra_index[k], 1, &px);
         rec->predicted_ms += level_cost_ms(&s->cost, &ch->lods[extra_level[k]], px);
     }
-    rpl_saccade_account(s, scene, in, lod_out, rec);
+    frm_saccade_account(s, scene, in, lod_out, rec);
     rec->lod_changes = remember_levels(s, in, lod_out);
 }
 
-double rpl_select_visible_error(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
+double frm_select_visible_error(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                                 const uint8_t *lod)
 {
     if (!uses_ceiling(s->selector)) { /* the same ceilings reddy, fs and mb would have seen */
         struct lod_select_stats stats = {0};
         lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
                          in->velocity_degps, in->diameter_deg, s->ceiling_level, NULL, &stats);
-        rpl_saccade_lower_ceilings(s, scene, in);
+        frm_saccade_lower_ceilings(s, scene, in);
     }
     double total_px = 0.0, coarse_px = 0.0;
     for (size_t k = 0; k < in->count; ++k) {
@@ -294,14 +293,14 @@ double rpl_select_visible_error(struct rpl_select *s, const struct scn_scene *sc
     return total_px > 0.0 ? coarse_px / total_px : 0.0;
 }
 
-void rpl_select_measured(struct rpl_select *s, const struct rpl_select_record *rec, double draw_ms, double frame_ms)
+void frm_select_measured(struct frm_select *s, const struct frm_select_record *rec, double draw_ms, double frame_ms)
 {
     double overhead = fmax(0.0, frame_ms - draw_ms);
     s->overhead_ms = s->overhead_ms > 0.0 ? s->overhead_ms + 0.1 * (overhead - s->overhead_ms) : overhead;
-    if (s->correct == RPL_CORRECTION_RATIO) /* only the correction in use learns */
+    if (s->correct == FRM_CORRECTION_RATIO) /* only the correction in use learns */
         lod_cost_correction_update(&s->correction, draw_ms, rec->predicted_ms);
-    else if (s->correct == RPL_CORRECTION_AFFINE)
+    else if (s->correct == FRM_CORRECTION_AFFINE)
         lod_cost_rls_update(&s->rls, draw_ms, rec->predicted_ms - s->cost.c0_ms);
-    if (s->selector == RPL_SELECT_FEEDBACK)
+    if (s->selector == FRM_SELECT_FEEDBACK)
         lod_feedback_update(&s->feedback, frame_ms, s->budget_ms);
 }

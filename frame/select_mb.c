@@ -4,7 +4,7 @@
  * flat problem's order. Last frame's solution is kept per instance and per group, as levels (not
  * candidate indices, which change with the hull from frame to frame), and mapped back the way
  * lod_choice_start does. */
-#include "replay/select_mb.h"
+#include "frame/select_mb.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -12,7 +12,7 @@
 
 enum { NONE = UINT32_MAX };
 
-struct rpl_mb {
+struct frm_mb {
     uint32_t instance_count, group_count;
     size_t max_visible;
     uint32_t *group_of_instance; /* per instance: the group listing it, NONE */
@@ -44,7 +44,7 @@ enum { COLLAPSED = 1, UNDER = 2 };
  * than LOD_MB_BELOW and the other states (start_of_level orders by level). */
 enum { IMPOSTOR_LEVEL = 250 };
 
-void rpl_mb_destroy(struct rpl_mb *mb)
+void frm_mb_destroy(struct frm_mb *mb)
 {
     if (!mb)
         return;
@@ -61,7 +61,7 @@ void rpl_mb_destroy(struct rpl_mb *mb)
 /* Which groups simplification turns into leaves: those whose subtree is at most `simplify` groups deep
  * (a group of objects only is 1 deep) and whose parent is deeper; the groups and objects below them
  * leave the tree. Groups are in parents-first order, so one reverse pass finds the depths. */
-static void mark_collapsed(struct rpl_mb *mb, const struct scn_scene *scene)
+static void mark_collapsed(struct frm_mb *mb, const struct scn_scene *scene)
 {
     uint32_t ng = scene->group_count;
     memset(mb->collapse, 0, ng ? ng : 1);
@@ -94,13 +94,13 @@ static void mark_collapsed(struct rpl_mb *mb, const struct scn_scene *scene)
         mb->node_of_group[g] = NONE;
 }
 
-int rpl_mb_create(const struct scn_scene *scene, size_t max_visible, int simplify, struct rpl_mb **out,
+int frm_mb_create(const struct scn_scene *scene, size_t max_visible, int simplify, struct frm_mb **out,
                   struct hl_error *err)
 {
     *out = NULL;
     if (simplify < 0 || simplify > 8)
         return hl_fail(err, "--mb-simplify: %d is outside [0, 8]", simplify);
-    struct rpl_mb *mb = calloc(1, sizeof *mb);
+    struct frm_mb *mb = calloc(1, sizeof *mb);
     if (!mb)
         return hl_fail(err, "scene '%s': out of memory for the mb selector", scene->name);
     size_t ni = scene->instance_count ? scene->instance_count : 1, ng = scene->group_count ? scene->group_count : 1;
@@ -127,14 +127,14 @@ int rpl_mb_create(const struct scn_scene *scene, size_t max_visible, int simplif
     mb->members = malloc((max_visible + 1) * sizeof(uint32_t));
     if (!mb->collapse || !mb->collapsed_of_instance || !mb->node_of_object || !mb->members_first ||
         !mb->members_count || !mb->members) {
-        rpl_mb_destroy(mb);
+        frm_mb_destroy(mb);
         return hl_fail(err, "scene '%s': out of memory for the mb selector", scene->name);
     }
     if (!mb->group_of_instance || !mb->node_of_group || !mb->group_last || !mb->instance_last || !mb->groups_seen ||
         !mb->objects_seen || !mb->frame_groups || !mb->imp_index || !mb->imp_px || !mb->node_id || !mb->parent ||
         !mb->first_child || !mb->child_count || !mb->child || !mb->first || !mb->count || !mb->state ||
         !mb->imp_above || !mb->cost_ms || !mb->benefit || !mb->cand_level || !mb->scratch) {
-        rpl_mb_destroy(mb);
+        frm_mb_destroy(mb);
         return hl_fail(err, "scene '%s': out of memory for the mb selector (%zu objects, %u groups)", scene->name,
                        max_visible, scene->group_count);
     }
@@ -168,7 +168,7 @@ static int group_has_impostor(const struct scn_scene *scene, uint32_t g)
 
 /* Nodes, parents and children of this frame's tree; returns the number of group nodes and sets
  * *object_nodes. Groups under a collapsed one and objects under a collapsed group are not nodes. */
-static uint32_t build_structure(struct rpl_mb *mb, const struct scn_scene *scene, const struct lod_problem *p,
+static uint32_t build_structure(struct frm_mb *mb, const struct scn_scene *scene, const struct lod_problem *p,
                                 uint32_t *object_nodes)
 {
     uint32_t ng = 0;
@@ -264,7 +264,7 @@ static int member_candidate(const struct lod_problem *p, size_t i, uint8_t l)
 /* A collapsed group's candidates from c on: its impostor (when it has one, already at c) and, for each
  * shared level, the union of its visible objects there (Σ cost, Σ benefit); hull-reduced like an
  * object's. Returns the candidates written. */
-static uint8_t collapsed_candidates(struct rpl_mb *mb, const struct lod_problem *p, uint32_t k, uint32_t c,
+static uint8_t collapsed_candidates(struct frm_mb *mb, const struct lod_problem *p, uint32_t k, uint32_t c,
                                     uint8_t with_impostor)
 {
     uint8_t levels = 0;
@@ -307,7 +307,7 @@ static uint8_t start_of_level(const uint8_t *level, uint8_t count, uint8_t last)
     return 0;
 }
 
-void rpl_mb_select(struct rpl_mb *mb, const struct scn_scene *scene, const struct lod_problem *p,
+void frm_mb_select(struct frm_mb *mb, const struct scn_scene *scene, const struct lod_problem *p,
                    const struct lod_cost_model *cost, const struct lod_benefit_params *bp,
                    const struct acu_eye eyes[2], double time_limit_us, uint8_t *level_out, uint32_t *extra_index,
                    uint8_t *extra_level, size_t *extra_count, struct lod_result *r)
@@ -337,7 +337,7 @@ void rpl_mb_select(struct rpl_mb *mb, const struct scn_scene *scene, const struc
         mb->state[k] = mb->group_last[g];
         uint8_t with_impostor = 0;
         if (group_has_impostor(scene, g)) {
-            /* One impostor level, both eyes, 2 draws like an object (replay/select.c); Funkhouser's
+            /* One impostor level, both eyes, 2 draws like an object (frame/select.c); Funkhouser's
              * benefit at the group's importance, no hysteresis (it has one level). */
             const struct scn_lod *lod = &scene->chains[gr->impostor_chain].lods[0];
             double px = mb->imp_px[j++];

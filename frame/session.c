@@ -1,18 +1,44 @@
-/* A session's state, opened once: display, pose source (the options' trace, or one made elsewhere),
- * scene and its measured tables, selector and cost model, renderer. Shared by replay (run.c) and
- * the live loop (live.c). */
+/* A session's state, opened once: display, the pose source its runner hands in, scene and its
+ * measured tables, selector and cost model, renderer. Shared by replay, live and the benches. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "replay/run_internal.h"
+#include <sys/stat.h>
 
-int rpl_session_check_options(const struct rpl_options *o, int need_out_dir, enum rpl_selector *selector,
-                              enum rpl_freq_reading *reading, struct hl_error *err)
+#include "frame/frame.h"
+
+void frm_options_defaults(struct frm_options *o)
 {
-    if (rpl_freq_reading_parse(o->frequency_reading ? o->frequency_reading : "narrow", reading, err) != 0)
+    memset(o, 0, sizeof *o);
+    o->scene = "field";
+    o->display = "vive";
+    o->selector = "reddy";
+    o->frequency_reading = "narrow"; /* docs/analysis.md: why narrow */
+    o->object_count = 0; /* each scene's own default: field 100 objects, domes 10 */
+    o->seed = 1;
+    o->acuity_scale = 1.0;
+    o->render_scale = 1.0;
+    o->static_px_per_triangle = 64.0;
+    o->cost_correction = FRM_CORRECTION_RATIO;
+    o->gaze = "auto";
+    o->vor_gain = -1.0;
+    o->vor_latency_ms = -1.0;
+}
+
+int frm_scene_is_file(const char *scene)
+{
+    size_t len = scene ? strlen(scene) : 0;
+    struct stat st;
+    return (len > 5 && strcmp(scene + len - 5, ".json") == 0) || (len > 0 && stat(scene, &st) == 0 && S_ISREG(st.st_mode));
+}
+
+int frm_options_check(const struct frm_options *o, enum frm_selector *selector, enum frm_freq_reading *reading,
+                      struct hl_error *err)
+{
+    if (frm_freq_reading_parse(o->frequency_reading ? o->frequency_reading : "narrow", reading, err) != 0)
         return -1;
-    if (rpl_selector_parse(o->selector, selector, err) != 0)
+    if (frm_selector_parse(o->selector, selector, err) != 0)
         return -1;
     if (o->budget_ms < 0.0 || !isfinite(o->budget_ms) || o->budget_ms > 10000.0)
         return hl_fail(err, "--budget-ms: %g ms is outside (0, 10000]", o->budget_ms);
@@ -20,18 +46,10 @@ int rpl_session_check_options(const struct rpl_options *o, int need_out_dir, enu
         return hl_fail(err, "--opt-limit-us: %g us is outside [0, 1e7]", o->opt_limit_us);
     if (!(o->static_px_per_triangle > 0.0) || !isfinite(o->static_px_per_triangle))
         return hl_fail(err, "--static-px: %g is not a positive number of pixels", o->static_px_per_triangle);
-    if (need_out_dir && (!o->out_dir || !*o->out_dir))
-        return hl_fail(err, "--out: an output folder is required");
-    if (o->rate_hz < 0.0 || !isfinite(o->rate_hz) || (o->rate_hz > 0.0 && o->rate_hz < 1.0) || o->rate_hz > 10000.0)
-        return hl_fail(err, "--rate: %g Hz is outside [1, 10000]", o->rate_hz);
     if (!(o->acuity_scale > 0.0 && o->acuity_scale <= 1.0))
         return hl_fail(err, "--acuity-scale: %g is outside (0, 1]", o->acuity_scale);
     if (!(o->render_scale > 0.0 && o->render_scale <= 4.0))
         return hl_fail(err, "--render-scale: %g is outside (0, 4]", o->render_scale);
-    if (o->frames < 0 || o->capture_every < 0 || o->reference_every < 0)
-        return hl_fail(err, "--frames, --capture and --reference must be >= 0");
-    if (o->frames > RPL_MAX_FRAMES)
-        return hl_fail(err, "--frames: %ld is more than the %ld frames a replay holds", o->frames, (long)RPL_MAX_FRAMES);
     enum acu_gaze_model model;
     if (o->gaze && strcmp(o->gaze, "auto") != 0 && acu_gaze_model_parse(o->gaze, &model) != 0)
         return hl_fail(err, "--gaze: '%s' is not a gaze model (auto, head, vor, tracked)", o->gaze);
@@ -70,7 +88,7 @@ static int scene_fixation_m(const struct scn_scene *scene, hl_vec3d eye_m, doubl
 
 /* The model: auto is tracked when the trace has gaze, else vor; tracked without gaze is refused
  * before the scene is built. */
-static int session_gaze_model(struct rpl_session *s, const struct rpl_options *o, struct hl_error *err)
+static int session_gaze_model(struct frm_session *s, const struct frm_options *o, struct hl_error *err)
 {
     if (!o->gaze || strcmp(o->gaze, "auto") == 0)
         s->gaze = s->trace_has_gaze ? ACU_GAZE_TRACKED : ACU_GAZE_VOR;
@@ -78,17 +96,17 @@ static int session_gaze_model(struct rpl_session *s, const struct rpl_options *o
         return hl_fail(err, "--gaze: '%s' is not a gaze model (auto, head, vor, tracked)", o->gaze);
     if (s->gaze == ACU_GAZE_TRACKED && !s->trace_has_gaze)
         return hl_fail(err, "--gaze tracked: %s has no gaze columns (use --gaze vor or head)",
-                       o->raw_path ? o->raw_path : o->trace_path ? o->trace_path : "the built-in clip");
+                       o->source_name ? o->source_name : "the pose source");
     return 0;
 }
 
 /* The VOR's parameters and the eyes' offset; needs the source and the scene. */
-static int session_gaze_params(struct rpl_session *s, const struct rpl_options *o, struct hl_error *err)
+static int session_gaze_params(struct frm_session *s, const struct frm_options *o, struct hl_error *err)
 {
     s->neck_to_eye_head_m = hmd_neck_to_eye_head(&s->display);
     struct trk_pose start;
     struct acu_head_state head;
-    if (rpl_frame_head_state(s, s->source->start_time_s, &start, &head, err) != 0)
+    if (frm_frame_head_state(s, s->source->start_time_s, &start, &head, err) != 0)
         return -1;
     double fixation_m = o->fixation_m;
     if (!(fixation_m > 0.0) && scene_fixation_m(&s->scene, head.eye_position_m, &fixation_m, err) != 0)
@@ -101,34 +119,10 @@ static int session_gaze_params(struct rpl_session *s, const struct rpl_options *
     return 0;
 }
 
-/* The options' trace (a raw recording, a trace file or the built-in clip) as the session's source. */
-static int session_open_trace(struct rpl_session *s, const struct rpl_options *o, struct hl_error *err)
+int frm_session_open_display(struct frm_session *s, const struct frm_options *o, const struct frm_session_made *made,
+                             struct hl_error *err)
 {
-    struct rpl_trace trace;
-    int rc = o->raw_path     ? rpl_trace_from_recording(o->raw_path, &trace, err)
-             : o->trace_path ? rpl_trace_load(o->trace_path, &trace, err)
-                             : rpl_trace_builtin_clip(&trace, err);
-    if (rc != 0)
-        return -1;
-    const struct rpl_trace_report *tr = &trace.report;
-    if (o->trace_path && (tr->repeated_timestamps || tr->low_confidence_gaze || tr->placeholder_rows ||
-                          tr->held_orientations || tr->speed_outliers)) {
-        /* What loading had to do to a file is said once, not silently (docs/trace-format.md). */
-        char line[512];
-        rpl_trace_report_format(tr, line, sizeof line);
-        fprintf(stderr, "hmdlod: note: %s: %s\n", o->trace_path, line);
-    }
-    s->trace_has_gaze = trace.gaze_dir != NULL;
-    s->trace_has_position = trace.position_m != NULL;
-    if (rpl_trace_source_create(&trace, &s->source, err) != 0 || session_gaze_model(s, o, err) != 0)
-        return -1;
-    return 0;
-}
-
-int rpl_session_open(struct rpl_session *s, const struct rpl_options *o, const struct rpl_session_made *made,
-                     struct hl_error *err)
-{
-    if (made) { /* adopted now, so that rpl_session_close closes them even when opening fails */
+    if (made) { /* adopted now, so that frm_session_close closes them even when opening fails */
         s->source = made->source;
         s->renderer = made->renderer;
     }
@@ -137,19 +131,25 @@ int rpl_session_open(struct rpl_session *s, const struct rpl_options *o, const s
     s->eyes[0] = hmd_eye_frustum(&s->display, HMD_EYE_LEFT);
     s->eyes[1] = hmd_eye_frustum(&s->display, HMD_EYE_RIGHT);
     s->near_m = 0.05;
-    rpl_cull_frustum_init(&s->cull_frustum, &s->display, s->near_m);
+    frm_cull_frustum_init(&s->cull_frustum, &s->display, s->near_m);
     acu_limits_init(&s->limits, hmd_compute_xi(&s->display).used_cpd, o->acuity_scale);
     s->limits.use_velocity = !o->velocity_term_off; /* bench gaze: the velocity term's saving */
     s->limits.use_eccentricity = !o->eccentricity_term_off;
     s->far_m = 2000.0;
+    return 0;
+}
 
-    if (s->source ? session_gaze_model(s, o, err) != 0 : session_open_trace(s, o, err) != 0)
+int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, struct hl_error *err)
+{
+    if (!s->source)
+        return hl_fail(err, "frame: a session needs a pose source");
+    if (session_gaze_model(s, o, err) != 0)
         return -1;
 
-    if (rpl_scene_is_file(o->scene)) {
-        /* The resolver turns each mesh entry into a lodset: by default replay's, which keeps mesh
-         * files' chains in the cache (replay/asset_resolver.c); a caller may pass its own. */
-        if (scn_scenefile_load(o->scene, o->resolver ? o->resolver : rpl_cached_resolver(), &s->scene, err) != 0)
+    if (frm_scene_is_file(o->scene)) {
+        /* The resolver turns each mesh entry into a lodset: by default the cached one, which keeps
+         * mesh files' chains in the cache (frame/asset_resolver.c); a caller may pass its own. */
+        if (scn_scenefile_load(o->scene, o->resolver ? o->resolver : frm_cached_resolver(), &s->scene, err) != 0)
             return -1;
     } else {
         struct scn_scene_params params = {.object_count = o->object_count, .seed = o->seed};
@@ -160,11 +160,11 @@ int rpl_session_open(struct rpl_session *s, const struct rpl_options *o, const s
         return -1;
     /* The measured tables (cached after the first run); selector none and the geometric reading
      * never read them. */
-    if (s->selector != RPL_SELECT_NONE && s->reading != RPL_READING_GEOMETRIC) {
+    if (s->selector != FRM_SELECT_NONE && s->reading != FRM_READING_GEOMETRIC) {
         struct rnd_analyze_params ap;
-        rpl_assets_params(&ap);
-        struct rpl_assets_report ar;
-        if (rpl_assets_prepare(&s->scene, &ap, s->reading, &ar, err) != 0)
+        frm_assets_params(&ap);
+        struct frm_assets_report ar;
+        if (frm_assets_prepare(&s->scene, &ap, s->reading, &ar, err) != 0)
             return -1;
         if (ar.chains_analysed > 0 && !o->quiet)
             fprintf(stderr, "hmdlod: analysed %u chain%s of %s (%d views, %d px) in %.2f s%s\n", ar.chains_analysed,
@@ -198,10 +198,10 @@ int rpl_session_open(struct rpl_session *s, const struct rpl_options *o, const s
     s->select.static_px = o->static_px_per_triangle;
     s->select.correct = o->cost_correction;
     s->select.mb_simplify = o->mb_simplify;
-    s->select.saccade_onset_degps = o->saccade_onset_degps; /* replay/saccade_step.c */
+    s->select.saccade_onset_degps = o->saccade_onset_degps; /* frame/saccade_step.c */
     s->select.saccade_off = s->gaze != ACU_GAZE_TRACKED; /* head, vor: no eye tracker, no saccades known */
-    if (rpl_cost_model_load(o->cost_profile, &s->select.cost, s->cost_label, sizeof s->cost_label, err) != 0 ||
-        rpl_select_init(&s->select, &s->scene, err) != 0)
+    if (frm_cost_model_load(o->cost_profile, &s->select.cost, s->cost_label, sizeof s->cost_label, err) != 0 ||
+        frm_select_init(&s->select, &s->scene, err) != 0)
         return -1;
 
     int eye_w = (int)lround(s->display.eye_width_px * o->render_scale);
@@ -210,10 +210,18 @@ int rpl_session_open(struct rpl_session *s, const struct rpl_options *o, const s
         return -1;
     if (rnd_renderer_upload_scene(s->renderer, &s->scene, err) != 0)
         return -1;
-    return rpl_frame_warm_up(s, err);
+    return frm_frame_warm_up(s, err);
 }
 
-void rpl_session_close(struct rpl_session *s)
+int frm_session_open(struct frm_session *s, const struct frm_options *o, const struct frm_session_made *made,
+                     struct hl_error *err)
+{
+    if (frm_session_open_display(s, o, made, err) != 0)
+        return -1;
+    return frm_session_open_scene(s, o, err);
+}
+
+void frm_session_close(struct frm_session *s)
 {
     if (s->renderer)
         rnd_renderer_destroy(s->renderer);
@@ -228,6 +236,6 @@ void rpl_session_close(struct rpl_session *s)
     free(s->arrays.lod);
     free(s->arrays.draw_index);
     free(s->arrays.draw_lod);
-    rpl_select_free(&s->select);
+    frm_select_free(&s->select);
     memset(s, 0, sizeof *s);
 }

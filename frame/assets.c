@@ -8,33 +8,33 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "replay/replay.h"
+#include "frame/frame.h"
 
 /* Bump when the analysis itself changes (shader, light, colour, orientations, extent rule): every
  * cached table then misses and is measured again. 2: the largest lost feature governs, sized by run
  * lengths (was the smallest, by projections). */
-enum { RPL_ANALYSIS_VERSION = 2, RPL_CACHE_FILE_MAX = 4096 };
+enum { FRM_ANALYSIS_VERSION = 2, FRM_CACHE_FILE_MAX = 4096 };
 
-int rpl_freq_reading_parse(const char *name, enum rpl_freq_reading *out, struct hl_error *err)
+int frm_freq_reading_parse(const char *name, enum frm_freq_reading *out, struct hl_error *err)
 {
     static const char *const names[] = {"long", "narrow", "geometric"};
     for (int i = 0; i < 3; ++i)
         if (name && !strcmp(name, names[i])) {
-            *out = (enum rpl_freq_reading)i;
+            *out = (enum frm_freq_reading)i;
             return 0;
         }
     return hl_fail(err, "--frequency-reading: unknown reading '%s' (known: long, narrow, geometric)",
                    name ? name : "(null)");
 }
 
-const char *rpl_freq_reading_name(enum rpl_freq_reading r)
+const char *frm_freq_reading_name(enum frm_freq_reading r)
 {
-    return r == RPL_READING_NARROW ? "narrow" : r == RPL_READING_GEOMETRIC ? "geometric" : "long";
+    return r == FRM_READING_NARROW ? "narrow" : r == FRM_READING_GEOMETRIC ? "geometric" : "long";
 }
 
-void rpl_assets_params(struct rnd_analyze_params *p) { rnd_analyze_params_defaults(p); }
+void frm_assets_params(struct rnd_analyze_params *p) { rnd_analyze_params_defaults(p); }
 
-int rpl_cache_dir(char *out, size_t size, struct hl_error *err)
+int frm_cache_dir(char *out, size_t size, struct hl_error *err)
 {
     const char *env = getenv("HMDLOD_CACHE_DIR");
     if (env && *env) {
@@ -55,7 +55,7 @@ int rpl_cache_dir(char *out, size_t size, struct hl_error *err)
     return 0;
 }
 
-int rpl_lodset_from_chain(const struct scn_scene *s, uint32_t chain, struct scn_lodset *out, struct hl_error *err)
+int frm_lodset_from_chain(const struct scn_scene *s, uint32_t chain, struct scn_lodset *out, struct hl_error *err)
 {
     memset(out, 0, sizeof *out);
     if (!s || chain >= s->chain_count)
@@ -97,7 +97,7 @@ int rpl_lodset_from_chain(const struct scn_scene *s, uint32_t chain, struct scn_
 
 /* ---- the cache ------------------------------------------------------------------------------- */
 
-static uint64_t rpl_fnv1a(uint64_t h, const void *data, size_t n)
+static uint64_t frm_fnv1a(uint64_t h, const void *data, size_t n)
 {
     const unsigned char *p = data;
     for (size_t i = 0; i < n; ++i) {
@@ -108,20 +108,20 @@ static uint64_t rpl_fnv1a(uint64_t h, const void *data, size_t n)
 }
 
 /* Key: the analysis version, the parameters and every level's content hash (scn_mesh_hash). */
-static uint64_t rpl_cache_key(const struct scn_lodset *set, const struct rnd_analyze_params *p)
+static uint64_t frm_cache_key(const struct scn_lodset *set, const struct rnd_analyze_params *p)
 {
     char text[256];
-    int n = snprintf(text, sizeof text, "v%d views %d size %d threshold %.17g min %d levels %d", RPL_ANALYSIS_VERSION,
+    int n = snprintf(text, sizeof text, "v%d views %d size %d threshold %.17g min %d levels %d", FRM_ANALYSIS_VERSION,
                      p->views, p->size_px, p->threshold_de, p->min_component_px, set->level_count);
-    uint64_t h = rpl_fnv1a(0xcbf29ce484222325ull, text, (size_t)n);
+    uint64_t h = frm_fnv1a(0xcbf29ce484222325ull, text, (size_t)n);
     for (int l = 0; l < set->level_count; ++l) {
         uint64_t m = scn_mesh_hash(&set->levels[l]);
-        h = rpl_fnv1a(h, &m, sizeof m);
+        h = frm_fnv1a(h, &m, sizeof m);
     }
     return h;
 }
 
-int rpl_cache_file(char *out, size_t size, const char *dir, const char *label, uint64_t key, const char *suffix)
+int frm_cache_file(char *out, size_t size, const char *dir, const char *label, uint64_t key, const char *suffix)
 {
     /* A label is a chain's or a file's name: anything but letters, digits, '-' and '_' (a '/' in a
      * scene file's mesh name, say) becomes '_', so the file stays inside the cache folder. */
@@ -139,7 +139,7 @@ int rpl_cache_file(char *out, size_t size, const char *dir, const char *label, u
 /* Format (docs/analysis.md): "hmdlod-freq 1", "key HEX", "views N size_px N levels N", one
  * "level L NARROW LONG" line per level (%.17g, exact through strtod), then "check HEX", the
  * FNV-1a 64 of every byte before that line. */
-static int rpl_cache_format(char *buf, size_t size, uint64_t key, const struct scn_lodset *set)
+static int frm_cache_format(char *buf, size_t size, uint64_t key, const struct scn_lodset *set)
 {
     size_t n = 0;
     int k = snprintf(buf, size, "hmdlod-freq 1\nkey %016llx\nviews %d size_px %d levels %d\n", (unsigned long long)key,
@@ -153,12 +153,12 @@ static int rpl_cache_format(char *buf, size_t size, uint64_t key, const struct s
             return -1;
         n += (size_t)k;
     }
-    k = snprintf(buf + n, size - n, "check %016llx\n", (unsigned long long)rpl_fnv1a(0xcbf29ce484222325ull, buf, n));
+    k = snprintf(buf + n, size - n, "check %016llx\n", (unsigned long long)frm_fnv1a(0xcbf29ce484222325ull, buf, n));
     return k < 0 || (size_t)k >= size - n ? -1 : (int)(n + (size_t)k);
 }
 
 /* Reads a cache file into narrow[] / longr[]. 1 = absent, 0 = read, −1 = corrupt (why in *why). */
-static int rpl_cache_read(const char *path, uint64_t key, const struct scn_lodset *set,
+static int frm_cache_read(const char *path, uint64_t key, const struct scn_lodset *set,
                           const struct rnd_analyze_params *p, double narrow[], double longr[], const char **why)
 {
     struct hl_error open_err;
@@ -166,8 +166,8 @@ static int rpl_cache_read(const char *path, uint64_t key, const struct scn_lodse
     *why = "not a regular file";
     if (!f)
         return errno == ENOENT ? 1 : -1;
-    char buf[RPL_CACHE_FILE_MAX + 1];
-    size_t len = fread(buf, 1, RPL_CACHE_FILE_MAX, f);
+    char buf[FRM_CACHE_FILE_MAX + 1];
+    size_t len = fread(buf, 1, FRM_CACHE_FILE_MAX, f);
     int toolong = !feof(f);
     fclose(f);
     buf[len] = '\0';
@@ -181,7 +181,7 @@ static int rpl_cache_read(const char *path, uint64_t key, const struct scn_lodse
     unsigned long long sum = 0;
     *why = "checksum mismatch";
     if (sscanf(check, "check %16llx", &sum) != 1 ||
-        sum != rpl_fnv1a(0xcbf29ce484222325ull, buf, (size_t)(check - buf)))
+        sum != frm_fnv1a(0xcbf29ce484222325ull, buf, (size_t)(check - buf)))
         return -1;
     unsigned long long k = 0;
     int views = 0, size = 0, levels = 0, used = 0;
@@ -207,7 +207,7 @@ static int rpl_cache_read(const char *path, uint64_t key, const struct scn_lodse
     return 0;
 }
 
-int rpl_cache_make_dir(const char *dir)
+int frm_cache_make_dir(const char *dir)
 {
     char path[4096];
     if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path)
@@ -228,15 +228,15 @@ int rpl_cache_make_dir(const char *dir)
 }
 
 /* Temporary file + rename: a reader never sees half a table. 0, or −1 with errno's reason. */
-static int rpl_cache_write(const char *dir, const char *path, uint64_t key, const struct scn_lodset *set)
+static int frm_cache_write(const char *dir, const char *path, uint64_t key, const struct scn_lodset *set)
 {
-    char buf[RPL_CACHE_FILE_MAX];
-    int len = rpl_cache_format(buf, sizeof buf, key, set);
+    char buf[FRM_CACHE_FILE_MAX];
+    int len = frm_cache_format(buf, sizeof buf, key, set);
     if (len < 0) {
         errno = ENOSPC;
         return -1;
     }
-    if (rpl_cache_make_dir(dir) != 0)
+    if (frm_cache_make_dir(dir) != 0)
         return -1;
     struct hl_error werr;
     if (hl_out_write_all(path, buf, (size_t)len, &werr) != 0)
@@ -246,14 +246,14 @@ static int rpl_cache_write(const char *dir, const char *path, uint64_t key, cons
 
 /* ---- preparing a scene ----------------------------------------------------------------------- */
 
-void rpl_assets_apply_reading(struct scn_scene *scene, enum rpl_freq_reading reading)
+void frm_assets_apply_reading(struct scn_scene *scene, enum frm_freq_reading reading)
 {
     for (uint32_t c = 0; c < scene->chain_count; ++c) {
         struct scn_chain *ch = &scene->chains[c];
         for (int l = 0; l < ch->lod_count; ++l) {
             struct scn_lod *L = &ch->lods[l];
-            double f = reading == RPL_READING_NARROW ? L->freq.narrow_cpdiam
-                       : reading == RPL_READING_LONG ? L->freq.long_cpdiam
+            double f = reading == FRM_READING_NARROW ? L->freq.narrow_cpdiam
+                       : reading == FRM_READING_LONG ? L->freq.long_cpdiam
                                                      : L->freq.geometric_cpdiam;
             if (isnan(f))
                 f = L->freq.geometric_cpdiam;
@@ -269,19 +269,19 @@ void rpl_assets_apply_reading(struct scn_scene *scene, enum rpl_freq_reading rea
 
 /* From the cache or by analysis (then stored): set->freq narrow and long readings. *r is the
  * analysis renderer, made on the first miss and reused for later chains. */
-static int rpl_measure(struct scn_lodset *set, const char *name, const struct rnd_analyze_params *p,
-                       struct rnd_renderer **r, struct rpl_assets_report *rep, struct hl_error *err)
+static int frm_measure(struct scn_lodset *set, const char *name, const struct rnd_analyze_params *p,
+                       struct rnd_renderer **r, struct frm_assets_report *rep, struct hl_error *err)
 {
-    static int rpl_cache_warned; /* "cannot write" is said once per process */
+    static int frm_cache_warned; /* "cannot write" is said once per process */
     char dir[4096], path[4300] = "";
     struct hl_error dir_err;
-    int have_dir = rpl_cache_dir(dir, sizeof dir, &dir_err) == 0;
-    uint64_t key = rpl_cache_key(set, p);
+    int have_dir = frm_cache_dir(dir, sizeof dir, &dir_err) == 0;
+    uint64_t key = frm_cache_key(set, p);
     double narrow[SCN_LODSET_MAX_LEVELS], longr[SCN_LODSET_MAX_LEVELS];
     int cached = 1;
     const char *why = "";
-    if (have_dir && rpl_cache_file(path, sizeof path, dir, name, key, ".freq") == 0) {
-        cached = rpl_cache_read(path, key, set, p, narrow, longr, &why);
+    if (have_dir && frm_cache_file(path, sizeof path, dir, name, key, ".freq") == 0) {
+        cached = frm_cache_read(path, key, set, p, narrow, longr, &why);
         if (cached < 0)
             fprintf(stderr, "hmdlod: note: analysis cache %s is corrupt (%s); analysing %s again\n", path, why, name);
     }
@@ -300,19 +300,19 @@ static int rpl_measure(struct scn_lodset *set, const char *name, const struct rn
         return -1;
     rep->analysis_s += hl_clock_now_s() - t0;
     rep->chains_analysed++;
-    if (!have_dir || rpl_cache_write(dir, path, key, set) != 0) {
+    if (!have_dir || frm_cache_write(dir, path, key, set) != 0) {
         rep->cache_unwritable = 1;
-        if (!rpl_cache_warned++)
+        if (!frm_cache_warned++)
             fprintf(stderr, "hmdlod: note: cannot write the analysis cache %s (%s); analysing on every run\n",
                     have_dir ? dir : "", have_dir ? strerror(errno) : dir_err.msg);
     }
     return 0;
 }
 
-int rpl_assets_measure(struct scn_lodset *set, const char *name, const struct rnd_analyze_params *p,
-                       struct rpl_assets_report *report, struct hl_error *err)
+int frm_assets_measure(struct scn_lodset *set, const char *name, const struct rnd_analyze_params *p,
+                       struct frm_assets_report *report, struct hl_error *err)
 {
-    struct rpl_assets_report rep = {0};
+    struct frm_assets_report rep = {0};
     if (rnd_analyze_params_check(p, err) != 0)
         return -1;
     if (!set || set->level_count < 2) { /* one level loses nothing: nothing to measure */
@@ -321,7 +321,7 @@ int rpl_assets_measure(struct scn_lodset *set, const char *name, const struct rn
         return set ? 0 : hl_fail(err, "analysis: no lodset");
     }
     struct rnd_renderer *r = NULL;
-    int rc = rpl_measure(set, name && *name ? name : "lodset", p, &r, &rep, err);
+    int rc = frm_measure(set, name && *name ? name : "lodset", p, &r, &rep, err);
     rnd_renderer_destroy(r);
     if (report)
         *report = rep;
@@ -329,9 +329,9 @@ int rpl_assets_measure(struct scn_lodset *set, const char *name, const struct rn
 }
 
 /* The chain's asset (a .lod written by `hmdlod analyze`) came with both image-based readings for
- * every coarser level (NaN = not measured). Tables an earlier rpl_assets_prepare put there do not
+ * every coarser level (NaN = not measured). Tables an earlier frm_assets_prepare put there do not
  * count: they are the cache's, keyed by their parameters. */
-static int rpl_chain_has_tables(const struct scn_chain *ch)
+static int frm_chain_has_tables(const struct scn_chain *ch)
 {
     if (ch->analysis_views <= 0)
         return 0;
@@ -341,10 +341,10 @@ static int rpl_chain_has_tables(const struct scn_chain *ch)
     return 1;
 }
 
-int rpl_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params *p, enum rpl_freq_reading reading,
-                       struct rpl_assets_report *report, struct hl_error *err)
+int frm_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params *p, enum frm_freq_reading reading,
+                       struct frm_assets_report *report, struct hl_error *err)
 {
-    struct rpl_assets_report rep = {0};
+    struct frm_assets_report rep = {0};
     if (rnd_analyze_params_check(p, err) != 0)
         return -1;
     struct rnd_renderer *r = NULL;
@@ -353,16 +353,16 @@ int rpl_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params 
         struct scn_chain *ch = &scene->chains[c];
         if (ch->lod_count < 2)
             continue;
-        if (rpl_chain_has_tables(ch)) { /* a .lod that `hmdlod analyze` measured: its own tables */
+        if (frm_chain_has_tables(ch)) { /* a .lod that `hmdlod analyze` measured: its own tables */
             rep.chains_from_file++;
             continue;
         }
         struct scn_lodset set;
-        if (rpl_lodset_from_chain(scene, c, &set, err) != 0) {
+        if (frm_lodset_from_chain(scene, c, &set, err) != 0) {
             rc = -1;
             break;
         }
-        rc = rpl_measure(&set, ch->name, p, &r, &rep, err);
+        rc = frm_measure(&set, ch->name, p, &r, &rep, err);
         for (int l = 0; rc == 0 && l < ch->lod_count; ++l) {
             ch->lods[l].freq.narrow_cpdiam = set.freq[l].narrow_cpdiam;
             ch->lods[l].freq.long_cpdiam = set.freq[l].long_cpdiam;
@@ -372,7 +372,7 @@ int rpl_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params 
     rnd_renderer_destroy(r);
     if (rc != 0)
         return -1;
-    rpl_assets_apply_reading(scene, reading);
+    frm_assets_apply_reading(scene, reading);
     if (report)
         *report = rep;
     return 0;

@@ -1,4 +1,4 @@
-/* Saccade suppression and the 28 ms refinement rule in a replay frame (replay/select.h; the classifier
+/* Saccade suppression and the 28 ms refinement rule in a replay frame (frame/select.h; the classifier
  * is acuity/saccade.c). During a saccade and its suppression window every object's perceptual ceiling
  * is its coarsest level, so the selectors that follow the ceiling draw the coarsest level the budget
  * wants (fs and mb see no benefit above it: lod_benefit_fill). Once the window ends, refinement back to
@@ -20,17 +20,17 @@
 #include <math.h>
 #include <string.h>
 
-#include "replay/select.h"
+#include "frame/select.h"
 #include "tracking/tracking.h"
 
-static int uses_ceiling(enum rpl_selector sel)
+static int uses_ceiling(enum frm_selector sel)
 {
-    return sel == RPL_SELECT_REDDY || sel == RPL_SELECT_FS || sel == RPL_SELECT_MB;
+    return sel == FRM_SELECT_REDDY || sel == FRM_SELECT_FS || sel == FRM_SELECT_MB;
 }
 
-void rpl_select_saccade(struct rpl_select *s, const struct trk_pose *pose, double time_s)
+void frm_select_saccade(struct frm_select *s, const struct trk_pose *pose, double time_s)
 {
-    struct rpl_saccade *q = &s->saccade;
+    struct frm_saccade *q = &s->saccade;
     q->active = pose->has_gaze && !s->saccade_off;
     q->started = 0;
     q->time_s = time_s;
@@ -52,7 +52,7 @@ void rpl_select_saccade(struct rpl_select *s, const struct trk_pose *pose, doubl
         memcpy(q->level_before, s->level_of_instance, s->level_capacity);
 }
 
-void rpl_saccade_lower_ceilings(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in)
+void frm_saccade_lower_ceilings(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in)
 {
     if (!s->saccade.active || s->saccade.state.phase == ACU_SACCADE_NONE)
         return;
@@ -69,10 +69,10 @@ static double level_cost_ms(const struct lod_cost_model *m, const struct scn_lod
     return lod_cost_object_ms(m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, pixels_px, 2.0);
 }
 
-void rpl_saccade_account(struct rpl_select *s, const struct scn_scene *scene, const struct rpl_view_inputs *in,
-                         const uint8_t *lod, struct rpl_select_record *rec)
+void frm_saccade_account(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
+                         const uint8_t *lod, struct frm_select_record *rec)
 {
-    struct rpl_saccade *q = &s->saccade;
+    struct frm_saccade *q = &s->saccade;
     rec->saccade_active = q->active;
     rec->saccade_phase = q->active ? (int)q->state.phase : ACU_SACCADE_NONE;
     rec->saccade_started = q->started;
@@ -80,7 +80,7 @@ void rpl_saccade_account(struct rpl_select *s, const struct scn_scene *scene, co
     if (!q->active || q->state.phase != ACU_SACCADE_NONE || !isfinite(q->state.refine_due_s) ||
         !uses_ceiling(s->selector))
         return;
-    double slack_ms = s->selector == RPL_SELECT_REDDY ? INFINITY
+    double slack_ms = s->selector == FRM_SELECT_REDDY ? INFINITY
                                                       : rec->optimizer_budget_ms - (rec->predicted_ms - s->cost.c0_ms);
     for (size_t k = 0; k < in->count; ++k) {
         uint8_t before = q->level_before[in->visible[k]];

@@ -3,14 +3,14 @@
  * two upper bounds. A sphere that holds the eye claims the whole image: a room's floor, ceiling and
  * walls each do, so the auditorium's spheres claimed its views five times over and the cost model
  * predicted three times the measured frame (docs/RESULTS.md, "Cost-bounded selectors in replay"). */
-#include "replay/select.h"
+#include "frame/select.h"
 
 #include "acuity/acuity.h"
 #include "scene/scene.h"
 
 /* Objects whose sphere claims more than this share of all eyes' pixels get their box measured too
  * (about 1 µs each); below it a sphere's overstatement costs little. */
-#define RPL_BOX_COVERAGE_SHARE 0.02
+#define FRM_BOX_COVERAGE_SHARE 0.02
 
 /* The instance's model-space box through its scale, rotation and position. */
 static void instance_box(const struct scn_scene *scene, uint32_t inst, double centre[3], double axes[9])
@@ -29,7 +29,7 @@ static void instance_box(const struct scn_scene *scene, uint32_t inst, double ce
     }
 }
 
-void rpl_coverage_compute(const struct scn_scene *scene, const struct acu_eye *eyes, int eye_count,
+void frm_coverage_compute(const struct scn_scene *scene, const struct acu_eye *eyes, int eye_count,
                           const uint32_t *visible, size_t count, double *pixels_px)
 {
     acu_compute_pixels(eyes, eye_count, scene->center_m, scene->radius_m, visible, count, pixels_px);
@@ -37,7 +37,7 @@ void rpl_coverage_compute(const struct scn_scene *scene, const struct acu_eye *e
     for (int e = 0; e < eye_count; ++e)
         image_px += eyes[e].width_px * eyes[e].height_px;
     for (size_t k = 0; k < count; ++k) {
-        if (!(pixels_px[k] > RPL_BOX_COVERAGE_SHARE * image_px))
+        if (!(pixels_px[k] > FRM_BOX_COVERAGE_SHARE * image_px))
             continue;
         double centre[3], axes[9], box_px;
         instance_box(scene, visible[k], centre, axes);

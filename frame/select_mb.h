@@ -1,15 +1,15 @@
-/* Internal to replay/: the `mb` selector's glue (Mason & Blake 1997) — the frame's representation
+/* Internal to frame/: the `mb` selector's glue (Mason & Blake 1997) — the frame's representation
  * tree built from the visible objects and their ancestor groups, each visible group's impostor priced
  * and valued, lod_optimize_mb run from last frame's solution, and its answer turned into levels for
  * the visible objects and impostor instances to draw. Sized once per scene; a frame allocates nothing. */
-#ifndef HMDLOD_REPLAY_SELECT_MB_H
-#define HMDLOD_REPLAY_SELECT_MB_H
+#ifndef HMDLOD_FRAME_SELECT_MB_H
+#define HMDLOD_FRAME_SELECT_MB_H
 
 #include "acuity/acuity.h"
 #include "lod/lod.h"
 #include "scene/scene.h"
 
-struct rpl_mb;
+struct frm_mb;
 
 /* For scene (its instances, groups and impostor instances must not change afterwards) and up to
  * max_visible visible objects a frame. simplify: Nirenstein et al.'s hierarchy simplification (§5.6)
@@ -17,9 +17,9 @@ struct rpl_mb;
  * becomes a leaf of the tree, its objects removed, with as candidates its impostor and the union of
  * its visible objects each at one shared level (the nearest its hull keeps) — fewer, coarser choices
  * for the optimizer to consider. 0, or −1 with err on out of memory or simplify outside [0, 8]. */
-int rpl_mb_create(const struct scn_scene *scene, size_t max_visible, int simplify, struct rpl_mb **out,
+int frm_mb_create(const struct scn_scene *scene, size_t max_visible, int simplify, struct frm_mb **out,
                   struct hl_error *err);
-void rpl_mb_destroy(struct rpl_mb *mb); /* NULL is fine */
+void frm_mb_destroy(struct frm_mb *mb); /* NULL is fine */
 
 /* One frame. p is the flat problem over the visible objects (p->object_id[i] = scene instance,
  * candidates hull-reduced, cost without c0, budget_ms the optimizer's budget); cost and bp price and
@@ -31,7 +31,7 @@ void rpl_mb_destroy(struct rpl_mb *mb); /* NULL is fine */
  * was dropped), the impostor instances to draw in extra_index/extra_level (room for group_count;
  * *extra_count of them) and the optimizer's result in *r (cost_ms and benefit include the impostors).
  * time_limit_us: Nirenstein's limit, 0 = none. O(visible + their ancestor groups). */
-void rpl_mb_select(struct rpl_mb *mb, const struct scn_scene *scene, const struct lod_problem *p,
+void frm_mb_select(struct frm_mb *mb, const struct scn_scene *scene, const struct lod_problem *p,
                    const struct lod_cost_model *cost, const struct lod_benefit_params *bp,
                    const struct acu_eye eyes[2], double time_limit_us, uint8_t *level_out, uint32_t *extra_index,
                    uint8_t *extra_level, size_t *extra_count, struct lod_result *r);

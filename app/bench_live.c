@@ -13,6 +13,7 @@
 #include "app/bench.h"
 #include "app/commands.h"
 #include "render/render.h"
+#include "live/live.h"
 #include "replay/replay.h"
 
 #define LIVE_HEADING "## Live session (hmdlod bench live)"
@@ -98,8 +99,8 @@ static int pacing_table(long frames)
     so.scene = "field";
     so.display = "vive";
     so.render_scale = 0.1;
-    struct rpl_live_options o;
-    rpl_live_options_defaults(&o);
+    struct liv_options o;
+    liv_options_defaults(&o);
     o.session = &so;
     o.device = "none";
     o.frames = frames;
@@ -107,9 +108,9 @@ static int pacing_table(long frames)
     so.object_count = 10; /* a frame that fits 11.1 ms on llvmpipe: the table is about pacing */
     o.window_w_px = 320, o.window_h_px = 180;
     o.quiet_status = 1;
-    struct rpl_live_summary s;
+    struct liv_summary s;
     struct hl_error err;
-    if (rpl_live_run(&o, &s, &err) != 0) {
+    if (liv_run(&o, &s, &err) != 0) {
         fprintf(stderr, "hmdlod bench live: %s\n", err.msg);
         return 1;
     }

@@ -1,11 +1,11 @@
-/* hmdlod live: argument parsing around rpl_live_run, and --list-monitors. */
+/* hmdlod live: argument parsing around liv_run, and --list-monitors. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "app/commands.h"
 #include "render/render.h"
-#include "replay/replay.h"
+#include "live/live.h"
 
 static const char live_usage[] =
     "usage: hmdlod live --display NAME|FILE --device auto|PATH|none --scene NAME|FILE [--monitor NAME|INDEX]\n"
@@ -108,8 +108,8 @@ int cmd_live(int argc, char **argv)
     }
     struct frm_options so;
     frm_options_defaults(&so);
-    struct rpl_live_options o;
-    rpl_live_options_defaults(&o);
+    struct liv_options o;
+    liv_options_defaults(&o);
     o.session = &so;
     int windowed = 0, quiet = 0;
     const char *monitor = NULL;
@@ -202,12 +202,12 @@ int cmd_live(int argc, char **argv)
     if (monitor && !windowed && parse_monitor(monitor, &o.monitor) != 0)
         return 1;
     o.quiet_status = quiet;
-    struct rpl_live_summary summary;
+    struct liv_summary summary;
     struct hl_error err;
-    if (rpl_live_run(&o, &summary, &err) != 0) {
+    if (liv_run(&o, &summary, &err) != 0) {
         fprintf(stderr, "hmdlod: %s\n", err.msg);
         return 1;
     }
-    rpl_live_summary_print(stdout, &summary);
+    liv_summary_print(stdout, &summary);
     return 0;
 }

@@ -12,7 +12,6 @@
 #include "tracking/tracking.h"
 #include "frame/frame.h"
 #include "replay/bench.h"
-#include "replay/live.h"
 #include "replay/soak.h"
 
 /* ---- traces --------------------------------------------------------------------------------- */

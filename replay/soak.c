@@ -16,7 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "replay/live_internal.h"
+#include "live/live.h"
 #include "replay/soak_internal.h"
 
 void rpl_soak_options_defaults(struct rpl_soak_options *o)
@@ -339,9 +339,9 @@ static int sample_row(struct soak_run *r, double t_s, long frames, long from, lo
 static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, double rate_hz, struct rpl_soak_summary *s,
                      struct hl_error *err)
 {
-    struct rpl_pacer pacer;
+    struct liv_pacer pacer;
     int64_t start_ns = hl_clock_now_ns();
-    rpl_pacer_init(&pacer, rate_hz, 1, start_ns);
+    liv_pacer_init(&pacer, rate_hz, 1, start_ns);
     const int64_t duration_ns = (int64_t)llround(o->duration_s * 1e9), sample_ns = (int64_t)llround(o->sample_s * 1e9);
     const int64_t warmup_ns = (int64_t)llround(s->warmup_s * 1e9);
     int64_t next_sample_ns = start_ns + sample_ns, last_work_ns = 0;
@@ -353,8 +353,8 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
             break;
         if (atomic_load(&r->tracker.failed))
             return hl_fail(err, "%s", r->tracker.error);
-        rpl_pacer_plan(&pacer, last_work_ns);
-        double display_s = (double)rpl_pacer_due_ns(&pacer) * 1e-9;
+        liv_pacer_plan(&pacer, last_work_ns);
+        double display_s = (double)liv_pacer_due_ns(&pacer) * 1e-9;
         struct frm_frame_record rec;
         double cpu0 = process_cpu_s();
         int64_t t0 = hl_clock_now_ns();
@@ -366,9 +366,9 @@ static int soak_loop(struct soak_run *r, const struct rpl_soak_options *o, doubl
         r->triangles[f] = (double)rec.triangles_per_eye;
         r->display_s[f] = display_s - r->t0_s;
         last_work_ns = t1 - t0;
-        rpl_pacer_wait(&pacer);
+        liv_pacer_wait(&pacer);
         now = hl_clock_now_ns();
-        rpl_pacer_presented(&pacer, now);
+        liv_pacer_presented(&pacer, now);
         if (!warm && now - start_ns >= warmup_ns) {
             struct rpl_soak_memory m;
             rpl_soak_memory_read(&m, 0);

@@ -6,7 +6,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "replay/live_internal.h"
+#include "live/live.h"
 #include "test_util.h"
 
 static void sleep_ms(double ms)
@@ -17,48 +17,48 @@ static void sleep_ms(double ms)
 
 static void test_pacer(void)
 {
-    struct rpl_pacer p;
+    struct liv_pacer p;
     int64_t now = hl_clock_now_ns();
-    rpl_pacer_init(&p, 200.0, 1, now); /* 5 ms slots */
+    liv_pacer_init(&p, 200.0, 1, now); /* 5 ms slots */
     CHECK(p.period_ns == 5000000);
-    CHECK(rpl_pacer_due_ns(&p) == now + 5000000); /* the first frame one period ahead */
+    CHECK(liv_pacer_due_ns(&p) == now + 5000000); /* the first frame one period ahead */
     /* On time: each present is at or after its slot, and the slots advance by one. */
     for (int k = 0; k < 5; ++k) {
-        int64_t due = rpl_pacer_due_ns(&p);
-        rpl_pacer_wait(&p);
+        int64_t due = liv_pacer_due_ns(&p);
+        liv_pacer_wait(&p);
         int64_t t = hl_clock_now_ns();
         CHECK(t >= due);
-        double interval = rpl_pacer_presented(&p, t);
+        double interval = liv_pacer_presented(&p, t);
         CHECK(k == 0 ? interval == 0.0 : interval > 0.0);
-        CHECK(rpl_pacer_due_ns(&p) == due + 5000000);
+        CHECK(liv_pacer_due_ns(&p) == due + 5000000);
     }
     CHECK(p.missed == 0);
     /* Late by more than two slots: those slots are missed and the next frame is due after now. */
     sleep_ms(12.0);
     long slot = p.slot;
-    rpl_pacer_wait(&p);
+    liv_pacer_wait(&p);
     CHECK(p.missed >= 2 && p.missed <= 4);
     CHECK(p.slot == slot + p.missed);
-    rpl_pacer_presented(&p, hl_clock_now_ns());
-    CHECK(rpl_pacer_due_ns(&p) > hl_clock_now_ns() - 1000000);
+    liv_pacer_presented(&p, hl_clock_now_ns());
+    CHECK(liv_pacer_due_ns(&p) > hl_clock_now_ns() - 1000000);
     /* Planned: a frame expected to take 12 ms from a slot 5 ms away aims two slots later. */
-    rpl_pacer_init(&p, 200.0, 1, hl_clock_now_ns()); /* first slot 5 ms ahead */
-    int64_t first = rpl_pacer_due_ns(&p);
-    rpl_pacer_plan(&p, 12000000);
+    liv_pacer_init(&p, 200.0, 1, hl_clock_now_ns()); /* first slot 5 ms ahead */
+    int64_t first = liv_pacer_due_ns(&p);
+    liv_pacer_plan(&p, 12000000);
     CHECK(p.missed >= 2 && p.missed <= 3); /* 2 unless this thread stalled for milliseconds */
-    CHECK(rpl_pacer_due_ns(&p) == first + p.missed * 5000000);
+    CHECK(liv_pacer_due_ns(&p) == first + p.missed * 5000000);
     long planned = p.missed;
-    rpl_pacer_plan(&p, 0); /* now it fits: nothing changes */
+    liv_pacer_plan(&p, 0); /* now it fits: nothing changes */
     CHECK(p.missed == planned);
     /* Throttled (the swap waits): wait returns at once; a present two periods after the last counts one missed. */
-    rpl_pacer_init(&p, 100.0, 0, 0);
-    rpl_pacer_presented(&p, 1000000000);
-    rpl_pacer_presented(&p, 1010000000);
+    liv_pacer_init(&p, 100.0, 0, 0);
+    liv_pacer_presented(&p, 1000000000);
+    liv_pacer_presented(&p, 1010000000);
     CHECK(p.missed == 0);
-    rpl_pacer_presented(&p, 1030000000);
+    liv_pacer_presented(&p, 1030000000);
     CHECK(p.missed == 1);
     int64_t t0 = hl_clock_now_ns();
-    rpl_pacer_wait(&p);
+    liv_pacer_wait(&p);
     CHECK(hl_clock_now_ns() - t0 < 1000000);
 }
 
@@ -66,7 +66,7 @@ static void test_desk_source(void)
 {
     struct trk_pose_source *src = NULL;
     struct hl_error err;
-    CHECK(rpl_desk_source_create(10.0, 30.0, &src, &err) == 0);
+    CHECK(liv_desk_source_create(10.0, 30.0, &src, &err) == 0);
     if (!src)
         return;
     struct trk_pose p;
@@ -77,58 +77,58 @@ static void test_desk_source(void)
     CHECK_NEAR(atan2(-f.x, -f.z) * HL_DEG_PER_RAD, 90.0, 1e-9);
     CHECK_NEAR(p.angular_velocity_radps.y * HL_DEG_PER_RAD, 30.0, 1e-9);
     /* A look step of 2° of pitch over 0.02 s: 100 deg/s about the yawed head's +X (world −Z at 90° yaw). */
-    rpl_desk_source_look(src, 0.0, 2.0 * HL_RAD_PER_DEG, 0.02);
+    liv_desk_source_look(src, 0.0, 2.0 * HL_RAD_PER_DEG, 0.02);
     CHECK(trk_source_pose_at(src, 13.0, &p, &err) == 0);
     CHECK_NEAR(p.angular_velocity_radps.z * HL_DEG_PER_RAD, -100.0, 1e-6);
     f = hl_q_rotate(p.orientation, hl_v3(0, 0, -1));
     CHECK_NEAR(asin(f.y) * HL_DEG_PER_RAD, 2.0, 1e-9); /* looking up */
     /* No motion the next frame: the look's velocity is gone. */
-    rpl_desk_source_look(src, 0.0, 0.0, 0.02);
+    liv_desk_source_look(src, 0.0, 0.0, 0.02);
     CHECK(trk_source_pose_at(src, 13.0, &p, &err) == 0);
     CHECK_NEAR(hl_v3_length(hl_v3_sub(p.angular_velocity_radps, hl_v3(0, 30.0 * HL_RAD_PER_DEG, 0))), 0.0, 1e-12);
     CHECK(trk_source_pose_at(src, NAN, &p, &err) != 0);
     trk_source_destroy(src);
     struct trk_pose_source *bad = NULL;
-    CHECK(rpl_desk_source_create(0.0, NAN, &bad, &err) != 0 && bad == NULL);
+    CHECK(liv_desk_source_create(0.0, NAN, &bad, &err) != 0 && bad == NULL);
 }
 
 /* The summary's statistics: population stddev, median, nearest-rank p99, max. */
 static void test_series(void)
 {
-    struct rpl_live_series s = {0};
+    struct liv_series s = {0};
     int pushed = 0;
     for (int i = 1; i <= 1500; ++i) /* 1500 … 1, exact: sorted for the statistics */
-        pushed += rpl_live_series_push(&s, (double)(1501 - i)) == 0;
+        pushed += liv_series_push(&s, (double)(1501 - i)) == 0;
     CHECK(pushed == 1500);
     double mean, sd, median, p99, max;
-    rpl_live_series_stats(&s, &mean, &sd, &median, &p99, &max);
+    liv_series_stats(&s, &mean, &sd, &median, &p99, &max);
     CHECK_NEAR(mean, 750.5, 1e-9);
     CHECK_NEAR(sd, sqrt((1500.0 * 1500.0 - 1.0) / 12.0), 1e-9); /* uniform 1..n: variance (n²−1)/12 */
     CHECK_NEAR(median, 750.5, 1e-12);
     CHECK_NEAR(p99, 1485.0, 1e-12); /* ceil(0.99·1500) = the 1485th smallest */
     CHECK_NEAR(max, 1500.0, 1e-12);
-    rpl_live_series_free(&s);
+    liv_series_free(&s);
 
     /* A session stopped before its first frame: an empty series (no array at all) gives zeros, and
      * never hands a sort a NULL pointer (UBSan: nonnull argument). */
-    struct rpl_live_series empty = {0};
+    struct liv_series empty = {0};
     mean = sd = median = p99 = max = -1;
-    rpl_live_series_stats(&empty, &mean, &sd, &median, &p99, &max);
+    liv_series_stats(&empty, &mean, &sd, &median, &p99, &max);
     CHECK(mean == 0 && sd == 0 && median == 0 && p99 == 0 && max == 0);
 }
 
-/* An hours-long session: past RPL_LIVE_SERIES_EXACT values the series folds into bins, its memory
+/* An hours-long session: past LIV_SERIES_EXACT values the series folds into bins, its memory
  * stays what it was, mean, stddev and max stay exact and median and p99 come within 0.1 %. */
 static void test_series_long(void)
 {
-    struct rpl_live_series s = {0};
-    const long n = 3 * RPL_LIVE_SERIES_EXACT + 7; /* about 36 min at 90 Hz */
+    struct liv_series s = {0};
+    const long n = 3 * LIV_SERIES_EXACT + 7; /* about 36 min at 90 Hz */
     int ok = 1;
     double *exact_v = NULL;
     uint32_t *bins = NULL;
     for (long i = 0; i < n; ++i) {
-        ok &= rpl_live_series_push(&s, 1.0 + (double)(i % 1000) * 0.02) == 0; /* 1 … 20.98 ms */
-        if (i == RPL_LIVE_SERIES_EXACT)
+        ok &= liv_series_push(&s, 1.0 + (double)(i % 1000) * 0.02) == 0; /* 1 … 20.98 ms */
+        if (i == LIV_SERIES_EXACT)
             exact_v = s.v, bins = s.bins;
     }
     CHECK(ok && s.n == n && bins != NULL && s.v == exact_v && s.bins == bins);
@@ -140,7 +140,7 @@ static void test_series_long(void)
         double d = 1.0 + (double)(i % 1000) * 0.02 - m;
         sq += d * d;
     }
-    rpl_live_series_stats(&s, &mean, &sd, &median, &p99, &max);
+    liv_series_stats(&s, &mean, &sd, &median, &p99, &max);
     CHECK_NEAR(mean, m, 1e-9 * m);
     CHECK_NEAR(sd, sqrt(sq / (double)n), 1e-9);
     CHECK_NEAR(max, 20.98, 1e-12);
@@ -157,23 +157,23 @@ static void test_series_long(void)
         CHECK_NEAR(p99, exact_p99, 1e-3 * exact_p99);
         free(all);
     }
-    rpl_live_series_free(&s);
+    liv_series_free(&s);
     CHECK(s.v == NULL && s.bins == NULL && s.n == 0);
 }
 
-/* An injected clock (rpl_pacer.clock_ns) that jumps: the monotonic one plus an offset. */
+/* An injected clock (liv_pacer.clock_ns) that jumps: the monotonic one plus an offset. */
 static int64_t clock_offset_ns;
 static int64_t jumping_clock_ns(void) { return hl_clock_now_ns() + clock_offset_ns; }
 
 /* One self-paced frame: plan, wait, present. Returns the present interval; *wait_ms the real time
  * wait took. */
-static double paced_frame(struct rpl_pacer *p, double *wait_ms)
+static double paced_frame(struct liv_pacer *p, double *wait_ms)
 {
-    rpl_pacer_plan(p, 0);
+    liv_pacer_plan(p, 0);
     int64_t t0 = hl_clock_now_ns();
-    rpl_pacer_wait(p);
+    liv_pacer_wait(p);
     *wait_ms = (double)(hl_clock_now_ns() - t0) * 1e-6;
-    return rpl_pacer_presented(p, p->clock_ns());
+    return liv_pacer_presented(p, p->clock_ns());
 }
 
 /* The idle heap trim (live_pace.c) on a hand-driven clock: 35 s of 100 Hz frames that leave 8 ms of
@@ -193,33 +193,33 @@ static void test_pacer_trim(void)
     const int64_t work_ns[2] = {2000000, 7000000};
     const long want_trims[2] = {3, 0};
     for (int run = 0; run < 2; ++run) {
-        struct rpl_pacer p;
+        struct liv_pacer p;
         manual_ns = 0, manual_trims = 0;
-        rpl_pacer_init(&p, 100.0, 1, 0);
+        liv_pacer_init(&p, 100.0, 1, 0);
         p.clock_ns = manual_clock_ns;
         p.trim = manual_trim;
         while (manual_ns < 35000000000LL) {
-            rpl_pacer_plan(&p, work_ns[run]);
+            liv_pacer_plan(&p, work_ns[run]);
             manual_ns += work_ns[run];
-            CHECK(manual_ns <= rpl_pacer_due_ns(&p));
-            manual_ns = rpl_pacer_due_ns(&p); /* the sleep until the slot */
-            rpl_pacer_presented(&p, manual_ns);
+            CHECK(manual_ns <= liv_pacer_due_ns(&p));
+            manual_ns = liv_pacer_due_ns(&p); /* the sleep until the slot */
+            liv_pacer_presented(&p, manual_ns);
         }
         CHECK(p.trims == want_trims[run] && manual_trims == want_trims[run]);
         CHECK(p.missed == 0);
         CHECK(p.trim_max_ns == (want_trims[run] ? 1000000 : 0));
     }
     /* After the clock went back an hour, the next trim is 10 s of the new clock later, not an hour. */
-    struct rpl_pacer p;
+    struct liv_pacer p;
     manual_ns = 3600000000000LL, manual_trims = 0;
-    rpl_pacer_init(&p, 100.0, 0, manual_ns);
+    liv_pacer_init(&p, 100.0, 0, manual_ns);
     p.clock_ns = manual_clock_ns;
     p.trim = manual_trim;
     manual_ns = 0;
-    rpl_pacer_plan(&p, 0);
+    liv_pacer_plan(&p, 0);
     manual_ns = 10000000000LL;
     p.t0_ns = manual_ns + 10000000 - p.slot * p.period_ns; /* the display's phase, as presented() keeps it */
-    rpl_pacer_plan(&p, 0);
+    liv_pacer_plan(&p, 0);
     CHECK(manual_trims == 1);
 }
 
@@ -229,9 +229,9 @@ static void test_pacer_trim(void)
 static void test_pacer_clock_jumps(void)
 {
     const int64_t hour_ns = 3600LL * 1000000000LL;
-    struct rpl_pacer p;
+    struct liv_pacer p;
     clock_offset_ns = 0;
-    rpl_pacer_init(&p, 200.0, 1, jumping_clock_ns()); /* 5 ms slots */
+    liv_pacer_init(&p, 200.0, 1, jumping_clock_ns()); /* 5 ms slots */
     p.clock_ns = jumping_clock_ns;
     double wait_ms, iv;
     for (int i = 0; i < 5; ++i)
@@ -245,15 +245,15 @@ static void test_pacer_clock_jumps(void)
     CHECK(iv == 0.0);
     CHECK(p.clock_jumps == 1);
     CHECK(p.missed == missed0);
-    int64_t due = rpl_pacer_due_ns(&p);
+    int64_t due = liv_pacer_due_ns(&p);
     /* Re-anchored to the jumped clock: within a second of it (an hour off before), whatever the
      * machine's load did to this thread since. */
-    CHECK(llabs(due - jumping_clock_ns()) < RPL_PACER_JUMP_NS);
+    CHECK(llabs(due - jumping_clock_ns()) < LIV_PACER_JUMP_NS);
     int ok = 1;
     for (int i = 0; i < 5; ++i) {
-        int64_t before = rpl_pacer_due_ns(&p);
+        int64_t before = liv_pacer_due_ns(&p);
         iv = paced_frame(&p, &wait_ms);
-        ok &= iv > 0 && iv < RPL_PACER_JUMP_NS * 1e-6 && rpl_pacer_due_ns(&p) > before;
+        ok &= iv > 0 && iv < LIV_PACER_JUMP_NS * 1e-6 && liv_pacer_due_ns(&p) > before;
     }
     CHECK(ok);
     printf("pacer, clock 1 h back: wait %.2f ms, jumps %ld, intervals after it %.2f ms\n", wait_ms, p.clock_jumps, iv);
@@ -269,24 +269,24 @@ static void test_pacer_clock_jumps(void)
     CHECK(labs(p.missed - missed1 - 2 * 3600L * 200) <= 200); /* ± a second of slots for a loaded machine */
     ok = 1;
     for (int i = 0; i < 5; ++i) {
-        int64_t before = rpl_pacer_due_ns(&p);
+        int64_t before = liv_pacer_due_ns(&p);
         iv = paced_frame(&p, &wait_ms);
-        ok &= iv > 0 && iv < RPL_PACER_JUMP_NS * 1e-6 && rpl_pacer_due_ns(&p) > before;
+        ok &= iv > 0 && iv < LIV_PACER_JUMP_NS * 1e-6 && liv_pacer_due_ns(&p) > before;
     }
     CHECK(ok);
     printf("pacer, clock 1 h forward: %ld slots missed, jumps %ld, intervals after it %.2f ms\n", p.missed - missed1,
            p.clock_jumps, iv);
 
     /* Throttled by the display: the swap's return times jump. */
-    rpl_pacer_init(&p, 100.0, 0, 0);
-    CHECK(rpl_pacer_presented(&p, 2 * hour_ns) == 0.0);
-    CHECK_NEAR(rpl_pacer_presented(&p, 2 * hour_ns + 10000000), 10.0, 1e-9);
-    CHECK(rpl_pacer_presented(&p, hour_ns) == 0.0);
+    liv_pacer_init(&p, 100.0, 0, 0);
+    CHECK(liv_pacer_presented(&p, 2 * hour_ns) == 0.0);
+    CHECK_NEAR(liv_pacer_presented(&p, 2 * hour_ns + 10000000), 10.0, 1e-9);
+    CHECK(liv_pacer_presented(&p, hour_ns) == 0.0);
     CHECK(p.clock_jumps == 1);
-    CHECK_NEAR(rpl_pacer_presented(&p, hour_ns + 10000000), 10.0, 1e-9);
-    CHECK(rpl_pacer_presented(&p, 3 * hour_ns) == 0.0);
+    CHECK_NEAR(liv_pacer_presented(&p, hour_ns + 10000000), 10.0, 1e-9);
+    CHECK(liv_pacer_presented(&p, 3 * hour_ns) == 0.0);
     CHECK(p.clock_jumps == 2 && p.missed == 0);
-    CHECK(rpl_pacer_due_ns(&p) > 3 * hour_ns && rpl_pacer_due_ns(&p) <= 3 * hour_ns + 10000000);
+    CHECK(liv_pacer_due_ns(&p) > 3 * hour_ns && liv_pacer_due_ns(&p) <= 3 * hour_ns + 10000000);
 }
 
 /* The head trace stays a valid trace when the pose times jump back: rows that do not move forward
@@ -297,17 +297,17 @@ static void test_record_order(void)
     CHECK(mkdtemp(dir) != NULL);
     char path[256];
     snprintf(path, sizeof path, "%s/head.csv", dir);
-    struct rpl_live_record r;
+    struct liv_record r;
     struct hl_error err;
-    CHECK(rpl_live_record_open(&r, path, "t_s,qw,qx,qy,qz\n", &err) == 0);
+    CHECK(liv_record_open(&r, path, "t_s,qw,qx,qy,qz\n", &err) == 0);
     const double times[] = {5000.0, 5000.1, 5000.1 - 3600.0, 5000.1, 5000.2, 8600.2};
     for (size_t i = 0; i < sizeof times / sizeof times[0]; ++i) {
         struct trk_pose pose;
         trk_pose_init_still(&pose, times[i]);
-        rpl_live_record_row(&r, &pose);
+        liv_record_row(&r, &pose);
     }
     CHECK(r.rows == 4 && r.dropped_rows == 2);
-    CHECK(rpl_live_record_commit(&r, &err) == 0);
+    CHECK(liv_record_commit(&r, &err) == 0);
     size_t size = 0;
     char *text = tu_read_file(path, &size);
     CHECK(text != NULL);

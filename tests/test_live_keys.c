@@ -13,7 +13,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "replay/replay.h"
+#include "live/live.h"
 #include "tests/test_util.h"
 
 static volatile int sender_failed;
@@ -111,8 +111,8 @@ int main(void)
     so.object_count = 10;
     so.display = "vive";
     so.render_scale = 0.1;
-    struct rpl_live_options o;
-    rpl_live_options_defaults(&o);
+    struct liv_options o;
+    liv_options_defaults(&o);
     o.session = &so;
     o.device = "none";
     o.frames = 100000; /* Esc ends it long before */
@@ -121,15 +121,15 @@ int main(void)
     o.quiet_status = 1;
     pthread_t th;
     CHECK(pthread_create(&th, NULL, sender, NULL) == 0);
-    struct rpl_live_summary s;
+    struct liv_summary s;
     struct hl_error err = {""};
-    int rc = rpl_live_run(&o, &s, &err);
+    int rc = liv_run(&o, &s, &err);
     pthread_join(th, NULL);
     if (rc != 0)
         fprintf(stderr, "live: %s\n", err.msg);
     CHECK(rc == 0);
     CHECK(!sender_failed);
-    rpl_live_summary_print(stdout, &s);
+    liv_summary_print(stdout, &s);
     CHECK(s.frames > 0 && s.frames < o.frames);          /* Esc */
     CHECK_NEAR(s.budget_ms, 1000.0 / 90.0 + 2.0, 1e-9);  /* + and = */
     CHECK(s.velocity_term == 0 && s.eccentricity_term == 0);

@@ -19,7 +19,7 @@
 
 #include <umockdev.h>
 
-#include "replay/replay.h"
+#include "live/live.h"
 #include "tests/test_util.h"
 #include "tracking/tracking.h"
 
@@ -177,8 +177,8 @@ int main(void)
     so.display = "dk2";
     so.render_scale = 0.2;
     so.gaze = "head";
-    struct rpl_live_options o;
-    rpl_live_options_defaults(&o);
+    struct liv_options o;
+    liv_options_defaults(&o);
     o.session = &so;
     o.device = "auto";
     o.capture_path = capture;
@@ -187,15 +187,15 @@ int main(void)
     o.rate_hz = 30; /* llvmpipe on a loaded machine: the test is about poses, not pacing */
     pthread_t th;
     CHECK(pthread_create(&th, NULL, feeder, NULL) == 0);
-    struct rpl_live_summary s;
+    struct liv_summary s;
     struct hl_error err = {""};
-    int rc = rpl_live_run(&o, &s, &err);
+    int rc = liv_run(&o, &s, &err);
     pthread_join(th, NULL);
     if (rc != 0)
         fprintf(stderr, "live: %s\n", err.msg);
     CHECK(rc == 0);
     CHECK(!feeder_failed);
-    rpl_live_summary_print(stdout, &s);
+    liv_summary_print(stdout, &s);
     CHECK(strstr(s.source, "hidraw0") != NULL); /* the tracker, not the desk */
     CHECK(s.tracker_losses == 1);
     CHECK(s.tracker_resumes == 1);

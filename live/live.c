@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "replay/live_internal.h"
+#include "live/live.h"
 
 static volatile sig_atomic_t live_interrupted;
 static void live_on_signal(int sig)
@@ -16,7 +16,7 @@ static void live_on_signal(int sig)
     live_interrupted = 1;
 }
 
-void rpl_live_options_defaults(struct rpl_live_options *o)
+void liv_options_defaults(struct liv_options *o)
 {
     memset(o, 0, sizeof *o);
     o->device = "auto";
@@ -25,9 +25,9 @@ void rpl_live_options_defaults(struct rpl_live_options *o)
 }
 
 /* The head trace CSV (docs/trace-format.md): replayable with hmdlod replay --trace. */
-static int trace_open(struct rpl_live_record *r, const char *path, struct hl_error *err)
+static int trace_open(struct liv_record *r, const char *path, struct hl_error *err)
 {
-    return rpl_live_record_open(r, path, "t_s,qw,qx,qy,qz\n", err);
+    return liv_record_open(r, path, "t_s,qw,qx,qy,qz\n", err);
 }
 
 /* With a tracker, --record FILE also keeps the raw reports (tracking/recording.h) in FILE with
@@ -43,7 +43,7 @@ static void raw_path_of(const char *csv, char *out, size_t size)
 }
 
 /* The pose source: a tracker (auto: the first found, else the desk), or the desk with --device none. */
-static int open_source(const struct rpl_live_options *o, struct trk_pose_source **src, int *is_desk,
+static int open_source(const struct liv_options *o, struct trk_pose_source **src, int *is_desk,
                        struct hl_error *err)
 {
     *src = NULL;
@@ -61,7 +61,7 @@ static int open_source(const struct rpl_live_options *o, struct trk_pose_source 
         fprintf(stderr, "hmdlod: note: no tracker opened (%s); mouse and keys look instead\n", terr.msg);
     }
     *is_desk = 1;
-    return rpl_desk_source_create(hl_clock_now_s(), o->yaw_degps, src, err);
+    return liv_desk_source_create(hl_clock_now_s(), o->yaw_degps, src, err);
 }
 
 /* Windowed at a desk: the display's two eyes, scaled down to fit 90% of the primary monitor. */
@@ -106,10 +106,10 @@ struct live_state {
     struct frm_session s;
     struct rnd_window *window;
     struct rnd_distortion *distortion;
-    struct rpl_live_record record;
-    struct rpl_live_record log; /* --log: one row per frame (docs/live.md) */
-    struct rpl_live_series present_ms, frame_ms, distortion_ms, to_present_ms;
-    struct rpl_live_series on_time_ms; /* intervals ending in a frame that made its slot (and followed one that did) */
+    struct liv_record record;
+    struct liv_record log; /* --log: one row per frame (docs/live.md) */
+    struct liv_series present_ms, frame_ms, distortion_ms, to_present_ms;
+    struct liv_series on_time_ms; /* intervals ending in a frame that made its slot (and followed one that did) */
     int is_desk, tracker_lost, tracker_seen_ok, want_capture, started_mb;
     long captures;
     double triangles_sum, optimizer_sum;
@@ -180,14 +180,14 @@ static int handle_keys(struct live_state *st, double dt_s)
         double dx, dy;
         rnd_window_mouse_delta(st->window, &dx, &dy);
         /* 0.17°/px; called every frame so that the look's angular velocity drops to 0 when it stops */
-        rpl_desk_source_look(st->s.source, look_yaw - dx * 0.003, look_pitch - dy * 0.003, dt_s);
+        liv_desk_source_look(st->s.source, look_yaw - dx * 0.003, look_pitch - dy * 0.003, dt_s);
     }
     return 0;
 }
 
 /* Tracker health: a loss holds the pose (the source does) and is said in the title and on the
  * terminal; the return is said too. */
-static void check_health(struct live_state *st, struct rpl_live_summary *sum, char *why, size_t why_size)
+static void check_health(struct live_state *st, struct liv_summary *sum, char *why, size_t why_size)
 {
     why[0] = '\0';
     if (st->is_desk || !st->s.source->health)
@@ -221,15 +221,15 @@ static void status_line(struct live_state *st, const struct frm_frame_record *re
         fprintf(stderr, "%s\n", line);
 }
 
-static int run_loop(struct live_state *st, const struct rpl_live_options *o, double rate_hz, struct rpl_live_summary *sum,
+static int run_loop(struct live_state *st, const struct liv_options *o, double rate_hz, struct liv_summary *sum,
                     struct hl_error *err)
 {
     struct frm_session *s = &st->s;
-    struct rpl_pacer pacer;
+    struct liv_pacer pacer;
     sum->self_paced = !swap_throttles(st->window, 1000.0 / rate_hz);
     if (sum->self_paced)
         rnd_window_set_swap_interval(st->window, 0); /* it did not throttle: nothing to gain, only jitter */
-    rpl_pacer_init(&pacer, rate_hz, sum->self_paced, hl_clock_now_ns());
+    liv_pacer_init(&pacer, rate_hz, sum->self_paced, hl_clock_now_ns());
     int64_t last_status_ns = hl_clock_now_ns();
     int prev_on_time = 1;
     int64_t last_work_ns = 0; /* the previous frame's work (start to ready to swap): the next one's estimate */
@@ -241,8 +241,8 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
         check_health(st, sum, why, sizeof why);
         int64_t start_ns = hl_clock_now_ns();
         long missed_before = pacer.missed;
-        rpl_pacer_plan(&pacer, last_work_ns);
-        double display_s = (double)rpl_pacer_due_ns(&pacer) * 1e-9;
+        liv_pacer_plan(&pacer, last_work_ns);
+        double display_s = (double)liv_pacer_due_ns(&pacer) * 1e-9;
         struct frm_frame_record rec;
         if (frm_frame_run(s, f, display_s, &rec, err) != 0)
             return -1;
@@ -259,17 +259,17 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
             st->want_capture = 0;
         }
         last_work_ns = hl_clock_now_ns() - start_ns;
-        rpl_pacer_wait(&pacer);
+        liv_pacer_wait(&pacer);
         rnd_window_swap(st->window);
         int64_t present_ns = hl_clock_now_ns();
-        double interval_ms = rpl_pacer_presented(&pacer, present_ns);
+        double interval_ms = liv_pacer_presented(&pacer, present_ns);
         /* Frame-to-present: from the frame's start (its pose asked for) to the swap's return; the
          * display adds its scan-out, which no API here reports. */
         double to_present_ms = (double)(present_ns - start_ns) * 1e-6;
         struct trk_pose pose;
         if (st->record.f && trk_source_pose_at(s->source, display_s, &pose, err) == 0)
-            rpl_live_record_row(&st->record, &pose);
-        if (rpl_live_record_end_row(&st->record, err) != 0)
+            liv_record_row(&st->record, &pose);
+        if (liv_record_end_row(&st->record, err) != 0)
             return -1;
         int on_time = pacer.missed == missed_before;
         if (st->log.f) {
@@ -279,12 +279,12 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
                     rec.frame_ms, dist_ms, interval_ms, to_present_ms, pacer.missed, on_time,
                     (unsigned long long)rec.triangles_per_eye, rec.head_speed_degps, !st->tracker_lost);
             st->log.rows++;
-            if (rpl_live_record_end_row(&st->log, err) != 0)
+            if (liv_record_end_row(&st->log, err) != 0)
                 return -1;
         }
-        if ((f > 0 && on_time && prev_on_time && rpl_live_series_push(&st->on_time_ms, interval_ms) != 0) ||
-            (f > 0 && rpl_live_series_push(&st->present_ms, interval_ms) != 0) || rpl_live_series_push(&st->frame_ms, rec.frame_ms) != 0 ||
-            rpl_live_series_push(&st->distortion_ms, dist_ms) != 0 || rpl_live_series_push(&st->to_present_ms, to_present_ms) != 0)
+        if ((f > 0 && on_time && prev_on_time && liv_series_push(&st->on_time_ms, interval_ms) != 0) ||
+            (f > 0 && liv_series_push(&st->present_ms, interval_ms) != 0) || liv_series_push(&st->frame_ms, rec.frame_ms) != 0 ||
+            liv_series_push(&st->distortion_ms, dist_ms) != 0 || liv_series_push(&st->to_present_ms, to_present_ms) != 0)
             return hl_fail(err, "live: out of memory for frame times");
         prev_on_time = on_time;
         st->triangles_sum += (double)rec.triangles_per_eye;
@@ -304,7 +304,7 @@ static int run_loop(struct live_state *st, const struct rpl_live_options *o, dou
     return 0;
 }
 
-static void finish_summary(struct live_state *st, double rate_hz, struct rpl_live_summary *sum)
+static void finish_summary(struct live_state *st, double rate_hz, struct liv_summary *sum)
 {
     sum->rate_hz = rate_hz;
     sum->period_ms = 1000.0 / rate_hz;
@@ -314,13 +314,13 @@ static void finish_summary(struct live_state *st, double rate_hz, struct rpl_liv
     snprintf(sum->gaze, sizeof sum->gaze, "%s", acu_gaze_model_name(st->s.gaze));
     sum->velocity_term = st->s.limits.use_velocity;
     sum->eccentricity_term = st->s.limits.use_eccentricity;
-    rpl_live_series_stats(&st->present_ms, NULL, &sum->present_stddev_ms, &sum->present_median_ms, &sum->present_p99_ms,
+    liv_series_stats(&st->present_ms, NULL, &sum->present_stddev_ms, &sum->present_median_ms, &sum->present_p99_ms,
                  &sum->present_max_ms);
-    rpl_live_series_stats(&st->frame_ms, &sum->frame_mean_ms, NULL, NULL, &sum->frame_p99_ms, NULL);
-    rpl_live_series_stats(&st->distortion_ms, &sum->distortion_mean_ms, NULL, NULL, &sum->distortion_p99_ms, NULL);
-    rpl_live_series_stats(&st->on_time_ms, NULL, &sum->on_time_stddev_ms, &sum->on_time_median_ms, &sum->on_time_p99_ms, NULL);
+    liv_series_stats(&st->frame_ms, &sum->frame_mean_ms, NULL, NULL, &sum->frame_p99_ms, NULL);
+    liv_series_stats(&st->distortion_ms, &sum->distortion_mean_ms, NULL, NULL, &sum->distortion_p99_ms, NULL);
+    liv_series_stats(&st->on_time_ms, NULL, &sum->on_time_stddev_ms, &sum->on_time_median_ms, &sum->on_time_p99_ms, NULL);
     sum->on_time_intervals = st->on_time_ms.n;
-    rpl_live_series_stats(&st->to_present_ms, &sum->to_present_mean_ms, NULL, NULL, &sum->to_present_p99_ms, NULL);
+    liv_series_stats(&st->to_present_ms, &sum->to_present_mean_ms, NULL, NULL, &sum->to_present_p99_ms, NULL);
     if (sum->frames > 0) {
         sum->triangles_mean = st->triangles_sum / (double)sum->frames;
         sum->optimizer_us_mean = st->optimizer_sum / (double)sum->frames;
@@ -334,7 +334,7 @@ static void finish_summary(struct live_state *st, double rate_hz, struct rpl_liv
                              : "swap interval 1 (the display throttles)");
 }
 
-int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum, struct hl_error *err)
+int liv_run(const struct liv_options *o, struct liv_summary *sum, struct hl_error *err)
 {
     memset(sum, 0, sizeof *sum);
     struct live_state st;
@@ -373,7 +373,7 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     rnd_window_size(st.window, &ww, &wh);
     if (rnd_distortion_create(st.s.renderer, &st.s.display, ww, wh, 0, &st.distortion, err) != 0 ||
         trace_open(&st.record, o->record_path, err) != 0 ||
-        rpl_live_record_open(&st.log, o->log_path,
+        liv_record_open(&st.log, o->log_path,
                          "frame,t_s,frame_ms,distortion_ms,present_interval_ms,start_to_present_ms,missed_total,"
                          "on_time,triangles_per_eye,head_degps,tracking\n", err) != 0)
         goto done;
@@ -404,7 +404,7 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     if (st.record.dropped_rows > 0)
         fprintf(stderr, "hmdlod: --record %s: %ld rows dropped: their pose time did not move forward\n",
                 st.record.path, st.record.dropped_rows);
-    if (rpl_live_record_commit(&st.record, err) != 0 || rpl_live_record_commit(&st.log, err) != 0 ||
+    if (liv_record_commit(&st.record, err) != 0 || liv_record_commit(&st.log, err) != 0 ||
         (sum->raw_record[0] && trk_tracker_source_record(st.s.source, NULL, err) != 0))
         goto done;
     if (sum->raw_record[0]) {
@@ -420,20 +420,20 @@ int rpl_live_run(const struct rpl_live_options *o, struct rpl_live_summary *sum,
     }
     rc = 0;
 done:
-    rpl_live_record_abort(&st.record);
-    rpl_live_record_abort(&st.log);
-    rpl_live_series_free(&st.present_ms);
-    rpl_live_series_free(&st.frame_ms);
-    rpl_live_series_free(&st.distortion_ms);
-    rpl_live_series_free(&st.to_present_ms);
-    rpl_live_series_free(&st.on_time_ms);
+    liv_record_abort(&st.record);
+    liv_record_abort(&st.log);
+    liv_series_free(&st.present_ms);
+    liv_series_free(&st.frame_ms);
+    liv_series_free(&st.distortion_ms);
+    liv_series_free(&st.to_present_ms);
+    liv_series_free(&st.on_time_ms);
     rnd_distortion_destroy(st.distortion);
     frm_session_close(&st.s); /* the renderer before the window it draws in */
     rnd_window_destroy(st.window);
     return rc;
 }
 
-void rpl_live_summary_print(FILE *f, const struct rpl_live_summary *s)
+void liv_summary_print(FILE *f, const struct liv_summary *s)
 {
     fprintf(f, "live session: %s on %s, scene %s, selector %s, pose source %s\n", s->display, s->renderer, s->scene,
             s->selector, s->source);

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "base/base.h"
-#include "replay/live_internal.h"
+#include "live/live.h"
 
 /* Log-spaced bins: bin k holds [LO·R^k, LO·R^(k+1)); the first also takes everything below LO, the
  * last everything above. R = 1.001, so a bin's centre is within 0.05 % of any value in it. */
@@ -23,13 +23,13 @@ static long bin_of(double x_ms)
 }
 static double bin_centre_ms(long k) { return SERIES_LO_MS * pow(SERIES_RATIO, (double)k + 0.5); }
 
-static void fold_into_bins(struct rpl_live_series *s, double x) { s->bins[bin_of(x)]++; }
+static void fold_into_bins(struct liv_series *s, double x) { s->bins[bin_of(x)]++; }
 
-int rpl_live_series_push(struct rpl_live_series *s, double x)
+int liv_series_push(struct liv_series *s, double x)
 {
-    if (!s->v && !(s->v = malloc(RPL_LIVE_SERIES_EXACT * sizeof *s->v)))
+    if (!s->v && !(s->v = malloc(LIV_SERIES_EXACT * sizeof *s->v)))
         return -1;
-    if (s->n == RPL_LIVE_SERIES_EXACT && !s->bins) { /* a long session: from here on, bins */
+    if (s->n == LIV_SERIES_EXACT && !s->bins) { /* a long session: from here on, bins */
         if (!(s->bins = calloc(SERIES_BINS, sizeof *s->bins)))
             return -1;
         for (long i = 0; i < s->n; ++i)
@@ -49,7 +49,7 @@ int rpl_live_series_push(struct rpl_live_series *s, double x)
 }
 
 /* The value of nearest rank `rank` (1-based) from the bins, clamped to the exact maximum. */
-static double binned_rank(const struct rpl_live_series *s, long rank)
+static double binned_rank(const struct liv_series *s, long rank)
 {
     long seen = 0;
     for (long k = 0; k < SERIES_BINS; ++k) {
@@ -61,7 +61,7 @@ static double binned_rank(const struct rpl_live_series *s, long rank)
 }
 
 /* Mean, stddev (population), median, p99 (nearest rank) and max. Exact values are sorted in place. */
-void rpl_live_series_stats(struct rpl_live_series *s, double *mean, double *stddev, double *median, double *p99, double *max)
+void liv_series_stats(struct liv_series *s, double *mean, double *stddev, double *median, double *p99, double *max)
 {
     long n = s->n, k99 = (long)ceil(0.99 * (double)n);
     double med = 0, q99 = 0;
@@ -85,7 +85,7 @@ void rpl_live_series_stats(struct rpl_live_series *s, double *mean, double *stdd
         *max = n ? s->max : 0;
 }
 
-void rpl_live_series_free(struct rpl_live_series *s)
+void liv_series_free(struct liv_series *s)
 {
     free(s->v), free(s->bins);
     memset(s, 0, sizeof *s);
@@ -93,7 +93,7 @@ void rpl_live_series_free(struct rpl_live_series *s)
 
 /* The head trace of the session (and the --log), written beside its name and renamed when complete;
  * each row is flushed as a whole, so a failed write leaves a prefix of whole rows to keep. */
-int rpl_live_record_open(struct rpl_live_record *r, const char *path, const char *header, struct hl_error *err)
+int liv_record_open(struct liv_record *r, const char *path, const char *header, struct hl_error *err)
 {
     memset(r, 0, sizeof *r);
     if (!path)
@@ -112,7 +112,7 @@ int rpl_live_record_open(struct rpl_live_record *r, const char *path, const char
     }
     return 0;
 }
-void rpl_live_record_row(struct rpl_live_record *r, const struct trk_pose *p)
+void liv_record_row(struct liv_record *r, const struct trk_pose *p)
 {
     if (!r->f || r->paused)
         return;
@@ -127,7 +127,7 @@ void rpl_live_record_row(struct rpl_live_record *r, const struct trk_pose *p)
     fprintf(r->f, "%.6f,%.9f,%.9f,%.9f,%.9f\n", p->time_s - r->t0_s, q.w, q.x, q.y, q.z);
     r->rows++;
 }
-int rpl_live_record_end_row(struct rpl_live_record *r, struct hl_error *err)
+int liv_record_end_row(struct liv_record *r, struct hl_error *err)
 {
     if (!r->f)
         return 0;
@@ -141,14 +141,14 @@ int rpl_live_record_end_row(struct rpl_live_record *r, struct hl_error *err)
     return hl_fail(err, "%s; the session stopped, and the file holds its first %ld rows (incomplete)", werr.msg,
                    kept < 0 ? 0 : kept);
 }
-int rpl_live_record_commit(struct rpl_live_record *r, struct hl_error *err)
+int liv_record_commit(struct liv_record *r, struct hl_error *err)
 {
     if (!r->f)
         return 0;
     r->f = NULL;
     return hl_out_commit(&r->out, err);
 }
-void rpl_live_record_abort(struct rpl_live_record *r)
+void liv_record_abort(struct liv_record *r)
 {
     r->f = NULL;
     hl_out_abort(&r->out);

@@ -6,7 +6,7 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "replay/live_internal.h"
+#include "live/live.h"
 
 struct desk_source {
     struct trk_pose_source base; /* first, so a base pointer is a desk_source pointer */
@@ -50,7 +50,7 @@ static enum trk_health ds_health(struct trk_pose_source *src, char *reason, size
 
 static void ds_destroy(struct trk_pose_source *src) { free(src); }
 
-int rpl_desk_source_create(double t0_s, double yaw_rate_degps, struct trk_pose_source **out, struct hl_error *err)
+int liv_desk_source_create(double t0_s, double yaw_rate_degps, struct trk_pose_source **out, struct hl_error *err)
 {
     *out = NULL;
     if (!isfinite(yaw_rate_degps) || fabs(yaw_rate_degps) > 1000.0)
@@ -72,7 +72,7 @@ int rpl_desk_source_create(double t0_s, double yaw_rate_degps, struct trk_pose_s
     return 0;
 }
 
-void rpl_desk_source_look(struct trk_pose_source *src, double dyaw_rad, double dpitch_rad, double dt_s)
+void liv_desk_source_look(struct trk_pose_source *src, double dyaw_rad, double dpitch_rad, double dt_s)
 {
     struct desk_source *d = (struct desk_source *)src;
     d->look_yaw_rad += dyaw_rad;

@@ -10,7 +10,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "app/bench.h"
+#include "bench/bench.h"
 #include "app/commands.h"
 #include "replay/replay.h"
 
@@ -284,7 +284,7 @@ int cmd_calibrate(int argc, char **argv)
         struct tm tm_utc;
         gmtime_r(&now, &tm_utc);
         strftime(prof.date, sizeof prof.date, "%Y-%m-%d %H:%M UTC", &tm_utc);
-        bench_commit(prof.commit, sizeof prof.commit);
+        bch_commit(prof.commit, sizeof prof.commit);
         snprintf(prof.label, sizeof prof.label, "hmdlod calibrate%s, seed %ld", a.quick ? " --quick" : "", a.seed);
         snprintf(prof.renderer, sizeof prof.renderer, "%s", cal.renderer);
         snprintf(prof.display, sizeof prof.display, "%s", display.name);

@@ -11,8 +11,6 @@
 #include "base/base.h"
 #include "tracking/tracking.h"
 #include "frame/frame.h"
-#include "replay/bench.h"
-#include "replay/soak.h"
 
 /* ---- traces --------------------------------------------------------------------------------- */
 enum rpl_trace_format {

@@ -10,7 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "replay/bench_internal.h"
+#include "bench/suite_internal.h"
 #include "replay/replay.h"
 #include "test_util.h"
 
@@ -137,7 +137,7 @@ static void test_reference(const char *base)
     CHECK(reddy.reference_frames == 13 && reddy.ssim_mean <= 1.0 && reddy.ssim_mean > coarse.ssim_mean);
 }
 
-/* A run read back (replay/bench_load.c): frames.csv by column name; a column named twice in the
+/* A run read back (bench/suite_load.c): frames.csv by column name; a column named twice in the
  * header is refused (found by fuzz_bench_result: the first column's array leaked). */
 static void test_bench_result_columns(const char *base)
 {
@@ -152,7 +152,7 @@ static void test_bench_result_columns(const char *base)
     fputs("{\"renderer\": \"test\", \"budget_ms\": 11.1}\n", f);
     fclose(f);
     snprintf(path, sizeof path, "%s/frames.csv", dir);
-    struct rpl_bench_result r;
+    struct bch_result r;
     struct hl_error err = {{0}};
     f = fopen(path, "w");
     CHECK(f != NULL);
@@ -160,20 +160,20 @@ static void test_bench_result_columns(const char *base)
         return;
     fputs("frame,frame_ms,draw_ms\n0,1.5,0.5\n1,2.5,\n", f);
     fclose(f);
-    CHECK(rpl_bench_result_load(dir, &r, &err) == 0);
+    CHECK(bch_result_load(dir, &r, &err) == 0);
     CHECK(r.n == 2 && r.frame_ms && r.draw_ms && !r.predicted_ms);
     if (r.n == 2 && r.frame_ms && r.draw_ms) {
         CHECK_NEAR(r.frame_ms[1], 2.5, 0.0);
         CHECK(isnan(r.draw_ms[1]));
     }
-    rpl_bench_result_free(&r);
+    bch_result_free(&r);
     f = fopen(path, "w");
     CHECK(f != NULL);
     if (!f)
         return;
     fputs("frame,frame_ms,draw_ms,frame_ms\n0,1,2,3\n", f);
     fclose(f);
-    CHECK(rpl_bench_result_load(dir, &r, &err) == -1);
+    CHECK(bch_result_load(dir, &r, &err) == -1);
     CHECK(strstr(err.msg, "frames.csv:1: column 'frame_ms' appears twice") != NULL);
     CHECK(!r.frame_ms && !r.draw_ms);
 }

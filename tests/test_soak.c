@@ -1,4 +1,4 @@
-/* The soak's pieces (replay/soak_internal.h) without a renderer: the mirrored looped trace source
+/* The soak's pieces (bench/soak_internal.h) without a renderer: the mirrored looped trace source
  * (the wrap is seamless: the pose just before and just after each wrap agree; odd loops play the
  * trace backward with the velocity negated; the poses repeat every two spans), the fake tracker thread (reports at about 1 kHz, fusion finite, the IMU stream wraps), and the
  * option ranges. The whole run is tests/soak_smoke.sh. */
@@ -12,7 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "replay/soak_internal.h"
+#include "bench/soak_internal.h"
 #include "test_util.h"
 
 /* The per-frame series are resident from the start: every page of a 24 MB series (an hour at
@@ -23,7 +23,7 @@
 static void test_series_and_memory(void)
 {
     long n = 3600L * 800;
-    double *v = rpl_soak_series_alloc(n);
+    double *v = bch_soak_series_alloc(n);
     CHECK(v != NULL);
     if (v) {
         long page = sysconf(_SC_PAGESIZE);
@@ -40,15 +40,15 @@ static void test_series_and_memory(void)
         free(in_core);
         free(v);
     }
-    CHECK(rpl_soak_series_alloc(0) == NULL && rpl_soak_series_alloc(-5) == NULL);
-    struct rpl_soak_memory m;
-    rpl_soak_memory_read(&m, 1);
+    CHECK(bch_soak_series_alloc(0) == NULL && bch_soak_series_alloc(-5) == NULL);
+    struct bch_soak_memory m;
+    bch_soak_memory_read(&m, 1);
     printf("  memory: rss %ld kB, heap map %ld, anon %ld, file %ld kB, %ld mappings, malloc in use %ld kB, fds %ld\n",
            m.rss_kib, m.heap_map_kib, m.anon_map_kib, m.file_map_kib, m.mappings, m.heap_in_use_kib, m.fds);
     CHECK(m.rss_kib > 0 && m.file_map_kib > 0 && m.mappings > 5 && m.fds >= 3);
     CHECK(m.heap_map_kib >= 0 && m.anon_map_kib >= 0);
     CHECK(m.heap_map_kib + m.anon_map_kib + m.file_map_kib <= m.rss_kib + 1024);
-    rpl_soak_memory_read(&m, 0);
+    bch_soak_memory_read(&m, 0);
     CHECK(m.rss_kib > 0 && m.mappings == -1 && m.heap_map_kib == -1);
 }
 
@@ -86,7 +86,7 @@ static void test_loop_source(void)
     hl_quatd q_start = trace.orientation[0], q_end = trace.orientation[trace.count - 1];
     struct trk_pose_source *src = NULL;
     const double t0 = 1000.0, span = 3.0;
-    CHECK(rpl_soak_source_create(&trace, t0, &src, &err) == 0);
+    CHECK(bch_soak_source_create(&trace, t0, &src, &err) == 0);
     if (!src)
         return;
     CHECK(trace.count == 0); /* ownership moved */
@@ -109,7 +109,7 @@ static void test_loop_source(void)
     CHECK(trk_source_pose_at(src, t0 + span, &c, &err) == 0);
     CHECK_NEAR(angle_between(c.orientation, q_end), 0.0, 1e-6);
     /* loop 2 is loop 0 (the content's period is two spans); loop 1 is loop 0 backward */
-    CHECK(rpl_soak_source_period_s(src) == 2.0 * span);
+    CHECK(bch_soak_source_period_s(src) == 2.0 * span);
     CHECK(trk_source_pose_at(src, t0 + 0.7, &a, &err) == 0);
     CHECK(trk_source_pose_at(src, t0 + 2.0 * span + 0.7, &b, &err) == 0);
     CHECK_NEAR(angle_between(b.orientation, a.orientation), 0.0, 1e-9);
@@ -119,7 +119,7 @@ static void test_loop_source(void)
     CHECK_NEAR(angle_between(b.orientation, a.orientation), 0.0, 1e-9);
     CHECK(a.angular_velocity_radps.y > 0.0);
     CHECK_NEAR(b.angular_velocity_radps.y, -a.angular_velocity_radps.y, 1e-9);
-    CHECK(rpl_soak_source_loops(src) == 5);
+    CHECK(bch_soak_source_loops(src) == 5);
     /* after a day of loops (28800, even) the pose is loop 0's at the same instant, unit and finite */
     CHECK(trk_source_pose_at(src, t0 + 86400.0 + 0.25, &a, &err) == 0);
     CHECK(trk_source_pose_at(src, t0 + 0.25, &b, &err) == 0);
@@ -133,7 +133,7 @@ static void test_loop_source(void)
     struct rpl_trace one;
     const char *text = "t_s,qw,qx,qy,qz\n0,1,0,0,0\n";
     CHECK(rpl_trace_parse(text, strlen(text), "one", &one, &err) == 0);
-    CHECK(rpl_soak_source_create(&one, 0.0, &src, &err) == -1 && src == NULL);
+    CHECK(bch_soak_source_create(&one, 0.0, &src, &err) == -1 && src == NULL);
     rpl_trace_free(&one);
 }
 
@@ -148,22 +148,22 @@ static void test_tracker(void)
         rows[i].accel_mps2 = hl_v3(0.0, 9.81, 0.0);
         rows[i].truth = hl_q_from_axis_angle(hl_v3(0, 1, 0), 0.3 * rows[i].t_s);
     }
-    struct rpl_soak_tracker t;
+    struct bch_soak_tracker t;
     struct hl_error err;
     int64_t t0 = hl_clock_now_ns();
-    CHECK(rpl_soak_tracker_start(&t, rows, N, 0.4, &err) == 0);
+    CHECK(bch_soak_tracker_start(&t, rows, N, 0.4, &err) == 0);
     /* until 400 reports (the stream wraps twice), or 20 s on a machine that starves the thread */
     struct timespec ts = {0, 5000000};
     while ((atomic_load(&t.reports) < 400 || hl_clock_now_ns() - t0 < 600000000LL) &&
            hl_clock_now_ns() - t0 < 20000000000LL)
         nanosleep(&ts, NULL); /* and past the run's 0.4 s, so the last stretch (from 0.36 s) has reports */
-    rpl_soak_tracker_stop(&t);
+    bch_soak_tracker_stop(&t);
     double elapsed_ms = (double)(hl_clock_now_ns() - t0) * 1e-6;
     uint64_t reports = atomic_load(&t.reports);
     CHECK(reports >= 400);
     CHECK((double)reports <= elapsed_ms + 2.0); /* paced by the clock: never faster than 1 kHz */
     double rates[2];
-    rpl_soak_tracker_rates(&t, rates);
+    bch_soak_tracker_rates(&t, rates);
     /* The first stretch starts with the clock, so it is paced; the last one may catch up after the thread
      * was starved (as a hidraw queue delivers after a stall), so only its whole-run bound holds. */
     CHECK(rates[0] > 0.0 && rates[0] <= 1100.0 && rates[1] > 0.0 && isfinite(rates[1]));
@@ -172,32 +172,32 @@ static void test_tracker(void)
     CHECK(atomic_load(&t.refused) == 0);
     CHECK(atomic_load(&t.failed) == 0);
     CHECK(atomic_load(&t.loops) >= 1);
-    rpl_soak_tracker_stop(&t); /* twice: harmless */
+    bch_soak_tracker_stop(&t); /* twice: harmless */
     /* a stream whose rows do not advance is refused before a thread starts */
     rows[N - 1].t_s = 0.0;
-    CHECK(rpl_soak_tracker_start(&t, rows, N, 0.4, &err) == -1);
+    CHECK(bch_soak_tracker_start(&t, rows, N, 0.4, &err) == -1);
     CHECK(strstr(err.msg, "IMU stream") != NULL);
 }
 
 static void test_options(void)
 {
-    struct rpl_soak_options o;
+    struct bch_soak_options o;
     struct hl_error err;
-    rpl_soak_options_defaults(&o);
+    bch_soak_options_defaults(&o);
     CHECK(o.duration_s == 3600.0 && o.sample_s == 10.0 && o.render_scale == 0.5);
-    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--out"));
+    CHECK(bch_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--out"));
     o.out_dir = "x";
-    CHECK(rpl_soak_check_options(&o, &err) == 0);
+    CHECK(bch_soak_check_options(&o, &err) == 0);
     o.duration_s = 0.5;
-    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--duration-s"));
+    CHECK(bch_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--duration-s"));
     o.duration_s = INFINITY;
-    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--duration-s"));
+    CHECK(bch_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--duration-s"));
     o.duration_s = 60.0, o.sample_s = 61.0;
-    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--sample-s"));
+    CHECK(bch_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--sample-s"));
     o.sample_s = NAN;
-    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--sample-s"));
+    CHECK(bch_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--sample-s"));
     o.sample_s = 1.0, o.render_scale = 0.0;
-    CHECK(rpl_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--render-scale"));
+    CHECK(bch_soak_check_options(&o, &err) == -1 && strstr(err.msg, "--render-scale"));
 }
 
 int main(void)

@@ -1,4 +1,4 @@
-/* bench tracking's OpenHMD oracle (app/bench_tracking_openhmd.c, compiled into this test): the frame
+/* bench tracking's OpenHMD oracle (bench/tracking_openhmd.c, compiled into this test): the frame
  * conversion both ways, pure rotations about each body axis that must come back with the truth's
  * sign (so an axis mistake cannot pass as "OpenHMD is bad"), OpenHMD's tilt on a piece of a shared
  * stream, and the full stream against the OpenHMD figures data/README.md §5 measured independently.
@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "app/bench_tracking_openhmd.h"
+#include "bench/tracking_openhmd.h"
 #include "tests/test_util.h"
 #include "tracking/tracking.h"
 
@@ -17,7 +17,7 @@
 static void test_conversion(void)
 {
     float rec[10];
-    bench_openhmd_sample(0.001, hl_v3(0.1, -0.2, 0.3), hl_v3(1.0, 9.8, -0.5), rec);
+    bch_openhmd_sample(0.001, hl_v3(0.1, -0.2, 0.3), hl_v3(1.0, 9.8, -0.5), rec);
     CHECK_NEAR(rec[0], 0.001, 1e-9);
     CHECK_NEAR(rec[1], 0.1, 1e-7);
     CHECK_NEAR(rec[2], -0.2, 1e-7);
@@ -29,14 +29,14 @@ static void test_conversion(void)
     /* OHMD_ROTATION_QUAT is x y z w; ours w x y z. */
     const float q[4] = {0.5f, -0.5f, 0.5f, 0.5f};
     hl_quatd out;
-    CHECK(bench_openhmd_quat_to_hmdlod(q, &out) == 0);
+    CHECK(bch_openhmd_quat_to_hmdlod(q, &out) == 0);
     CHECK_NEAR(out.w, 0.5, 1e-7);
     CHECK_NEAR(out.x, 0.5, 1e-7);
     CHECK_NEAR(out.y, -0.5, 1e-7);
     CHECK_NEAR(out.z, 0.5, 1e-7);
     const float bad_nan[4] = {0.0f, 0.0f, NAN, 1.0f}, bad_norm[4] = {0.0f, 0.0f, 0.0f, 0.5f};
-    CHECK(bench_openhmd_quat_to_hmdlod(bad_nan, &out) != 0);
-    CHECK(bench_openhmd_quat_to_hmdlod(bad_norm, &out) != 0);
+    CHECK(bch_openhmd_quat_to_hmdlod(bad_nan, &out) != 0);
+    CHECK(bch_openhmd_quat_to_hmdlod(bad_norm, &out) != 0);
 }
 
 /* Heading about world +Y, pitch of the forward axis (−Z) above the horizon, roll: height of the
@@ -92,9 +92,9 @@ static void test_axes(void)
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         make_rotation(rows, N, cases[c].start, cases[c].rate);
-        struct bench_openhmd_result r;
+        struct bch_openhmd_result r;
         struct hl_error err = {{0}};
-        int rc = bench_openhmd_evaluate(rows, N, 0.0, 0, &r, &err);
+        int rc = bch_openhmd_evaluate(rows, N, 0.0, 0, &r, &err);
         CHECK(rc == 0);
         if (rc != 0) {
             fprintf(stderr, "  %s: %s\n", cases[c].what, err.msg);
@@ -135,8 +135,8 @@ static void test_shared_stream(void)
         return;
     }
     /* A short piece: sane tilt (OpenHMD corrects tilt only at rest, so it drifts between). */
-    struct bench_openhmd_result r;
-    CHECK(bench_openhmd_evaluate(rows, 5001, 5.0, 1, &r, &err) == 0);
+    struct bch_openhmd_result r;
+    CHECK(bch_openhmd_evaluate(rows, 5001, 5.0, 1, &r, &err) == 0);
     printf("  user1 first 5 s: tilt %.2f/%.2f deg, yaw %+.2f deg/min, %.0f ns/sample\n", r.acc.tilt_rms_deg,
            r.acc.tilt_max_deg, r.acc.yaw_drift_deg_per_min, r.fuse_ns_per_sample);
     CHECK(r.acc.tilt_rms_deg < 10.0 && r.acc.tilt_max_deg < 10.0);
@@ -144,7 +144,7 @@ static void test_shared_stream(void)
     /* The whole stream against data/README.md §5's OpenHMD figures (tilt 1.81/3.32°, yaw +28.7 °/min,
      * measured there by another implementation of the same metrics): the same library on the same
      * samples must agree to their rounding. Only for the release those figures are for. */
-    CHECK(bench_openhmd_evaluate(rows, n, 5.0, 0, &r, &err) == 0);
+    CHECK(bch_openhmd_evaluate(rows, n, 5.0, 0, &r, &err) == 0);
     printf("  user1 60 s (OpenHMD %s): tilt %.3f/%.3f deg, yaw %+.2f deg/min; README: 1.81/3.32, +28.7\n", r.version,
            r.acc.tilt_rms_deg, r.acc.tilt_max_deg, r.acc.yaw_drift_deg_per_min);
     if (!strcmp(r.version, "0.3.0")) {
@@ -158,16 +158,16 @@ static void test_shared_stream(void)
 int main(void)
 {
     test_conversion();
-    if (!bench_openhmd_available()) {
-        struct bench_openhmd_result r;
+    if (!bch_openhmd_available()) {
+        struct bch_openhmd_result r;
         struct hl_error err = {{0}};
         struct trk_imu_csv_row row[100];
         memset(row, 0, sizeof row);
-        CHECK(bench_openhmd_evaluate(row, 100, 5.0, 0, &r, &err) != 0);
-        CHECK(strstr(err.msg, BENCH_OPENHMD_ABSENT) != NULL);
+        CHECK(bch_openhmd_evaluate(row, 100, 5.0, 0, &r, &err) != 0);
+        CHECK(strstr(err.msg, BCH_OPENHMD_ABSENT) != NULL);
         if (tu_failures)
             return tu_finish("tracking_openhmd");
-        printf("skip: built without libopenhmd (%s); the conversion checks passed\n", BENCH_OPENHMD_ABSENT);
+        printf("skip: built without libopenhmd (%s); the conversion checks passed\n", BCH_OPENHMD_ABSENT);
         return 77;
     }
     test_axes();

@@ -1,4 +1,4 @@
-/* Fuzz target: a bench run read back (rpl_bench_result_load, replay/bench_load.c), which reads
+/* Fuzz target: a bench run read back (bch_result_load, bench/suite_load.c), which reads
  * DIR/summary.json and DIR/frames.csv: the bytes up to the first NUL become summary.json, the rest
  * frames.csv (no NUL: no frames.csv, a run whose frames are missing). The statistics over each
  * column must not read outside it. */
@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "replay/bench_internal.h"
+#include "bench/suite_internal.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -18,16 +18,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         fuzz_write_file("frames.csv", nul + 1, size - summary - 1);
     else
         remove(fuzz_temp_path("frames.csv"));
-    struct rpl_bench_result r;
+    struct bch_result r;
     struct hl_error err;
-    if (rpl_bench_result_load(fuzz_temp_path(NULL), &r, &err) == 0) {
+    if (bch_result_load(fuzz_temp_path(NULL), &r, &err) == 0) {
         const double *cols[] = {r.frame_ms, r.draw_ms, r.predicted_ms, r.triangles, r.visible_error};
         for (size_t i = 0; i < sizeof cols / sizeof cols[0]; ++i) {
-            (void)rpl_bench_mean(&r, cols[i]);
-            (void)rpl_bench_stddev_from(&r, cols[i], 1);
-            (void)rpl_bench_max_from(&r, cols[i], 1);
+            (void)bch_mean(&r, cols[i]);
+            (void)bch_stddev_from(&r, cols[i], 1);
+            (void)bch_max_from(&r, cols[i], 1);
         }
-        rpl_bench_result_free(&r);
+        bch_result_free(&r);
     }
     return 0;
 }

@@ -1,0 +1,195 @@
+/* Table 3 of the bench report: Reddy's study on field (Reddy 1997 §6; PAPERS.md) — the speedup of
+ * reddy over none against the object count, size only against size + velocity + eccentricity, still
+ * head and real motion per gaze model; per display the share of the LOD reduction owed to velocity
+ * and to eccentricity; both frequency readings with their image error. docs/bench.md. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "hmd/hmd.h"
+#include "bench/suite_internal.h"
+
+#define GOAL_SPEEDUP 4.5 /* Reddy's figure: ≥ 4.5× at zero predicted visible error, field, 1000 objects */
+
+/* 1 − triangles drawn / finest over the run: the LOD reduction. */
+static double reduction(const struct bch_result *r)
+{
+    if (!r)
+        return NAN;
+    double t = bch_mean(r, r->triangles), f = bch_mean(r, r->finest);
+    return f > 0 ? 1.0 - t / f : NAN;
+}
+
+static const char *const variants[][4] = {
+    /* reddy's run, none's run, motion, terms */
+    {"still-size", "still-none", "still", "size only"},
+    {"still-full", "still-none", "still", "size + velocity + eccentricity"},
+    {"real-size", "real-none", "user1", "size only"},
+    {"real-full-head", "real-none", "user1 (gaze head)", "size + velocity + eccentricity"},
+    {"real-full-vor", "real-none", "user1 (gaze vor)", "size + velocity + eccentricity"},
+};
+enum { N_VARIANTS = 5 };
+
+static int speedup_table(struct bch_ctx *c, struct hl_error *err)
+{
+    static const char *const h[] = {"objects",        "motion",       "terms",           "none_frame_ms",
+                                    "reddy_frame_ms", "speedup",      "*triangle_ratio", "*visible_error_mean",
+                                    "goal_met",       "deterministic"};
+    struct bch_table t;
+    if (bch_table_begin(&t, c->dir, "t3_reddy_speedup", c->md, c->echo, c->det, h, 10, err) != 0)
+        return -1;
+    struct hl_out plot;
+    FILE *f = bch_plot_data(c, "t3_speedup.dat", &plot, err);
+    if (!f) {
+        bch_table_end(&t, err);
+        return -1;
+    }
+    fputs("objects", f);
+    for (int v = 0; v < N_VARIANTS; ++v)
+        fprintf(f, " %s", variants[v][0]);
+    fputc('\n', f);
+    int has_data = 0;
+    int last_objects = -1;
+    for (size_t i = 0; i < c->plan->count; ++i) {
+        const struct bch_run *run = &c->plan->runs[i];
+        if (run->table != 3 || strncmp(run->id, "t3-o", 4) || run->objects == last_objects)
+            continue;
+        last_objects = run->objects;
+        fprintf(f, "%d", run->objects);
+        for (int v = 0; v < N_VARIANTS; ++v) {
+            char id_r[96], id_n[96];
+            snprintf(id_r, sizeof id_r, "t3-o%d-%s", run->objects, variants[v][0]);
+            snprintf(id_n, sizeof id_n, "t3-o%d-%s", run->objects, variants[v][1]);
+            const struct bch_result *r = bch_find(c, id_r), *n = bch_find(c, id_n);
+            double fr = r ? bch_mean_from(r, r->frame_ms, 1) : NAN,
+                   fn = n ? bch_mean_from(n, n->frame_ms, 1) : NAN;
+            double tr = r ? bch_mean(r, r->triangles) : NAN, tn = n ? bch_mean(n, n->triangles) : NAN;
+            double speedup = fn / fr, vis = r ? r->visible_error_mean : NAN;
+            char cell[7][BCH_CELL];
+            const char *goal = "";
+            if (run->objects == 1000 && strstr(variants[v][0], "full"))
+                goal = !isfinite(speedup) ? "—" : speedup >= GOAL_SPEEDUP && vis == 0.0 ? "yes" : "no";
+            const char *cells[10] = {bch_cell(cell[0], run->objects, 0),
+                                     variants[v][2],
+                                     variants[v][3],
+                                     bch_cell(cell[1], fn, 3),
+                                     bch_cell(cell[2], fr, 3),
+                                     bch_cell(cell[3], speedup, 2),
+                                     bch_cell(cell[4], tn / tr, 2),
+                                     bch_cell(cell[5], vis, 4),
+                                     goal,
+                                     "1"};
+            bch_table_row(&t, cells);
+            fprintf(f, " %.4f", speedup);
+            has_data |= isfinite(speedup);
+        }
+        fputc('\n', f);
+    }
+    if (hl_out_commit(&plot, err) != 0) {
+        struct hl_error table_err;
+        bch_table_end(&t, &table_err);
+        return -1;
+    }
+    if (bch_table_end(&t, err) != 0)
+        return -1;
+    char body[2048];
+    snprintf(body, sizeof body,
+             "set logscale x\nset xlabel 'objects'\nset ylabel 'frame time of none / of reddy'\nset key left top\n"
+             "plot for [i=2:%d] 't3_speedup.dat' using 1:i with linespoints title columnheader(i), "
+             "%g with lines dashtype 2 lc rgb 'black' title 'Reddy: 4.5x'\n",
+             N_VARIANTS + 1, GOAL_SPEEDUP);
+    return bch_plot(c, "t3_speedup", "Speedup of reddy over none on field against the object count", body,
+                          has_data, err);
+}
+
+static int display_table(struct bch_ctx *c, struct hl_error *err)
+{
+    bch_heading(c, "Table 3b: per display, the share of the LOD reduction owed to velocity and to eccentricity",
+                      "reddy on field (user1, default gaze), three runs per display: both terms, velocity term off, "
+                      "eccentricity term off. reduction = 1 − triangles drawn / finest; owed to a term = (reduction "
+                      "with both − reduction without it) / reduction with both (the shares need not add to 1: "
+                      "size alone, and the terms together, do the rest).\n",
+                      0);
+    static const char *const h[] = {"display",
+                                    "xi_cpd",
+                                    "*reduction_both",
+                                    "*reduction_no_velocity",
+                                    "*reduction_no_eccentricity",
+                                    "*owed_to_velocity",
+                                    "*owed_to_eccentricity",
+                                    "frame_ms_mean",
+                                    "deterministic"};
+    struct bch_table t;
+    if (bch_table_begin(&t, c->dir, "t3b_displays", c->md, NULL, c->det, h, 9, err) != 0)
+        return -1;
+    for (size_t i = 0; i < c->plan->count; ++i) {
+        const struct bch_run *run = &c->plan->runs[i];
+        if (strncmp(run->id, "t3d-", 4) || run->velocity_off || run->eccentricity_off)
+            continue;
+        char id[96];
+        snprintf(id, sizeof id, "t3d-%s-novel", run->display);
+        const struct bch_result *nv = bch_find(c, id);
+        snprintf(id, sizeof id, "t3d-%s-noecc", run->display);
+        const struct bch_result *ne = bch_find(c, id);
+        const struct bch_result *full = c->results[i].present ? &c->results[i] : NULL;
+        double rb = reduction(full), rv = reduction(nv), re = reduction(ne);
+        const struct hmd_profile *p = hmd_builtin_find(run->display);
+        char cell[7][BCH_CELL];
+        const char *cells[9] = {run->display,
+                                bch_cell(cell[0], p ? hmd_compute_xi(p).used_cpd : NAN, 2),
+                                bch_cell(cell[1], rb, 4),
+                                bch_cell(cell[2], rv, 4),
+                                bch_cell(cell[3], re, 4),
+                                bch_cell(cell[4], rb > 0 ? (rb - rv) / rb : NAN, 3),
+                                bch_cell(cell[5], rb > 0 ? (rb - re) / rb : NAN, 3),
+                                bch_cell(cell[6], full ? bch_mean_from(full, full->frame_ms, 1) : NAN, 3),
+                                "1"};
+        bch_table_row(&t, cells);
+    }
+    return bch_table_end(&t, err);
+}
+
+static int reading_table(struct bch_ctx *c, struct hl_error *err)
+{
+    bch_heading(c, "Table 3c: the two frequency readings and their image error",
+                      "reddy on field (user1) with --frequency-reading narrow (the thickest lost feature) and long "
+                      "(the longest lost chord; docs/analysis.md), with --reference.\n",
+                      0);
+    static const char *const h[] = {"reading",       "*triangle_share", "*fssim_mean",         "*ssim_mean",
+                                    "*psnr_db_mean", "*px_over_32",     "*visible_error_mean", "frame_ms_mean",
+                                    "deterministic"};
+    struct bch_table t;
+    if (bch_table_begin(&t, c->dir, "t3c_readings", c->md, NULL, c->det, h, 9, err) != 0)
+        return -1;
+    for (size_t i = 0; i < c->plan->count; ++i) {
+        const struct bch_run *run = &c->plan->runs[i];
+        if (strncmp(run->id, "t3r-", 4))
+            continue;
+        const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
+        char cell[7][BCH_CELL];
+        const char *cells[9] = {run->reading,
+                                bch_cell(cell[0], r ? 1.0 - reduction(r) : NAN, 4),
+                                bch_cell(cell[1], r ? r->fssim_mean : NAN, 4),
+                                bch_cell(cell[2], r ? r->ssim_mean : NAN, 4),
+                                bch_psnr_cell(cell[3], r),
+                                bch_cell(cell[4], r ? r->px_over_32 : NAN, 4),
+                                bch_cell(cell[5], r ? r->visible_error_mean : NAN, 4),
+                                bch_cell(cell[6], r ? bch_mean_from(r, r->frame_ms, 1) : NAN, 3),
+                                "1"};
+        bch_table_row(&t, cells);
+    }
+    return bch_table_end(&t, err);
+}
+
+int bch_tables_t3(struct bch_ctx *c, struct hl_error *err)
+{
+    bch_heading(c, "Table 3: Reddy's study on field",
+                      "Speedup = none's frame time mean / reddy's over the same frames and motion; triangle ratio = "
+                      "none's triangles / reddy's. still: the suite's still-head trace (still-head.csv); size only: "
+                      "--velocity-term off --eccentricity-term off. Goal (Reddy 1997): ≥ 4.5× at zero predicted "
+                      "visible error with 1000 objects, per gaze model.\n",
+                      1);
+    if (speedup_table(c, err) != 0 || display_table(c, err) != 0)
+        return -1;
+    return reading_table(c, err);
+}

@@ -1,7 +1,7 @@
 /* hmdlod bench: reproducible measurements with their context (machine, commit, command line, date),
  * printed as Markdown so a run can go straight into docs/RESULTS.md (--results does that).
- * This file is the dispatch table; each sub-bench is app/bench_<name>.c, the shared context
- * bench/context.c. */
+ * This file is the dispatch table; each sub-bench's options are parsed in app/cmd_bench_<name>.c
+ * and measured by bench/ (bench/bench.h). */
 #include <stdio.h>
 #include <string.h>
 
@@ -14,20 +14,20 @@ struct bench {
     const char *summary;
 };
 static const struct bench benches[] = {
-    {"tracking", bch_tracking, "tracker accuracy and parse+fuse speed on the shared IMU streams, per device"},
-    {"replay", bch_replay, "frame time and triangles, selector none vs reddy, on head-motion traces (Vive)"},
-    {"lodgen", bch_lodgen, "LOD chain of the bunny: OpenMesh vs meshoptimizer time, triangles, Hausdorff error"},
-    {"cull", bch_cull, "culling time, flat vs hierarchical, on 1k/10k/100k-object scenes under real head motion"},
-    {"optimizer", bch_optimizer, "fs vs from-scratch greedy per frame (1k/10k/100k objects), turn, budget, limit, scaling"},
-    {"live", bch_live, "live session: distortion pass cost at the Vive's resolution, present intervals at 90 Hz"},
-    {"soak", bch_soak, "1 h (--duration-s) of looped replay at 90 Hz and a 1 kHz fake tracker: RSS growth, drift"},
-    {"gaze", bch_gaze, "gaze models head/vor/tracked vs none on real traces: triangles, frame time, saccades"},
+    {"tracking", cmd_bench_tracking, "tracker accuracy and parse+fuse speed on the shared IMU streams, per device"},
+    {"replay", cmd_bench_replay, "frame time and triangles, selector none vs reddy, on head-motion traces (Vive)"},
+    {"lodgen", cmd_bench_lodgen, "LOD chain of the bunny: OpenMesh vs meshoptimizer time, triangles, Hausdorff error"},
+    {"cull", cmd_bench_cull, "culling time, flat vs hierarchical, on 1k/10k/100k-object scenes under real head motion"},
+    {"optimizer", cmd_bench_optimizer, "fs vs from-scratch greedy per frame (1k/10k/100k objects), turn, budget, limit, scaling"},
+    {"live", cmd_bench_live, "live session: distortion pass cost at the Vive's resolution, present intervals at 90 Hz"},
+    {"soak", cmd_bench_soak, "1 h (--duration-s) of looped replay at 90 Hz and a 1 kHz fake tracker: RSS growth, drift"},
+    {"gaze", cmd_bench_gaze, "gaze models head/vor/tracked vs none on real traces: triangles, frame time, saccades"},
 };
 #define N_BENCHES (sizeof benches / sizeof benches[0])
 
 static void print_bench_usage(FILE *f)
 {
-    bch_suite_usage(f);
+    cmd_bench_suite_usage(f);
     fprintf(f, "\n       hmdlod bench <name> [options]   (hmdlod bench <name> --help)\n\nbenches:\n");
     for (size_t i = 0; i < N_BENCHES; ++i)
         fprintf(f, "  %-9s %s\n", benches[i].name, benches[i].summary);
@@ -40,7 +40,7 @@ int cmd_bench(int argc, char **argv)
         return 0;
     }
     if (argc < 2 || argv[1][0] == '-') /* no sub-bench name, or options first: the suite */
-        return bch_suite(argc, argv, argc, argv);
+        return cmd_bench_suite(argc, argv, argc, argv);
     for (size_t i = 0; i < N_BENCHES; ++i)
         if (!strcmp(argv[1], benches[i].name))
             return benches[i].run(argc - 1, argv + 1, argc, argv);

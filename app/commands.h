@@ -4,12 +4,28 @@
 #ifndef HMDLOD_APP_COMMANDS_H
 #define HMDLOD_APP_COMMANDS_H
 
+#include <stdio.h>
+
 int cmd_demo(int argc, char **argv);
 int cmd_display(int argc, char **argv);
 int cmd_acuity(int argc, char **argv);
 int cmd_replay(int argc, char **argv);
 int cmd_live(int argc, char **argv);    /* app/cmd_live.c: live session in a window, distortion pass */
 int cmd_bench(int argc, char **argv);   /* app/cmd_bench.c: measurements (bench tracking, …) */
+/* The sub-benches' options (app/cmd_bench_NAME.c): argv[0] is the sub-bench's name, full_argc/argv
+ * start at "bench" (for the context lines). */
+int cmd_bench_cull(int argc, char **argv, int full_argc, char **full_argv);
+int cmd_bench_gaze(int argc, char **argv, int full_argc, char **full_argv);
+int cmd_bench_live(int argc, char **argv, int full_argc, char **full_argv);
+int cmd_bench_lodgen(int argc, char **argv, int full_argc, char **full_argv);
+int cmd_bench_optimizer(int argc, char **argv, int full_argc, char **full_argv);
+int cmd_bench_replay(int argc, char **argv, int full_argc, char **full_argv);
+int cmd_bench_soak(int argc, char **argv, int full_argc, char **full_argv);
+int cmd_bench_tracking(int argc, char **argv, int full_argc, char **full_argv);
+/* The suite (no sub-bench name): hmdlod bench [--quick] --out DIR, --plan FILE, --merge DIR…
+ * (app/cmd_bench_suite.c; the plan, runs and report are bench/suite.h's). */
+int cmd_bench_suite(int argc, char **argv, int full_argc, char **full_argv);
+void cmd_bench_suite_usage(FILE *f);
 int cmd_record(int argc, char **argv);  /* app/cmd_record.c: tracker → raw recording */
 int cmd_convert(int argc, char **argv); /* app/cmd_convert.c: raw recording → trace CSV */
 int cmd_devices(int argc, char **argv); /* app/cmd_devices.c: supported trackers present, openable or why not */

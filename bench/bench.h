@@ -14,21 +14,90 @@
 #include "bench/soak.h"
 #include "bench/suite.h"
 
-/* One sub-bench: argv[0] is its name; full_argc/full_argv start at "bench" (for the context). */
-int bch_tracking(int argc, char **argv, int full_argc, char **full_argv); /* bench/tracking.c */
-int bch_replay(int argc, char **argv, int full_argc, char **full_argv);   /* bench/replay.c */
-int bch_lodgen(int argc, char **argv, int full_argc, char **full_argv);   /* bench/lodgen.c */
-int bch_cull(int argc, char **argv, int full_argc, char **full_argv);     /* bench/cull.c */
-int bch_optimizer(int argc, char **argv, int full_argc, char **full_argv); /* bench/optimizer.c */
-int bch_gaze(int argc, char **argv, int full_argc, char **full_argv);     /* bench/gaze.c */
-/* The suite (no sub-bench name): hmdlod bench [--quick] --out DIR, --plan FILE, --merge DIR… (bench/suite.c) */
-int bch_suite(int argc, char **argv, int full_argc, char **full_argv);
-void bch_suite_usage(FILE *f);
-int bch_live(int argc, char **argv, int full_argc, char **full_argv);     /* bench/live.c */
-int bch_soak(int argc, char **argv, int full_argc, char **full_argv);     /* bench/soak_report.c */
+/* ---- the sub-benches -------------------------------------------------------------------------
+ * Each takes its options (parsed by app/cmd_bench_NAME.c) and the whole command line from "bench"
+ * on (full_argc/full_argv, for the context lines), prints its Markdown (and stores it as the section
+ * BCH_NAME_HEADING of --results' file), and returns the process's exit code: 0, or 1 after saying
+ * why on stderr. */
+
+/* hmdlod bench tracking (bench/bench_tracking.c): tracker accuracy and speed on the shared IMU streams. */
+#define BCH_TRACKING_HEADING "## Trackers (hmdlod bench tracking)"
+struct bch_tracking_options {
+    const char *stream;  /* a stream's name (.csv optional), or "all" (NULL: all) */
+    double seconds;      /* only the first seconds of each stream; 0: all */
+    long repeats;        /* whole-stream timing passes (median reported) */
+    const char *results; /* NULL: no results file */
+};
+int bch_tracking(const struct bch_tracking_options *o, int full_argc, char **full_argv);
+void bch_tracking_print_streams(FILE *f); /* the streams' names, each after a space */
+
+/* hmdlod bench cull (bench/bench_cull.c): flat against hierarchical culling of generated scenes. */
+#define BCH_CULL_HEADING "## Culling (hmdlod bench cull)"
+struct bch_cull_options {
+    const char *trace;   /* head motion; NULL: Corbillon user1 from the shared folder, else the built-in clip */
+    const char *display; /* the frusta's display profile */
+    const char *results; /* NULL: no results file */
+    long frames, seed;
+    int quick;
+};
+int bch_cull(const struct bch_cull_options *o, int full_argc, char **full_argv);
+
+/* hmdlod bench gaze (bench/bench_gaze.c): the gaze models against none on real traces. */
+#define BCH_GAZE_HEADING "## Gaze models (hmdlod bench gaze)"
+struct bch_gaze_options {
+    long frames, objects;  /* per run from each trace's start; in the field scene */
+    double render_scale;   /* per-eye resolution factor in (0, 4] */
+    int quick;
+    const char *results;   /* NULL: no results file */
+};
+int bch_gaze(const struct bch_gaze_options *o, int full_argc, char **full_argv);
+
+/* hmdlod bench live (bench/bench_live.c): the distortion pass's cost and a 90 Hz session's present intervals. */
+#define BCH_LIVE_HEADING "## Live session (hmdlod bench live)"
+struct bch_live_options {
+    long draws;          /* timed distortion passes */
+    long frames;         /* frames of the paced session */
+    const char *results; /* NULL: no results file */
+};
+int bch_live(const struct bch_live_options *o, int full_argc, char **full_argv);
+
+/* hmdlod bench lodgen (bench/bench_lodgen.c): the bunny's chain with OpenMesh and with meshoptimizer. */
+#define BCH_LODGEN_HEADING "## LOD generation (hmdlod bench lodgen)"
+struct bch_lodgen_options {
+    long repeats;               /* timed repeats of each chain, 1 … 15 */
+    uint64_t hausdorff_samples; /* per mesh */
+    const char *results;        /* NULL: no results file */
+};
+int bch_lodgen(const struct bch_lodgen_options *o, int full_argc, char **full_argv);
+
+/* hmdlod bench optimizer (bench/bench_optimizer*.c): fs against the from-scratch greedy on the core alone. */
+#define BCH_OPTIMIZER_HEADING "## Optimizer (hmdlod bench optimizer)"
+struct bch_optimizer_options {
+    const char *trace, *results; /* trace NULL: Corbillon user2 from the shared folder; results NULL: none */
+    long frames, pairs, seed;    /* frames per table, frame pairs per turn bin, placement seed */
+    double limit_us, hysteresis; /* limit 0: no time-limited fs; hysteresis when has_hysteresis */
+    int quick, has_hysteresis;
+};
+int bch_optimizer(const struct bch_optimizer_options *o, int full_argc, char **full_argv);
+
+/* hmdlod bench replay (bench/bench_replay.c): none against reddy on both scenes and the real traces. */
+#define BCH_REPLAY_HEADING "## Replay (hmdlod bench replay)"
+struct bch_replay_options {
+    long frames;          /* per run from each trace's start; 0: the defaults (600, --quick 200) */
+    double render_scale;  /* per-eye resolution factor in (0, 4] */
+    long objects;         /* in the field scene */
+    int quick;
+    const char *results;  /* NULL: no results file */
+};
+int bch_replay(const struct bch_replay_options *o, int full_argc, char **full_argv);
+
+/* hmdlod bench soak (bench/bench_soak.c): checks o (bch_soak_check_options), takes the trace and
+ * the IMU stream from the shared folder (o's paths are replaced), runs the soak and prints its table. */
+int bch_soak(const struct bch_soak_options *o, int full_argc, char **full_argv);
+
 
 /* bench cull's generated scene, shared with bench optimizer's scaling table: n objects on a ground
- * grid 2 m apart around the origin, grouped as a quadtree of 4 × 4 (bench/cull.c). Allocates
+ * grid 2 m apart around the origin, grouped as a quadtree of 4 × 4 (bench/bench_cull.c). Allocates
  * the scene's arrays (scn_scene_free releases them); 0, or −1 with err. */
 struct scn_scene;
 struct hl_error;

@@ -50,7 +50,7 @@ struct bch_soak_summary {
     long rss_start_kib, rss_end_kib; /* /proc/self/statm after the warm-up, at the end */
     long heap_start_kib, heap_end_kib; /* malloc's bytes in use (mallinfo2) then; −1 where unknown */
     long fds_start, fds_end;         /* entries of /proc/self/fd at the same two moments */
-    long heap_trims;                 /* idle heap trims the pacer made (live_internal.h) */
+    long heap_trims;                 /* idle heap trims the pacer made (live/live.h) */
     double heap_trim_ms_max;         /* the longest of them */
     /* [0]: the first stretch, [1]: the last */
     struct bch_soak_stats frame_ms[2], cpu_ms[2];

@@ -8,7 +8,7 @@
 struct scn_scene;
 
 /* How a scene file's mesh entry becomes a lodset: the default resolver (scene/ only) reads .lod
- * files and runs scn_lodgen_build on mesh files; replay/ passes one that also analyses and caches. */
+ * files and runs scn_lodgen_build on mesh files; frame/ passes one that also analyses and caches. */
 struct scn_asset_resolver {
     int (*resolve)(void *user, const char *path, struct scn_lodset *out, struct hl_error *err);
     void *user;
@@ -17,7 +17,7 @@ int scn_scenefile_load(const char *path, const struct scn_asset_resolver *resolv
                        struct scn_scene *out, struct hl_error *err);
 
 /* Where the default resolver may keep the chains it makes from mesh files, so that a later load
- * skips the decimation (replay/ keeps them on disk). load fills *out with a chain made earlier from
+ * skips the decimation (frame/ keeps them on disk). load fills *out with a chain made earlier from
  * the mesh at `path` whose imported mesh has scn_mesh_hash `hash` and returns 0, else −1 (*out
  * zeroed); save keeps one (failures are the store's to report: never an error of the load). */
 struct scn_chain_store {

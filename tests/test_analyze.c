@@ -10,7 +10,7 @@
 #include <unistd.h>
 
 #include "render/render.h"
-#include "replay/replay.h"
+#include "frame/frame.h"
 #include "tests/test_util.h"
 
 /* Bruce Lindbloom's colour calculator (sRGB, D65, 2°), the values scikit-image's rgb2luv test and

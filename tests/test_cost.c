@@ -3,7 +3,7 @@
  * known coefficients from synthetic frames (exact and noisy), held-out accuracy arithmetic, the
  * split, the profile JSON round trip and bad
  * profiles refused with the file and field named; one tiny real measurement on headless EGL. */
-#include "replay/replay.h"
+#include "frame/frame.h"
 #include "test_util.h"
 
 #include <dlfcn.h>

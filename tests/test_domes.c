@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include "lod/lod.h"
-#include "replay/replay.h"
+#include "frame/frame.h"
 #include "frame/select_mb.h"
 #include "scene/scene.h"
 #include "test_util.h"

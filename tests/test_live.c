@@ -1,4 +1,4 @@
-/* replay/'s live pieces that need no window: the pacer (slots, missed slots when a frame is late,
+/* live/'s pieces that need no window: the pacer (slots, missed slots when a frame is late,
  * intervals) and the desk pose source (scripted yaw, mouse look, angular velocity in the world). */
 #include <math.h>
 #include <stdlib.h>

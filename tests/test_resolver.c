@@ -9,7 +9,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "replay/replay.h"
+#include "frame/frame.h"
 #include "test_util.h"
 
 /* The one cache file for suzanne in dir, or "" when there is none. */

@@ -1,4 +1,4 @@
-/* bench tracking's OpenHMD oracle (bench/tracking_openhmd.c, compiled into this test): the frame
+/* bench tracking's OpenHMD oracle (bench/bench_tracking_openhmd.c, compiled into this test): the frame
  * conversion both ways, pure rotations about each body axis that must come back with the truth's
  * sign (so an axis mistake cannot pass as "OpenHMD is bad"), OpenHMD's tilt on a piece of a shared
  * stream, and the full stream against the OpenHMD figures data/README.md §5 measured independently.
@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bench/tracking_openhmd.h"
+#include "bench/bench_tracking_openhmd.h"
 #include "tests/test_util.h"
 #include "tracking/tracking.h"
 

@@ -1,7 +1,7 @@
 /* Fuzz target: cost profiles (frm_cost_profile_read, frame/cost_profile.c) from a scratch file. */
 #include "fuzz_util.h"
 
-#include "replay/replay.h"
+#include "frame/frame.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

@@ -3,18 +3,16 @@
  * optimizer (fs, §6) against the from-scratch greedy on the same frames, cold start, the share of
  * the LP bound, time against the turn between frames and against the budget as Nirenstein et al.
  * §5.1–5.3 measured it, the time limit (§5.5) and the per-frame work as the full scene grows with a
- * fixed budget (§5.7, Fig. 9). The frame's problem is built in bench/optimizer_frame.c. */
+ * fixed budget (§5.7, Fig. 9). The frame's problem is built in bench/bench_optimizer_frame.c. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "bench/bench.h"
-#include "bench/optimizer_internal.h"
-#include "app/commands.h"
+#include "bench/bench_optimizer_runs.h"
 
 
-#define OPT_HEADING "## Optimizer (hmdlod bench optimizer)"
 #define OPT_TRACE "data/traces/corbillon-mmsys18/user2_quaternion.txt"
 
 enum { N_SIZES = 3, N_BUDGETS = 4, N_SCALES = 3 };
@@ -22,83 +20,6 @@ static const uint32_t sizes[N_SIZES] = {1000, 10000, 100000};
 static const double budget_factor[N_BUDGETS] = {0.25, 0.5, 1.0, 2.0};
 static const uint32_t scale_objects[N_SCALES] = {10000, 100000, 1000000};
 static const double scale_far_m = 50.0;   /* fixed view distance of the scaling table */
-
-static const char opt_usage[] =
-    "usage: hmdlod bench optimizer [--trace FILE] [--frames N] [--turn-pairs K] [--opt-limit-us T] [--hysteresis H]\n"
-    "                              [--seed S] [--results FILE] [--quick]\n\n"
-    "Times the cost-bounded optimizers on synthetic frames built by the embeddable core (acuity + lod):\n"
-    "1k / 10k / 100k visible objects x 4 LODs on a shell around the viewer, head motion from a real trace at\n"
-    "90 Hz, Vive eyes. Per frame: fs (incremental from last frame) vs the from-scratch greedy on the same\n"
-    "problem, cold start, iterations, benefit as a share of the LP bound; fs time against the turn between\n"
-    "frames and against the budget (10k objects); with --opt-limit-us the time-limited fs; and the per-frame\n"
-    "cull + build + optimize time as a ground-grid scene grows 1x / 10x / 100x with a fixed view distance.\n"
-    "  --trace FILE       head motion (default: Corbillon MMSys'18 user2 from the shared folder)\n"
-    "  --frames N         frames per table (default 900; --quick 150)\n"
-    "  --turn-pairs K     frame pairs per turn bin (default 60; --quick 15)\n"
-    "  --opt-limit-us T   also run fs with Nirenstein's time limit T µs (10k and 100k objects)\n"
-    "  --hysteresis H     error multiplier per level changed from last frame (default lod's, 1)\n"
-    "  --seed S           placement seed (default 1)\n"
-    "  --results FILE     also write the output as the section \"" OPT_HEADING "\" of FILE\n";
-
-struct opt_opts {
-    const char *trace, *results;
-    long frames, pairs, seed;
-    double limit_us, hysteresis;
-    int quick, has_hysteresis;
-    char trace_buf[4200];
-};
-
-static int parse_args(int argc, char **argv, struct opt_opts *o)
-{
-    o->seed = 1;
-    for (int i = 1; i < argc; ++i) {
-        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(argv[i], "--quick")) {
-            o->quick = 1;
-            continue;
-        }
-        if (!val) {
-            fprintf(stderr, "hmdlod bench optimizer: %s needs a value (try --help)\n", argv[i]);
-            return 1;
-        }
-        long lv;
-        if (!strcmp(argv[i], "--trace"))
-            o->trace = val;
-        else if (!strcmp(argv[i], "--results"))
-            o->results = val;
-        else if (!strcmp(argv[i], "--frames")) {
-            if (app_parse_long("--frames", val, 2, 1000000, &o->frames) != 0)
-                return 1;
-        } else if (!strcmp(argv[i], "--turn-pairs")) {
-            if (app_parse_long("--turn-pairs", val, 1, 100000, &o->pairs) != 0)
-                return 1;
-        } else if (!strcmp(argv[i], "--opt-limit-us")) {
-            if (app_parse_long("--opt-limit-us", val, 1, 10000000, &lv) != 0)
-                return 1;
-            o->limit_us = (double)lv;
-        } else if (!strcmp(argv[i], "--hysteresis")) {
-            char *end = NULL;
-            o->hysteresis = strtod(val, &end);
-            if (end == val || *end || !(o->hysteresis >= 0.0 && o->hysteresis <= 1.0)) {
-                fprintf(stderr, "hmdlod bench optimizer: --hysteresis: '%s' is not a number in [0, 1]\n", val);
-                return 1;
-            }
-            o->has_hysteresis = 1;
-        } else if (!strcmp(argv[i], "--seed")) {
-            if (app_parse_long("--seed", val, 0, 2147483647, &o->seed) != 0)
-                return 1;
-        } else {
-            fprintf(stderr, "hmdlod bench optimizer: unknown option '%s' (try --help)\n", argv[i]);
-            return 1;
-        }
-        ++i;
-    }
-    if (!o->frames)
-        o->frames = o->quick ? 150 : 900;
-    if (!o->pairs)
-        o->pairs = o->quick ? 15 : 60;
-    return 0;
-}
 
 /* mb (Mason & Blake's hierarchical optimizer) runs in the trace table on the same frames, the objects
  * as a tree of leaves; the other tables time fs. */
@@ -108,16 +29,10 @@ static int parse_args(int argc, char **argv, struct opt_opts *o)
 
 static const char *goal(int met) { return met ? "met" : "**not met**"; }
 
-int bch_optimizer(int argc, char **argv, int full_argc, char **full_argv)
+int bch_optimizer(const struct bch_optimizer_options *options, int full_argc, char **full_argv)
 {
-    if (app_wants_help(argc, argv)) {
-        fputs(opt_usage, stdout);
-        return 0;
-    }
-    struct opt_opts o;
-    memset(&o, 0, sizeof o);
-    if (parse_args(argc, argv, &o) != 0)
-        return 1;
+    struct bch_optimizer_options o = *options;
+    char trace_buf[4200];
     struct hl_error err = {{0}};
     struct hmd_profile display;
     if (hmd_profile_load("vive", &display, &err) != 0) {
@@ -131,8 +46,8 @@ int bch_optimizer(int argc, char **argv, int full_argc, char **full_argv)
             fprintf(stderr, "hmdlod bench optimizer: the shared data folder is absent (%s); give --trace FILE\n", shared);
             return 1;
         }
-        snprintf(o.trace_buf, sizeof o.trace_buf, "%s/" OPT_TRACE, shared);
-        o.trace = o.trace_buf;
+        snprintf(trace_buf, sizeof trace_buf, "%s/" OPT_TRACE, shared);
+        o.trace = trace_buf;
         trace_label = "Corbillon MMSys'18 user2";
     }
     struct opt_trace tr;
@@ -223,7 +138,7 @@ int bch_optimizer(int argc, char **argv, int full_argc, char **full_argv)
         fprintf(stderr, "hmdlod bench optimizer: out of memory\n");
         goto done;
     }
-    bch_emit(OPT_HEADING "\n\n");
+    bch_emit(BCH_OPTIMIZER_HEADING "\n\n");
     bch_print_context(full_argc, full_argv, NULL);
     bch_emit("- head motion: %s at %.0f Hz, %ld frames per run; eyes: %s; 4 LODs per object; no GL (acuity + lod only)\n",
                trace_label, BCH_OPT_RATE_HZ, o.frames, display.name);
@@ -254,7 +169,7 @@ int bch_optimizer(int argc, char **argv, int full_argc, char **full_argv)
                        100.0 * r->equal_share, r->over_budget, r->drop_frames, r->build_med, r->mb_med, r->mb_p99,
                        r->mb_lp_min);
         }
-    bch_emit("\nmb (Mason & Blake, hierarchical): %s\n", BCH_OPT_HAVE_MB ? "its columns above, on the same frames with the objects as a flat tree (no groups: it must equal the greedy; the domes scene in replay exercises the hierarchy)" : "not in this build (lod_optimize_mb is not on this branch yet); the hook is marked in bench/optimizer.c");
+    bch_emit("\nmb (Mason & Blake, hierarchical): %s\n", BCH_OPT_HAVE_MB ? "its columns above, on the same frames with the objects as a flat tree (no groups: it must equal the greedy; the domes scene in replay exercises the hierarchy)" : "not in this build (lod_optimize_mb is not on this branch yet); the hook is marked in bench/bench_optimizer.c");
     const struct size_row *r10 = &rows[1], *r100 = &rows[2];
     double lp_min_all = fmin(fmin(rows[0].lp_min, r10->lp_min), r100->lp_min);
     bch_emit("\nGoals (issue 13): 10k fs median %.1f µs ≤ 100: %s; cold start %.2f ms ≤ 5: %s; 100k fs median %.1f µs ≤ "
@@ -323,7 +238,7 @@ int bch_optimizer(int argc, char **argv, int full_argc, char **full_argv)
                (double)scales[N_SCALES - 1].objects / scales[0].objects, scales[N_SCALES - 1].visible_mean / fmax(scales[0].visible_mean, 1e-9),
                scales[N_SCALES - 1].cull_med / scales[0].cull_med, scales[N_SCALES - 1].build_med / scales[0].build_med,
                scales[N_SCALES - 1].fs_med / scales[0].fs_med, scales[N_SCALES - 1].total_med / scales[0].total_med);
-    bch_emit("\nHow measured (bench/optimizer.c, bench/optimizer_frame.c, bench/optimizer_runs.c): each frame takes the trace's head pose "
+    bch_emit("\nHow measured (bench/bench_optimizer.c, bench/bench_optimizer_frame.c, bench/bench_optimizer_runs.c): each frame takes the trace's head pose "
                "(slerp, looped) and does what an engine embedding acuity + lod does: cull (scn_cull against the union of "
                "both eye frusta), then acu_compute_geometry, acu_compute_pixels, lod_select_reddy (the ceiling), each "
                "level's cost from an additive model with llvmpipe-like coefficients (assumed: c0 1.5 ms, 4e-5 ms/triangle, "
@@ -340,7 +255,7 @@ int bch_optimizer(int argc, char **argv, int full_argc, char **full_argv)
                "visible part stays the same while the scene grows; timed = cull + build + fs. A shared machine: compare "
                "the ratios within one run.\n",
                o.seed, 100 * BCH_OPT_BUDGET_SHARE, scale_far_m);
-    rc = bch_copy_finish(o.results, OPT_HEADING, "hmdlod bench optimizer", 0);
+    rc = bch_copy_finish(o.results, BCH_OPTIMIZER_HEADING, "hmdlod bench optimizer", 0);
 done:
     for (int k = 0; k < N_SIZES; ++k)
         bch_opt_free_case(&cases[k]);

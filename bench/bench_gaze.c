@@ -11,10 +11,8 @@
 #include <time.h>
 
 #include "bench/bench.h"
-#include "app/commands.h"
 #include "replay/replay.h"
 
-#define GAZE_HEADING "## Gaze models (hmdlod bench gaze)"
 
 static const char *const scenes[] = {"field", "auditorium"};
 enum { N_SCENES = 2, MAX_TRACES = 6 };
@@ -55,62 +53,6 @@ struct gaze_bench {
     long whole_frames;
     int ran[MAX_TRACES][N_SCENES][N_MODELS];
 };
-
-static const char gaze_usage[] =
-    "usage: hmdlod bench gaze [--frames N] [--objects N] [--render-scale F] [--results FILE] [--quick]\n\n"
-    "Replays real traces through the field and auditorium scenes on the Vive with selector reddy under\n"
-    "each gaze model (head, vor; tracked where the trace has gaze, also with fs), each with and without\n"
-    "the velocity term, against none (the finest LOD), and prints triangles, frame time, the share of\n"
-    "the velocity term's saving that survives under vor, and for tracked the saccades and the\n"
-    "refinements that missed 28 ms, as Markdown. Traces from the shared folder: Corbillon MMSys'18,\n"
-    "Nasrabadi MMSys'19, EDVAM (gaze).\n"
-    "  --frames N        frames per run from each trace's start (default 300; --quick 60)\n"
-    "  --objects N       objects in the field scene, 1..100000 (default 1000; --quick 300)\n"
-    "  --render-scale F  per-eye resolution factor in (0, 4] (default 1; --quick 0.5)\n"
-    "  --results FILE    also write the output as the section \"" GAZE_HEADING "\" of FILE\n"
-    "  --quick           fewer frames and objects, half the resolution (75 s of CPU here)\n"
-    "Traces: Corbillon user1, Nasrabadi 322SAJ_9, EDVAM participant2.\n"
-    "The shared folder: $HMDLOD_SHARED, else ../shared, else next to the executable's checkout.\n";
-
-static int parse_args(int argc, char **argv, struct gaze_bench *b)
-{
-    b->objects = 0; /* 0: the default for the mode */
-    b->render_scale = 0.0; /* 0: the default for the mode */
-    for (int i = 1; i < argc; ++i) {
-        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(argv[i], "--quick")) {
-            b->quick = 1;
-            continue;
-        }
-        if (!strcmp(argv[i], "--frames")) {
-            if (app_parse_long("--frames", val, 1, 100000000, &b->frames) != 0)
-                return 1;
-        } else if (!strcmp(argv[i], "--objects")) {
-            if (app_parse_long("--objects", val, 1, 100000, &b->objects) != 0)
-                return 1;
-        } else if (!strcmp(argv[i], "--render-scale")) {
-            if (app_parse_double("--render-scale", val, &b->render_scale) != 0)
-                return 1;
-            if (!(b->render_scale > 0.0 && b->render_scale <= 4.0)) {
-                fprintf(stderr, "hmdlod: --render-scale: %g is outside (0, 4]\n", b->render_scale);
-                return 1;
-            }
-        } else if (!strcmp(argv[i], "--results") && val) {
-            b->results = val;
-        } else {
-            fprintf(stderr, "hmdlod bench gaze: unknown or incomplete option '%s' (try --help)\n", argv[i]);
-            return 1;
-        }
-        ++i;
-    }
-    if (!b->frames)
-        b->frames = b->quick ? 60 : 300;
-    if (!b->objects)
-        b->objects = b->quick ? 300 : 1000;
-    if (!(b->render_scale > 0.0))
-        b->render_scale = b->quick ? 0.5 : 1.0;
-    return 0;
-}
 
 static void add_trace(struct gaze_bench *b, const char *shared, const char *label, const char *rel, int has_gaze)
 {
@@ -290,15 +232,16 @@ static void print_notes(const struct gaze_bench *b, double wall_s, int runs)
                runs, wall_s, b->frames, s->display, s->rate_hz, b->render_scale);
 }
 
-int bch_gaze(int argc, char **argv, int full_argc, char **full_argv)
+int bch_gaze(const struct bch_gaze_options *o, int full_argc, char **full_argv)
 {
-    if (app_wants_help(argc, argv)) {
-        fputs(gaze_usage, stdout);
-        return 0;
-    }
     static struct gaze_bench b; /* the summaries are large */
     memset(&b, 0, sizeof b);
-    if (parse_args(argc, argv, &b) != 0 || choose_traces(&b) != 0)
+    b.frames = o->frames;
+    b.objects = o->objects;
+    b.render_scale = o->render_scale;
+    b.quick = o->quick;
+    b.results = o->results;
+    if (choose_traces(&b) != 0)
         return 1;
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
@@ -315,12 +258,12 @@ int bch_gaze(int argc, char **argv, int full_argc, char **full_argv)
         fprintf(stderr, "hmdlod bench gaze: out of memory\n");
         return 1;
     }
-    bch_emit(GAZE_HEADING "\n\n");
+    bch_emit(BCH_GAZE_HEADING "\n\n");
     bch_print_context(full_argc, full_argv, b.sum[0][0][M_NONE].renderer);
     for (int sc = 0; sc < N_SCENES; ++sc)
         print_scene_table(&b, sc);
     print_velocity_table(&b);
     print_saccade_table(&b);
     print_notes(&b, wall_s, runs);
-    return bch_copy_finish(b.results, GAZE_HEADING, "hmdlod bench gaze", 0);
+    return bch_copy_finish(b.results, BCH_GAZE_HEADING, "hmdlod bench gaze", 0);
 }

@@ -11,22 +11,11 @@
 #include <unistd.h>
 
 #include "bench/bench.h"
-#include "app/commands.h"
 #include "render/render.h"
 #include "live/live.h"
 #include "replay/replay.h"
 
-#define LIVE_HEADING "## Live session (hmdlod bench live)"
 
-static const char live_bench_usage[] =
-    "usage: hmdlod bench live [--draws N] [--frames N] [--results FILE]\n\n"
-    "Times the lens distortion pass at the Vive's resolution (2160 x 1200) headless, with the DK2's\n"
-    "PanoTools coefficients and aberration and without (the Vive's built-in profile has none), and,\n"
-    "when DISPLAY is set (run it under xvfb-run -a), a 90 Hz live session whose frame fits its budget\n"
-    "(field with 10 objects, render scale 0.1, a 320 x 180 window) with its present intervals, as Markdown.\n"
-    "  --draws N         distortion passes timed per case (default 200)\n"
-    "  --frames N        frames of the live session (default 900: 10 s)\n"
-    "  --results FILE    also write the output as the section \"" LIVE_HEADING "\" of FILE\n";
 
 static int compare_double(const void *a, const void *b)
 {
@@ -138,42 +127,17 @@ static int pacing_table(long frames)
     return 0;
 }
 
-int bch_live(int argc, char **argv, int full_argc, char **full_argv)
+int bch_live(const struct bch_live_options *o, int full_argc, char **full_argv)
 {
-    long draws = 200, frames = 900;
-    const char *results = NULL;
-    for (int i = 1; i < argc; ++i) {
-        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            fputs(live_bench_usage, stdout);
-            return 0;
-        }
-        if (!val) {
-            fprintf(stderr, "hmdlod bench live: %s needs a value (try --help)\n", argv[i]);
-            return 1;
-        }
-        ++i;
-        if (!strcmp(argv[i - 1], "--draws")) {
-            if (app_parse_long("--draws", val, 1, 100000, &draws))
-                return 1;
-        } else if (!strcmp(argv[i - 1], "--frames")) {
-            if (app_parse_long("--frames", val, 2, 10000000, &frames))
-                return 1;
-        } else if (!strcmp(argv[i - 1], "--results")) {
-            results = val;
-        } else {
-            fprintf(stderr, "hmdlod bench live: unknown option '%s'\n%s", argv[i - 1], live_bench_usage);
-            return 1;
-        }
-    }
+    const char *results = o->results;
     if (results && bch_copy_begin() != 0) {
         fprintf(stderr, "hmdlod bench live: out of memory\n");
         return 1;
     }
-    bch_emit(LIVE_HEADING "\n\n");
+    bch_emit(BCH_LIVE_HEADING "\n\n");
     bch_print_context(full_argc, full_argv, "llvmpipe (headless EGL; the window's GLX under Xvfb)");
-    int rc = distortion_table(draws);
+    int rc = distortion_table(o->draws);
     if (rc == 0)
-        rc = pacing_table(frames);
-    return bch_copy_finish(results, LIVE_HEADING, "hmdlod bench live", rc);
+        rc = pacing_table(o->frames);
+    return bch_copy_finish(results, BCH_LIVE_HEADING, "hmdlod bench live", rc);
 }

@@ -1,5 +1,5 @@
 /* hmdlod bench (no sub-bench name): the suite of issue 15. Argument parsing and dispatch only: the
- * run list, the folders and the report are replay/'s (bench/suite.h). Serial runs go through
+ * run list, the folders and the report are bench/'s (bench/suite.h). Serial runs go through
  * cmd_replay with each run's own argument list, the very line a plan writes, so a serial suite and
  * a parallel plan run the same replays. */
 #define _XOPEN_SOURCE 700 /* realpath, readlink */
@@ -11,13 +11,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "bench/bench.h"
 #include "app/commands.h"
-#include "replay/replay.h"
+#include "bench/bench.h"
 
 enum { MAX_MERGE_DIRS = 64 };
 
-void bch_suite_usage(FILE *f)
+void cmd_bench_suite_usage(FILE *f)
 {
     fputs("usage: hmdlod bench [--quick|--tiny] [--only GLOB] --out DIR         run the suite, then its report\n"
           "       hmdlod bench [--quick|--tiny] [--only GLOB] --plan FILE --out DIR  write one replay line per run\n"
@@ -133,7 +132,7 @@ static int merge(const char *const *dirs, int n_dirs, const char *out, int parti
     return rc;
 }
 
-int bch_suite(int argc, char **argv, int full_argc, char **full_argv)
+int cmd_bench_suite(int argc, char **argv, int full_argc, char **full_argv)
 {
     enum bch_mode mode = BCH_FULL;
     const char *out = NULL, *plan_file = NULL, *only = NULL;

@@ -1,4 +1,4 @@
-/* The runs behind `hmdlod bench optimizer`'s tables (bench/optimizer.c prints them): the
+/* The runs behind `hmdlod bench optimizer`'s tables (bench/bench_optimizer.c prints them): the
  * synthetic shell scenes, the trace's frames, fs against the greedy per frame, the turn pairs and the
  * scaling scenes. Each run times only the calls it names; everything is allocated before it. */
 #include <math.h>
@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "bench/bench.h"
-#include "bench/optimizer_internal.h"
+#include "bench/bench_optimizer_runs.h"
 
 const double bch_opt_turn_bin_deg[BCH_OPT_TURN_BINS + 1] = {0, 1, 5, 20, 60, 180};
 

@@ -7,10 +7,8 @@
 #include <string.h>
 
 #include "bench/bench.h"
-#include "app/commands.h"
 #include "scene/scene.h"
 
-#define LODGEN_HEADING "## LOD generation (hmdlod bench lodgen)"
 enum { BENCH_LEVELS = 4 }; /* decimated levels below the full mesh: 50, 25, 10, 2 % */
 static const double bench_ratios[BENCH_LEVELS] = {0.5, 0.25, 0.1, 0.02};
 
@@ -20,7 +18,7 @@ static double median(double *v, int n)
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-struct bench_run {
+struct lodgen_run {
     double chain_s[16];
     struct scn_decimate_timing split[16];
     uint32_t tris[BENCH_LEVELS], verts[BENCH_LEVELS];
@@ -28,7 +26,7 @@ struct bench_run {
 };
 
 static int bench_simplifier(const struct scn_mesh *mesh, enum scn_simplifier s, int repeats, uint64_t samples,
-                            struct bench_run *run)
+                            struct lodgen_run *run)
 {
     uint32_t t0 = mesh->index_count / 3, targets[BENCH_LEVELS];
     for (int k = 0; k < BENCH_LEVELS; ++k)
@@ -60,35 +58,11 @@ static int bench_simplifier(const struct scn_mesh *mesh, enum scn_simplifier s, 
     return 0;
 }
 
-int bch_lodgen(int argc, char **argv, int full_argc, char **full_argv)
+int bch_lodgen(const struct bch_lodgen_options *o, int full_argc, char **full_argv)
 {
-    if (app_wants_help(argc, argv)) {
-        printf("usage: hmdlod bench lodgen [--quick] [--repeats N] [--results FILE]\n\n"
-               "Imports shared/data/meshes/stanford-bunny.obj and decimates it to 50, 25, 10 and 2 %% of its\n"
-               "triangles (one chain, each level from the one before) with OpenMesh and with meshoptimizer;\n"
-               "prints the chain time (median of the repeats, import timed apart), each level's triangles and\n"
-               "two-sided Hausdorff error, and where OpenMesh's time goes. Markdown output.\n"
-               "  --quick         1 repeat and 2^17 Hausdorff samples (default: 3 repeats, 2^20 samples)\n"
-               "  --repeats N     timed repeats of each chain (1…15)\n"
-               "  --results FILE  also write the output as the section \"" LODGEN_HEADING "\" of FILE\n");
-        return 0;
-    }
-    long repeats = 3;
-    uint64_t samples = (uint64_t)1 << 20;
-    const char *results = NULL;
-    for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "--quick")) {
-            repeats = 1, samples = (uint64_t)1 << 17;
-        } else if (!strcmp(argv[i], "--repeats")) {
-            if (app_parse_long("--repeats", i + 1 < argc ? argv[++i] : NULL, 1, 15, &repeats) != 0)
-                return 1;
-        } else if (!strcmp(argv[i], "--results") && i + 1 < argc) {
-            results = argv[++i];
-        } else {
-            fprintf(stderr, "hmdlod bench lodgen: unknown or incomplete option '%s' (try --help)\n", argv[i]);
-            return 1;
-        }
-    }
+    long repeats = o->repeats;
+    uint64_t samples = o->hausdorff_samples;
+    const char *results = o->results;
     char shared[4096], path[4200];
     if (bch_find_shared(shared, sizeof shared) != 0) {
         fprintf(stderr, "hmdlod bench lodgen: skip: the shared data folder is absent (%s); set HMDLOD_SHARED\n",
@@ -121,7 +95,7 @@ int bch_lodgen(int argc, char **argv, int full_argc, char **full_argv)
     double radius_m = set.radius_m;
     scn_lodset_free(&set);
 
-    static struct bench_run runs[2];
+    static struct lodgen_run runs[2];
     memset(runs, 0, sizeof runs);
     int rc = 0;
     for (int s = 0; s < 2 && rc == 0; ++s)
@@ -136,7 +110,7 @@ int bch_lodgen(int argc, char **argv, int full_argc, char **full_argv)
         fprintf(stderr, "hmdlod bench lodgen: out of memory\n");
         return 1;
     }
-    bch_emit(LODGEN_HEADING "\n\n");
+    bch_emit(BCH_LODGEN_HEADING "\n\n");
     bch_print_context(full_argc, full_argv, NULL);
     bch_emit("\nstanford-bunny.obj: %u triangles, %u vertices; import (OpenMesh OBJ reader + welding + normals) "
                "%.3f s median of %ld. Chain: 50 → 25 → 10 → 2 %% of the triangles, each level from the one before; "
@@ -182,5 +156,5 @@ int bch_lodgen(int argc, char **argv, int full_argc, char **full_argv)
                "libOpenMeshCore (PLATFORM.md §7b). meshopt: meshopt_simplify 0.18 after meshopt_generateVertexRemap "
                "welding, target_error 1 (no limit), no border lock. Both weld and recompute area-weighted normals "
                "per level.\n");
-    return bch_copy_finish(results, LODGEN_HEADING, "hmdlod bench lodgen", 0);
+    return bch_copy_finish(results, BCH_LODGEN_HEADING, "hmdlod bench lodgen", 0);
 }

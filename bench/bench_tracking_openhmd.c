@@ -38,7 +38,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bench/tracking_openhmd.h"
+#include "bench/bench_tracking_openhmd.h"
 
 #ifdef HMDLOD_HAVE_OPENHMD
 #include <openhmd.h>

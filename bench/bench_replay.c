@@ -9,10 +9,8 @@
 #include <time.h>
 
 #include "bench/bench.h"
-#include "app/commands.h"
 #include "replay/replay.h"
 
-#define REPLAY_HEADING "## Replay (hmdlod bench replay)"
 #define CORBILLON_DIR "data/traces/corbillon-mmsys18"
 
 static const char *const scenes[] = {"field", "auditorium"};
@@ -35,54 +33,6 @@ struct replay_bench {
     int n_traces;
     struct rpl_summary sum[MAX_TRACES][N_SCENES][N_SELECTORS];
 };
-
-static const char replay_usage[] =
-    "usage: hmdlod bench replay [--frames N] [--render-scale F] [--objects N] [--results FILE] [--quick]\n\n"
-    "Replays head motion through the field and auditorium scenes on the Vive profile (11.1 ms display\n"
-    "period) with the selectors none and reddy, same trace and frames, and prints frame time, triangles\n"
-    "and the none/reddy ratios as Markdown. Traces: the built-in clip, and Corbillon MMSys'18 user1-3\n"
-    "from the shared folder when it is present.\n"
-    "  --frames N        frames per run from each trace's start (default 600; the built-in clip: whole)\n"
-    "  --render-scale F  per-eye resolution factor in (0, 4] (default 1: the display's pixels)\n"
-    "  --objects N       objects in the field scene, 1..100000 (default 100)\n"
-    "  --results FILE    also write the output as the section \"" REPLAY_HEADING "\" of FILE\n"
-    "                    (e.g. docs/RESULTS.md; other sections are kept)\n"
-    "  --quick           200 frames, and of the shared traces user1 only\n"
-    "The shared folder: $HMDLOD_SHARED, else ../shared, else next to the executable's checkout.\n";
-
-static int parse_args(int argc, char **argv, struct replay_bench *b)
-{
-    b->render_scale = 1.0;
-    b->objects = 100;
-    for (int i = 1; i < argc; ++i) {
-        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(argv[i], "--quick")) {
-            b->quick = 1;
-            continue;
-        }
-        if (!strcmp(argv[i], "--frames")) {
-            if (app_parse_long("--frames", val, 1, 100000000, &b->frames) != 0)
-                return 1;
-        } else if (!strcmp(argv[i], "--render-scale")) {
-            if (app_parse_double("--render-scale", val, &b->render_scale) != 0)
-                return 1;
-            if (!(b->render_scale > 0.0 && b->render_scale <= 4.0)) { /* before minutes of runs, not after */
-                fprintf(stderr, "hmdlod: --render-scale: %g is outside (0, 4]\n", b->render_scale);
-                return 1;
-            }
-        } else if (!strcmp(argv[i], "--objects")) {
-            if (app_parse_long("--objects", val, 1, 100000, &b->objects) != 0)
-                return 1;
-        } else if (!strcmp(argv[i], "--results") && val) {
-            b->results = val;
-        } else {
-            fprintf(stderr, "hmdlod bench replay: unknown or incomplete option '%s' (try --help)\n", argv[i]);
-            return 1;
-        }
-        ++i;
-    }
-    return 0;
-}
 
 /* The built-in clip always (it needs no files); the Corbillon users when the shared folder is there. */
 static void choose_traces(struct replay_bench *b)
@@ -218,16 +168,15 @@ static void print_notes(const struct replay_bench *b, double wall_s)
                b->render_scale, s->display, cpu);
 }
 
-int bch_replay(int argc, char **argv, int full_argc, char **full_argv)
+int bch_replay(const struct bch_replay_options *o, int full_argc, char **full_argv)
 {
-    if (app_wants_help(argc, argv)) {
-        fputs(replay_usage, stdout);
-        return 0;
-    }
     struct replay_bench b;
     memset(&b, 0, sizeof b);
-    if (parse_args(argc, argv, &b) != 0)
-        return 1;
+    b.frames = o->frames;
+    b.render_scale = o->render_scale;
+    b.objects = o->objects;
+    b.quick = o->quick;
+    b.results = o->results;
     choose_traces(&b);
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
@@ -240,11 +189,11 @@ int bch_replay(int argc, char **argv, int full_argc, char **full_argv)
         return 1;
     }
     /* Printed after the runs: the renderer line of the context comes from a summary. */
-    bch_emit(REPLAY_HEADING "\n\n");
+    bch_emit(BCH_REPLAY_HEADING "\n\n");
     bch_print_context(full_argc, full_argv, b.sum[0][0][0].renderer);
     for (int sc = 0; sc < N_SCENES; ++sc)
         print_scene_table(&b, sc);
     print_band_table(&b);
     print_notes(&b, wall_s);
-    return bch_copy_finish(b.results, REPLAY_HEADING, "hmdlod bench replay", 0);
+    return bch_copy_finish(b.results, BCH_REPLAY_HEADING, "hmdlod bench replay", 0);
 }

@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "bench/optimizer_internal.h"
+#include "bench/bench_optimizer_frame.h"
 
 /* Four synthetic chains (level 0 finest): triangle and vertex counts of typical scanned props and
  * Reddy's removed frequencies in cycles per object diameter (made up, in the range `hmdlod analyze`

@@ -9,75 +9,15 @@
 #include <string.h>
 
 #include "bench/bench.h"
-#include "app/commands.h"
 #include "hmd/hmd.h"
 #include "replay/replay.h"
 #include "scene/scene.h"
 
-#define CULL_HEADING "## Culling (hmdlod bench cull)"
 #define CULL_TRACE "data/traces/corbillon-mmsys18/user1_quaternion.txt"
 
 enum { N_SIZES = 3, FANOUT = 4 };
 static const uint32_t sizes[N_SIZES] = {1000, 10000, 100000};
 static const double pitch_m = 2.0; /* one object per 2 m × 2 m of ground */
-
-static const char cull_usage[] =
-    "usage: hmdlod bench cull [--trace FILE] [--frames N] [--display NAME|FILE] [--seed S] [--results FILE] [--quick]\n\n"
-    "Culls generated scenes of 1k, 10k and 100k objects (a ground grid around the viewer, grouped as a\n"
-    "quadtree of 4 x 4) against the union of both eye frusta along a head-motion trace, once testing every\n"
-    "object (flat) and once walking the groups (hierarchical), and prints per-frame time (median, p95),\n"
-    "visible groups and objects, spheres tested, the flat/hierarchical ratios and a least-squares fit of\n"
-    "the hierarchical time to what it did, as Markdown.\n"
-    "  --trace FILE      head motion (default: Corbillon MMSys'18 user1 from the shared folder, else the\n"
-    "                    built-in clip)\n"
-    "  --frames N        frames at the display's refresh (default 2000; --quick 300)\n"
-    "  --display NAME    display profile for the frusta (default vive)\n"
-    "  --seed S          placement seed (default 1)\n"
-    "  --results FILE    also write the output as the section \"" CULL_HEADING "\" of FILE\n";
-
-struct cull_opts {
-    const char *trace, *display, *results;
-    long frames, seed;
-    int quick;
-    char trace_buf[4200];
-};
-
-static int parse_args(int argc, char **argv, struct cull_opts *o)
-{
-    o->display = "vive";
-    o->seed = 1;
-    for (int i = 1; i < argc; ++i) {
-        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(argv[i], "--quick")) {
-            o->quick = 1;
-            continue;
-        }
-        if (!val) {
-            fprintf(stderr, "hmdlod bench cull: %s needs a value (try --help)\n", argv[i]);
-            return 1;
-        }
-        if (!strcmp(argv[i], "--trace"))
-            o->trace = val;
-        else if (!strcmp(argv[i], "--display"))
-            o->display = val;
-        else if (!strcmp(argv[i], "--results"))
-            o->results = val;
-        else if (!strcmp(argv[i], "--frames")) {
-            if (app_parse_long("--frames", val, 1, 10000000, &o->frames) != 0)
-                return 1;
-        } else if (!strcmp(argv[i], "--seed")) {
-            if (app_parse_long("--seed", val, 0, 2147483647, &o->seed) != 0)
-                return 1;
-        } else {
-            fprintf(stderr, "hmdlod bench cull: unknown option '%s' (try --help)\n", argv[i]);
-            return 1;
-        }
-        ++i;
-    }
-    if (!o->frames)
-        o->frames = o->quick ? 300 : 2000;
-    return 0;
-}
 
 /* splitmix64: the scene is the same for a seed everywhere */
 static uint64_t mix_next(uint64_t *s)
@@ -206,7 +146,7 @@ struct size_result {
     double visible_instances, visible_groups, groups_tested, instances_tested, plane_tests_hier, plane_tests_flat;
 };
 
-static int run_size(uint32_t n, const struct cull_opts *o, struct trk_pose_source *src,
+static int run_size(uint32_t n, const struct bch_cull_options *o, struct trk_pose_source *src,
                     const struct frm_cull_frustum *frustum, double rate_hz, struct size_result *r)
 {
     struct scn_scene s;
@@ -288,16 +228,10 @@ done:
     return rc;
 }
 
-int bch_cull(int argc, char **argv, int full_argc, char **full_argv)
+int bch_cull(const struct bch_cull_options *options, int full_argc, char **full_argv)
 {
-    if (app_wants_help(argc, argv)) {
-        fputs(cull_usage, stdout);
-        return 0;
-    }
-    struct cull_opts o;
-    memset(&o, 0, sizeof o);
-    if (parse_args(argc, argv, &o) != 0)
-        return 1;
+    struct bch_cull_options o = *options;
+    char trace_buf[4200];
     struct hl_error err = {{0}};
     struct hmd_profile display;
     if (hmd_profile_load(o.display, &display, &err) != 0) {
@@ -308,8 +242,8 @@ int bch_cull(int argc, char **argv, int full_argc, char **full_argv)
     if (!o.trace) {
         char shared[4096];
         if (bch_find_shared(shared, sizeof shared) == 0) {
-            snprintf(o.trace_buf, sizeof o.trace_buf, "%s/" CULL_TRACE, shared);
-            o.trace = o.trace_buf;
+            snprintf(trace_buf, sizeof trace_buf, "%s/" CULL_TRACE, shared);
+            o.trace = trace_buf;
             trace_label = "Corbillon MMSys'18 user1";
         } else {
             fprintf(stderr, "hmdlod bench cull: note: the shared data folder is absent (%s); the built-in clip\n", shared);
@@ -338,7 +272,7 @@ int bch_cull(int argc, char **argv, int full_argc, char **full_argv)
         fprintf(stderr, "hmdlod bench cull: out of memory\n");
         return 1;
     }
-    bch_emit(CULL_HEADING "\n\n");
+    bch_emit(BCH_CULL_HEADING "\n\n");
     bch_print_context(full_argc, full_argv, NULL);
     bch_emit("- head motion: %s, %ld frames at %.0f Hz; frusta: %s (union of both eyes)\n\n", trace_label, o.frames,
                rate_hz, display.name);
@@ -368,14 +302,14 @@ int bch_cull(int argc, char **argv, int full_argc, char **full_argv)
                hi->instances / 1000, 1e3 * hi->flat_us_median / hi->instances,
                1e3 * hi->hier_us_median / (hi->groups_tested + hi->instances_tested),
                1e3 * hi->hier_us_median / fmax(hi->visible_instances, 1));
-    bch_emit("\nHow measured (bench/cull.c, scene/cull.c): each size is a ground grid of objects 2 m apart "
+    bch_emit("\nHow measured (bench/bench_cull.c, scene/cull.c): each size is a ground grid of objects 2 m apart "
                "around the viewer (heights −1.5…3 m about the eyes, radii 0.3–0.8 m, seed %ld), grouped as a quadtree "
                "of 4 × 4 objects per leaf and 4 × 4 groups per parent. Each frame takes the trace's head pose on a "
-               "virtual clock, builds the five world planes of the union of both eye frusta (replay's "
+               "virtual clock, builds the five world planes of the union of both eye frusta (frame's "
                "frm_cull_frustum_planes) and culls once flat (every object against the planes, scn_cull_flat) "
                "and once through the hierarchy (scn_cull, with plane masks), alternating which runs first; both "
                "must find the same number of objects. Times are CLOCK_MONOTONIC around each call on a machine shared "
                "with other work: compare the ratios within one run.\n",
                o.seed);
-    return bch_copy_finish(o.results, CULL_HEADING, "hmdlod bench cull", 0);
+    return bch_copy_finish(o.results, BCH_CULL_HEADING, "hmdlod bench cull", 0);
 }

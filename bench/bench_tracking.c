@@ -1,6 +1,6 @@
 /* hmdlod bench tracking: every supported tracker's parser and fusion on the shared IMU streams,
  * accuracy against the ground truth and speed; OpenHMD's fusion measured on the same samples in the
- * same run where libopenhmd is built in (bench/tracking_openhmd.c), and the OpenHMD / Monado
+ * same run where libopenhmd is built in (bench/bench_tracking_openhmd.c), and the OpenHMD / Monado
  * figures quoted by data/README.md beside them, labelled as quoted. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -8,8 +8,7 @@
 #include <string.h>
 
 #include "bench/bench.h"
-#include "bench/tracking_openhmd.h"
-#include "app/commands.h"
+#include "bench/bench_tracking_openhmd.h"
 #include "tracking/tracking.h"
 
 
@@ -195,62 +194,18 @@ static void print_tracking_notes(void)
          "the µs column = per sample, setf → getf.\n");
 }
 
-#define TRACKING_HEADING "## Trackers (hmdlod bench tracking)"
 
-int bch_tracking(int argc, char **argv, int full_argc, char **full_argv)
+void bch_tracking_print_streams(FILE *f)
 {
-    if (app_wants_help(argc, argv)) {
-        printf("usage: hmdlod bench tracking [--quick] [--stream NAME|all] [--seconds S] [--repeats N]\n"
-               "                            [--results FILE]\n\n"
-               "Encodes each shared IMU stream (shared/data/imu) into every supported tracker's reports at its\n"
-               "native rate, parses and fuses them, and prints accuracy against the ground truth and speed;\n"
-               "runs OpenHMD's fusion (libopenhmd, when built in) on the same samples, scored the same way;\n"
-               "and quotes the OpenHMD / Monado figures from data/README.md. Markdown output.\n"
-               "  --quick         the first 10 s of each stream, 1 timing pass (unless --seconds/--repeats)\n"
-               "  --stream NAME   one of the streams below, or all (default)\n"
-               "  --seconds S     only the first S seconds of each stream (default: all 60)\n"
-               "  --repeats N     whole-stream timing passes, median reported (default 5)\n"
-               "  --results FILE  also write the output as the section \"" TRACKING_HEADING "\" of FILE\n"
-               "                  (e.g. docs/RESULTS.md; other sections are kept)\n"
-               "streams:");
-        for (size_t i = 0; i < N_BENCH_STREAMS; ++i)
-            printf(" %s", bench_streams[i].name);
-        printf("\nThe shared folder: $HMDLOD_SHARED, else ../shared, else next to the executable's checkout.\n");
-        return 0;
-    }
-    const char *stream = "all", *results = NULL;
-    double seconds = 0;
-    long repeats = 5;
-    int quick = 0, repeats_given = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (!strcmp(argv[i], "--stream") && i + 1 < argc) {
-            stream = argv[++i];
-        } else if (!strcmp(argv[i], "--seconds")) {
-            if (app_parse_double("--seconds", i + 1 < argc ? argv[++i] : NULL, &seconds) != 0)
-                return 1;
-            if (!(seconds >= 0.5 && seconds <= 1e6)) {
-                fprintf(stderr, "hmdlod bench tracking: --seconds %g: need at least 0.5\n", seconds);
-                return 1;
-            }
-        } else if (!strcmp(argv[i], "--repeats")) {
-            if (app_parse_long("--repeats", i + 1 < argc ? argv[++i] : NULL, 1, 1000, &repeats) != 0)
-                return 1;
-            repeats_given = 1;
-        } else if (!strcmp(argv[i], "--quick")) {
-            quick = 1;
-        } else if (!strcmp(argv[i], "--results") && i + 1 < argc) {
-            results = argv[++i];
-        } else {
-            fprintf(stderr, "hmdlod bench tracking: unknown or incomplete option '%s' (try --help)\n", argv[i]);
-            return 1;
-        }
-    }
-    if (quick) { /* the suite's quick mode: a short slice, one timing pass, unless told otherwise */
-        if (seconds == 0)
-            seconds = 10;
-        if (!repeats_given)
-            repeats = 1;
-    }
+    for (size_t i = 0; i < N_BENCH_STREAMS; ++i)
+        fprintf(f, " %s", bench_streams[i].name);
+}
+
+int bch_tracking(const struct bch_tracking_options *o, int full_argc, char **full_argv)
+{
+    const char *stream = o->stream ? o->stream : "all", *results = o->results;
+    double seconds = o->seconds;
+    long repeats = o->repeats;
     size_t first = 0, last = N_BENCH_STREAMS;
     if (strcmp(stream, "all") != 0) {
         size_t len = strlen(stream);
@@ -278,12 +233,12 @@ int bch_tracking(int argc, char **argv, int full_argc, char **full_argv)
         fprintf(stderr, "hmdlod bench tracking: out of memory\n");
         return 1;
     }
-    bch_emit(TRACKING_HEADING "\n\n");
+    bch_emit(BCH_TRACKING_HEADING "\n\n");
     bch_print_context(full_argc, full_argv, NULL);
     int rc = 0;
     for (size_t s = first; s < last; ++s)
         if (bench_one_stream(shared, &bench_streams[s], seconds, (int)repeats) != 0)
             rc = 1;
     print_tracking_notes();
-    return bch_copy_finish(results, TRACKING_HEADING, "hmdlod bench tracking", rc);
+    return bch_copy_finish(results, BCH_TRACKING_HEADING, "hmdlod bench tracking", rc);
 }

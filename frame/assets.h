@@ -28,7 +28,7 @@ int frm_cache_make_dir(const char *dir);
  * −1 if it does not fit in size. */
 int frm_cache_file(char *out, size_t size, const char *dir, const char *label, uint64_t key, const char *suffix);
 
-/* The resolver replays give scene files: scene/'s default with a chain store in the cache, so a
+/* The resolver sessions give scene files: scene/'s default with a chain store in the cache, so a
  * mesh file's chain is kept as a .lod named after the file and keyed by scn_mesh_hash of the
  * imported mesh, and a later load reads it instead of decimating again; a changed mesh gets a new
  * key, a corrupt or foreign cache file is rebuilt with a note, an unwritable cache is not an error. */

@@ -2,7 +2,7 @@
  * Funkhouser & Séquin's max form and of the additive form (PAPERS.md §2, §5 "Cost models"), their
  * held-out accuracy, and the cost profile JSON (docs/cost-model.md) that hands lod/ a struct
  * lod_cost_model. Here because it joins render (the timed frames), acuity (the coverage estimate the
- * replay predicts with) and lod (the cost arithmetic). Part of the frame/frame.h umbrella. */
+ * frame predicts with) and lod (the cost arithmetic). Part of the frame/frame.h umbrella. */
 #ifndef HMDLOD_FRAME_COST_H
 #define HMDLOD_FRAME_COST_H
 
@@ -58,7 +58,7 @@ struct frm_cost_accuracy frm_cost_evaluate(const struct lod_cost_model *m, const
 
 /* ---- the cost profile (cost_profile.c, docs/cost-model.md) -------------------------------------- */
 struct frm_cost_profile {
-    struct lod_cost_model model;          /* what lod/ and the replay use */
+    struct lod_cost_model model;          /* what lod/ and the frame use */
     struct frm_cost_accuracy held_out;    /* of the kept form */
     struct frm_cost_accuracy held_out_other; /* of the form not kept (frames 0: unknown) */
     char label[160];                      /* e.g. "built-in llvmpipe reference (2-core, measured …)" */
@@ -76,7 +76,7 @@ int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct
 /* Writes atomically (path.partial, then rename): no half-written profile is left. 0 or −1. */
 int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, struct hl_error *err);
 /* The built-in reference measured with `hmdlod calibrate` on the 2-core llvmpipe development
- * machine (Vive, render scale 1): the replay's default when no --cost-profile is given. */
+ * machine (Vive, render scale 1): the session's default when no --cost-profile is given. */
 void frm_cost_profile_builtin_llvmpipe(struct frm_cost_profile *out);
 /* "max" / "additive"; NULL for an unknown form. And back: 0 and *form, or −1. */
 const char *frm_cost_form_name(enum lod_cost_form form);

@@ -37,7 +37,7 @@ struct frm_options {
     uint64_t seed;
     double acuity_scale;     /* Reddy §6 s; 1 by default */
     double render_scale;     /* per-eye resolution factor (1 = the display's pixels) */
-    int quiet;               /* no notes on stderr about the analysis */
+    int quiet;               /* no note on stderr about the chains analysed (replay: no summary table either) */
     double budget_ms;        /* frame budget; 0 → the display's frame period */
     const char *cost_profile; /* JSON from hmdlod calibrate; NULL → the built-in llvmpipe profile */
     double opt_limit_us;     /* fs/mb time limit per frame (Nirenstein §5.5); 0 = none */

@@ -1,6 +1,7 @@
 /* hmdlod: perceptual level of detail for head-mounted displays. Dispatches to one function per
  * subcommand (app/commands.h); everything else lives in the modules. */
 #include <errno.h>
+#include <malloc.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -59,8 +60,23 @@ static int set_max_input_bytes(const char *text)
     return 0;
 }
 
+/* The allocator keeps what a frame frees. Mesa's llvmpipe allocates its scene bins in 64 KiB blocks
+ * on the main thread and frees them after every frame; with glibc's defaults the free top of the heap
+ * (over 128 KiB) goes back to the kernel at once, and the next frame faults the same pages in again:
+ * about 5000 fresh pages a frame, twice the frame time of a standalone replay, and the first session
+ * of a process paying for the next (docs/replay-output.md "minor_faults"). So the heap is trimmed only
+ * by an explicit malloc_trim (the live pacer's idle trim), and blocks up to 32 MiB (glibc's highest
+ * mmap threshold on 64 bits) come from the heap instead of a fresh mapping each time. Setting either
+ * value also turns off glibc's dynamic threshold, so these hold for the whole run. */
+static void tune_allocator(void)
+{
+    mallopt(M_TRIM_THRESHOLD, 512 * 1024 * 1024);
+    mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
+}
+
 int main(int argc, char **argv)
 {
+    tune_allocator();
     if (argc >= 2 && !strcmp(argv[1], "--max-input-bytes")) {
         if (set_max_input_bytes(argc >= 3 ? argv[2] : NULL) != 0)
             return 1;

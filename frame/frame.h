@@ -146,6 +146,7 @@ struct frm_frame_record {
     uint32_t lod_histogram[SCN_MAX_LODS];
     double acuity_us, select_us, draw_ms, frame_ms;
     int deadline_met;
+    long minor_faults;        /* pages the process faulted in during the frame (getrusage, all threads) */
     struct frm_select_record sel;
     double visible_error;     /* frm_select_visible_error, outside the frame's timing */
     int has_image_error;      /* a --reference frame: image holds its comparison */

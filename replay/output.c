@@ -22,7 +22,7 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
     fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
           "over_budget,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,visible_error,"
           "psnr_db,ssim,ssim_rgb,fssim,fssim_e0,fssim_e1,fssim_e2,fssim_e3,px_over_32,acuity_us,select_us,"
-          "optimizer_us,draw_ms,frame_ms,deadline_met\n", o->csv);
+          "optimizer_us,draw_ms,frame_ms,deadline_met,minor_faults\n", o->csv);
     return 0;
 }
 
@@ -77,8 +77,8 @@ void rpl_output_row(struct rpl_output *o, const struct frm_frame_record *r, int 
     write_image_error(o->csv, r);
     /* The timings last: everything before them is deterministic (the optimizer's budget aside, which
      * follows the measured overhead and correction). */
-    fprintf(o->csv, ",%.2f,%.2f,%.2f,%.3f,%.3f,%d\n", r->acuity_us, r->select_us, q->optimizer_us, r->draw_ms,
-            r->frame_ms, r->deadline_met);
+    fprintf(o->csv, ",%.2f,%.2f,%.2f,%.3f,%.3f,%d,%ld\n", r->acuity_us, r->select_us, q->optimizer_us, r->draw_ms,
+            r->frame_ms, r->deadline_met, r->minor_faults);
 }
 
 int rpl_output_close(struct rpl_output *o, struct hl_error *err)
@@ -135,6 +135,7 @@ int rpl_accumulator_init(struct rpl_accumulator *a, long frames, long references
 {
     memset(a, 0, sizeof *a);
     a->capacity = frames > 0 ? frames : 1;
+    a->warm_frames = frames / 10 > 1 ? frames / 10 : 1;
     a->frame_ms = malloc((size_t)a->capacity * sizeof(double));
     a->draw_ms = malloc((size_t)a->capacity * sizeof(double));
     a->ref_capacity = references > 0 ? references : 1;
@@ -193,6 +194,10 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct frm_frame_record *r)
     a->band_triangles[band] += (double)r->triangles_per_eye;
     a->band_finest[band] += (double)r->triangles_finest;
     a->eye_speed_sum += r->eye_speed_degps;
+    if (r->frame >= a->warm_frames) {
+        a->faults_sum += (double)r->minor_faults;
+        a->fault_frames++;
+    }
     ++a->n;
     double delta = r->frame_ms - a->frame_mean;
     a->frame_mean += delta / (double)a->n;
@@ -270,6 +275,8 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     s->frame_ms_p99 = hl_percentile_sorted(a->frame_ms, (size_t)stored, 0.99);
     s->draw_ms_median = hl_percentile_sorted(a->draw_ms, (size_t)stored, 0.5);
     s->frames = a->n;
+    s->minor_faults_per_frame = a->fault_frames > 0 ? a->faults_sum / (double)a->fault_frames : NAN;
+    s->minor_faults_from_frame = a->warm_frames;
     s->frame_ms_mean = a->frame_mean;
     s->frame_ms_max = a->frame_max;
     s->frame_ms_stddev = a->n > 1 ? sqrt(a->frame_m2 / (double)(a->n - 1)) : 0.0;
@@ -398,6 +405,11 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddNumberToObject(root, "triangles_per_eye_mean", s->triangles_per_eye_mean);
     cJSON_AddNumberToObject(root, "triangles_relative_to_none", s->triangles_relative_to_none);
     cJSON_AddNumberToObject(root, "deadline_met_fraction", s->deadline_met_fraction);
+    if (isfinite(s->minor_faults_per_frame))
+        cJSON_AddNumberToObject(root, "minor_faults_per_frame", s->minor_faults_per_frame);
+    else
+        cJSON_AddNullToObject(root, "minor_faults_per_frame");
+    cJSON_AddNumberToObject(root, "minor_faults_from_frame", (double)s->minor_faults_from_frame);
     cJSON_AddStringToObject(root, "cost_profile", s->cost_profile);
     cJSON_AddNumberToObject(root, "rate_hz", s->rate_hz);
     cJSON_AddNumberToObject(root, "predicted_within_budget_fraction", s->predicted_within_fraction);
@@ -525,6 +537,9 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
     if (s->vm_hwm_kib >= 0 && s->vm_rss_kib >= 0)
         fprintf(f, "  %-34s %10.1f / %.1f MiB\n", "resident memory peak / at the end", s->vm_hwm_kib / 1024.0,
                 s->vm_rss_kib / 1024.0);
+    if (isfinite(s->minor_faults_per_frame)) /* fresh pages cost time the frame pays (docs/replay-output.md) */
+        fprintf(f, "  %-34s %10.1f (steady state: frames %ld on)\n", "minor page faults / frame",
+                s->minor_faults_per_frame, s->minor_faults_from_frame);
     if (s->gaze_frames > 0) { /* saccades (frame/saccade_step.c): only when the trace has gaze */
         fprintf(f, "  %-34s %10ld, %.1f %% of frames suppressed\n", "saccades", s->saccades,
                 100.0 * s->suppressed_fraction);

@@ -131,6 +131,8 @@ struct rpl_summary {
     double cull_groups_tested_mean, cull_instances_tested_mean; /* scn_cull's sphere tests per frame */
     uint32_t scene_instances, scene_groups;
     long vm_hwm_kib, vm_rss_kib; /* resident memory at the end (/proc/self/status VmHWM, VmRSS); −1 unknown */
+    double minor_faults_per_frame; /* mean over the steady-state frames; NaN: none */
+    long minor_faults_from_frame;  /* the first of them: a tenth into the run (at least frame 1) */
     double budget_ms;
     /* against the budget (DESIGN.md "One frame" step 7; issue: frames that hold their rate) */
     double frame_ms_stddev_share_of_budget, frame_ms_p99_share_of_budget;

@@ -24,6 +24,10 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
 /* Running mean/max/stddev of the frame records (Welford: stable over long runs). */
 struct rpl_accumulator {
     long n;
+    /* Minor page faults over the steady-state frames: from frame warm_frames on (a tenth of the run,
+     * at least frame 1), after the driver's first-use work. */
+    long warm_frames, fault_frames;
+    double faults_sum;
     double frame_mean, frame_m2, frame_max;
     double eye_speed_sum;
     double draw_sum, acuity_sum, select_sum, evals_sum, visible_sum;

@@ -10,7 +10,7 @@
 # What a record holds (run from the checkout, with ../shared beside it; HMDLOD_SHARED overrides):
 #   - replay of Corbillon user1 through field, auditorium, domes and tests/scenes/real-meshes.json with
 #     none, static and reddy, and of EDVAM participant 2 on field with --gaze tracked: every
-#     frames.csv column before the wall-clock timings (acuity_us … deadline_met; docs/replay-output.md),
+#     frames.csv column before the machine-dependent ones (acuity_us … minor_faults; docs/replay-output.md),
 #     image metrics included (--reference), and summary.json without its timing and memory fields;
 #   - bench --quick: every table's deterministic columns (those DIR/deterministic.txt lists).
 # fs, mb and feedback react to measured frame times and are not compared. FRAMES (default 300) and
@@ -35,7 +35,7 @@ cut_timing() {
 strip_summary() {
     python3 - "$1" <<'EOF'
 import json, re, sys
-timing = re.compile(r"^(frame_ms|draw_ms|acuity_us|select_us|optimizer_us|vm_|deadline_met)")
+timing = re.compile(r"^(frame_ms|draw_ms|acuity_us|select_us|optimizer_us|vm_|deadline_met|minor_faults)")
 with open(sys.argv[1]) as f:
     s = json.load(f)
 s = {k: v for k, v in s.items() if not timing.match(k)}

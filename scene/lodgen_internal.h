@@ -37,12 +37,26 @@ void scn_soup_free(struct scn_soup *s);
 void scn_soup_add_face(struct scn_soup *s, const uint32_t *idx, uint32_t n);
 
 /* Reads OBJ/PLY/OFF/STL through OpenMesh's IO into `soup` (mesh_import.cpp); OpenMesh's own log is
- * kept off stdout/stderr and its error text, if any, goes into the message. */
-int scn_om_read(const char *path, struct scn_soup *soup, struct hl_error *err);
+ * kept off stdout/stderr and its error text, if any, goes into the message. faces_follow: the
+ * caller adds faces of its own (a PLY's strips), so a reader that stopped with vertices but no faces
+ * is not refused here. */
+int scn_om_read(const char *path, struct scn_soup *soup, int faces_follow, struct hl_error *err);
+/* The triangles of a PLY file's "tristrips" elements (lists of vertex_indices, −1 between strips),
+ * which OpenMesh does not read: decoded by scn_ply_check, wound as the strips say (odd triangles
+ * reversed), triangles with a repeated index left out. Indices are < the file's vertex count. */
+struct scn_ply_strips {
+    uint32_t *indices; /* 3 per triangle */
+    uint32_t triangle_count, triangle_cap;
+    uint32_t elements; /* tristrips elements in the file */
+    uint64_t items;    /* indices read, −1 included */
+};
+void scn_ply_strips_free(struct scn_ply_strips *s);
 /* A PLY file before OpenMesh reads it (mesh_ply_check.c): its header line by line (what OpenMesh's
- * header loop ends on), then every record of every element walked, list sizes bounded, so that what
- * OpenMesh allocates follows from the file's real content; or an error naming the line or record. */
-int scn_ply_check(const char *path, struct hl_error *err);
+ * header loop ends on), then every record of every element walked, list sizes bounded (a face's by
+ * 4096, a strip's by what the file still holds), so that what OpenMesh allocates follows from the
+ * file's real content; or an error naming the line or record. The strips are decoded on the way
+ * into *strips (may be NULL: checked only; freed on error). */
+int scn_ply_check(const char *path, struct scn_ply_strips *strips, struct hl_error *err);
 /* An OFF file before OpenMesh reads it (mesh_off_check.c): a keyword OpenMesh reads, counts that fit
  * the file, the vertex lines, and every face's size and indices. Text OFF only. */
 int scn_off_check(const char *path, uint64_t file_size, struct hl_error *err);

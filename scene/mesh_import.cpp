@@ -157,7 +157,7 @@ int fill_soup(const SoupImporter &imp, struct scn_soup *soup)
 
 } // namespace
 
-extern "C" int scn_om_read(const char *path, struct scn_soup *soup, struct hl_error *err)
+extern "C" int scn_om_read(const char *path, struct scn_soup *soup, int faces_follow, struct hl_error *err)
 {
     memset(soup, 0, sizeof *soup);
     try {
@@ -172,7 +172,9 @@ extern "C" int scn_om_read(const char *path, struct scn_soup *soup, struct hl_er
             ok = OpenMesh::IO::IOManager().read(path, imp, opt);
             complaint = first_line(quiet.text.str());
         }
-        if (!ok && imp.faces.empty())
+        // With strips to come, OpenMesh may stop after the vertices: its reader skips an element it
+        // does not know by its scalars' sizes and can run into the end of the file there.
+        if (!ok && imp.faces.empty() && !(faces_follow && !imp.pos.empty()))
             return hl_fail(err, "%s: OpenMesh cannot read it%s%s", path, complaint.empty() ? "" : ": ",
                            complaint.c_str());
         // A reader that stopped part-way (ok == false) still hands over what it read; validation

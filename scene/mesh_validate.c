@@ -536,6 +536,22 @@ static int gltf_sniff(const char *path, int glb, uint64_t file_size, struct hl_e
     return i < n && head[i] == '{' ? 0 : hl_fail(err, "%s: not a glTF file (JSON starting with '{')", path);
 }
 
+/* A PLY file's strips (decoded by scn_ply_check: OpenMesh does not read them) join the faces OpenMesh
+ * read, after them in the face numbering, through the same door: index range, then welding and the
+ * zero-area test in scn_soup_to_mesh. The soup is freed on error. */
+static int soup_add_strips(const char *path, struct scn_soup *soup, const struct scn_ply_strips *strips,
+                           struct hl_error *err)
+{
+    for (uint32_t t = 0; t < strips->triangle_count; ++t)
+        scn_soup_add_face(soup, strips->indices + 3 * (size_t)t, 3);
+    if (strips->elements == 0 || soup->faces_read > 0 || soup->vertex_count == 0)
+        return 0;
+    /* said here: validation's "no faces" would quote OpenMesh's note that it skipped the strips */
+    scn_soup_free(soup);
+    return hl_fail(err, "%s: no faces: its triangle strips (%llu indices) give no triangle without a repeated "
+                   "index, and it has no face element", path, (unsigned long long)strips->items);
+}
+
 static int ext_is(const char *ext, const char *want)
 {
     for (; *ext && *want; ++ext, ++want)
@@ -575,14 +591,17 @@ int scn_mesh_import(const char *path, struct scn_mesh *out, struct scn_import_re
     int is_obj = ext_is(ext, "obj");
     if (is_obj && obj_prescan(path, &obj_vertices, err) != 0)
         return -1;
-    if (ext_is(ext, "ply") && scn_ply_check(path, err) != 0)
+    struct scn_ply_strips strips = {0};
+    if (ext_is(ext, "ply") && scn_ply_check(path, &strips, err) != 0)
         return -1;
-    if (ext_is(ext, "off") && scn_off_check(path, size, err) != 0)
-        return -1;
-    if (gltf && gltf_sniff(path, ext_is(ext, "glb"), size, err) != 0)
+    if ((ext_is(ext, "off") && scn_off_check(path, size, err) != 0) ||
+        (gltf && gltf_sniff(path, ext_is(ext, "glb"), size, err) != 0))
         return -1;
     struct scn_soup soup;
-    int rc = om ? scn_om_read(path, &soup, err) : scn_assimp_read(path, &soup, err);
+    int rc = om ? scn_om_read(path, &soup, strips.elements > 0, err) : scn_assimp_read(path, &soup, err);
+    if (rc == 0)
+        rc = soup_add_strips(path, &soup, &strips, err);
+    scn_ply_strips_free(&strips);
     if (rc != 0)
         return rc;
     if (is_obj && soup.vertex_count != obj_vertices) {

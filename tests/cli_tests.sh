@@ -81,6 +81,13 @@ hard_cases() {
   expect_error "--max-input-bytes without a value" "--max-input-bytes: '' is not a positive byte count" -- \
     "$bin" --max-input-bytes
   rm -f "$tmp/fifo" "$tmp/fifo.json" "$tmp/fifo.obj"
+  # A PLY triangle strip claiming 2^31 - 1 indices in a file of a few hundred bytes: refused from
+  # the bytes left, before anything is sized from the count (scene/mesh_ply_check.c).
+  printf 'ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n2147483647 0 1 2 3\n' >"$tmp/huge-strip.ply"
+  expect_error "lodgen a strip longer than its file" \
+    "huge-strip.ply: line 14: tristrips 0 \(of 1\): a strip of 2147483647 indices, but the file ends 8 bytes on" -- \
+    timeout 10 "$bin" lodgen "$tmp/huge-strip.ply" --out "$tmp/z.lod"
+  [ ! -e "$tmp/z.lod" ] || fail "a refused strip file left a .lod"
   # A scene of one object replays like any other (under ASan with LeakSanitizer on: hmdlod pins
   # Mesa's driver itself, render/gl_driver_pin.c).
   expect_ok "replay a one-object scene" "frames within the budget" -- \
@@ -264,6 +271,43 @@ printf 'v 0 0 0\n' >"$tmp/m.3ds"
 expect_error "lodgen unsupported extension" "unsupported extension '.3ds'" -- "$bin" lodgen "$tmp/m.3ds" --out "$tmp/e.lod"
 head -c 2000 /dev/urandom >"$tmp/junk.glb"
 expect_error "lodgen random .glb" 'junk.glb: not a binary glTF file \(no "glTF" magic\)' -- "$bin" lodgen "$tmp/junk.glb" --out "$tmp/e.lod"
+# A PLY whose faces are one long triangle strip (the bunny, one triangle per strip between -1
+# markers: 277 804 indices, binary little endian) imports as the same mesh as the OBJ (69 451
+# triangles, 34 834 vertices, as test_lodgen's shared-mesh counts) and becomes a 4-level chain.
+if [ ! -f "$shared/data/meshes/stanford-bunny.obj" ]; then
+  echo "skip: lodgen of a strip PLY: $shared/data/meshes/stanford-bunny.obj is absent"
+elif ! command -v python3 >/dev/null; then
+  echo "skip: lodgen of a strip PLY: python3 (which writes it) is absent"
+else
+  python3 - "$shared/data/meshes/stanford-bunny.obj" "$tmp/strips.ply" <<'PY'
+import struct, sys
+v, items = [], []
+for line in open(sys.argv[1]):
+    w = line.split()
+    if w and w[0] == "v":
+        v.append([float(x) for x in w[1:4]])
+    elif w and w[0] == "f":
+        f = [int(x.split("/")[0]) for x in w[1:]]
+        f = [i - 1 if i > 0 else len(v) + i for i in f]
+        for k in range(1, len(f) - 1):
+            items += [f[0], f[k], f[k + 1], -1]
+with open(sys.argv[2], "wb") as o:
+    o.write(b"ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\nproperty float y\n"
+            b"property float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n" % len(v))
+    o.write(b"".join(struct.pack("<3f", *p) for p in v))
+    o.write(struct.pack("<i%di" % len(items), len(items), *items))
+PY
+  "$bin" lodgen "$tmp/strips.ply" --levels 4 --out "$tmp/strips.lod" >"$tmp/strips.out" 2>"$tmp/strips.err"
+  rc=$?
+  if [ $rc -ne 0 ]; then
+    fail "lodgen of a strip PLY: exit $rc: $(cat "$tmp/strips.err")"
+  else
+    grep -q "strips.ply: 69451 faces read, .* → 69451 triangles, 34834 vertices" "$tmp/strips.out" ||
+      fail "lodgen of a strip PLY: not the bunny's triangles: $(head -1 "$tmp/strips.out")"
+    grep -q "wrote .*strips.lod (4 levels" "$tmp/strips.out" && [ -s "$tmp/strips.lod" ] ||
+      fail "lodgen of a strip PLY: no 4-level .lod: $(tail -1 "$tmp/strips.out")"
+  fi
+fi
 if [ -f "$shared/data/meshes/suzanne.obj" ]; then
   expect_ok "lodgen suzanne meshopt" "wrote .*suz.lod \\(3 levels" -- \
     "$bin" lodgen "$shared/data/meshes/suzanne.obj" --simplifier meshopt --levels 3 --samples 20000 --out "$tmp/suz.lod"

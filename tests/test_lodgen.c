@@ -764,7 +764,7 @@ static void test_mesh_headers(void)
     write_text("square.ply", text);
     /* the header check passes a well-formed header (what OpenMesh then reads is its business) */
     struct hl_error err = {{0}};
-    int rc = scn_ply_check(tmp_path("square.ply"), &err);
+    int rc = scn_ply_check(tmp_path("square.ply"), NULL, &err);
     if (rc != 0)
         fprintf(stderr, "square.ply: %s\n", err.msg);
     CHECK(rc == 0);
@@ -900,7 +900,7 @@ static void test_mesh_headers(void)
                 expect_refused(tmp_path("square-binary.ply"), "face 1 (of 2): a list longer than 4096 items");
                 continue;
             }
-            rc = scn_ply_check(tmp_path("square-binary.ply"), &err);
+            rc = scn_ply_check(tmp_path("square-binary.ply"), NULL, &err);
             if (rc != 0)
                 fprintf(stderr, "square-binary.ply (%s): %s\n", big ? "big" : "little", err.msg);
             CHECK(rc == 0);
@@ -914,6 +914,415 @@ static void test_mesh_headers(void)
     /* the ASCII square itself imports */
     CHECK(scn_mesh_import(tmp_path("square.ply"), &m, NULL, &err) == 0 && m.index_count == 6);
     scn_mesh_free(&m);
+}
+
+/* ---- PLY triangle strips ---------------------------------------------------------------------------
+ * Fixtures are written here: a PLY whose faces are "tristrips" (vertex_indices lists, −1 between
+ * strips) in text and in both byte orders, read by scene/mesh_ply_check.c since OpenMesh skips them. */
+
+/* A PLY file of float vertices and one list element (name: "face" or "tristrips", `records` lists
+ * of `counts[r]` int items each, all in `items`), in text or binary (big: big endian). */
+struct ply_out {
+    const char *format; /* "ascii", "binary_little_endian", "binary_big_endian" */
+    const char *element;
+    const float *xyz;
+    uint32_t vertices;
+    const int32_t *items;
+    const uint32_t *counts;
+    uint32_t records;
+};
+
+static void put32(FILE *f, uint32_t u, int big)
+{
+    for (int b = 0; b < 4; ++b)
+        fputc((int)(u >> (8 * (big ? 3 - b : b))) & 0xff, f);
+}
+
+static void write_ply(const char *name, const struct ply_out *o)
+{
+    FILE *f = fopen(tmp_path(name), "wb");
+    if (!f)
+        return;
+    int text = !strcmp(o->format, "ascii"), big = !strcmp(o->format, "binary_big_endian");
+    fprintf(f, "ply\nformat %s 1.0\ncomment written by test_lodgen\nelement vertex %u\nproperty float x\n"
+               "property float y\nproperty float z\nelement %s %u\nproperty list int int vertex_indices\nend_header\n",
+            o->format, o->vertices, o->element, o->records);
+    for (uint32_t v = 0; v < o->vertices; ++v)
+        for (int k = 0; k < 3; ++k) {
+            float x = o->xyz[3 * (size_t)v + k];
+            uint32_t u;
+            memcpy(&u, &x, 4);
+            if (text)
+                fprintf(f, "%.9g%c", (double)x, k == 2 ? '\n' : ' ');
+            else
+                put32(f, u, big);
+        }
+    const int32_t *it = o->items;
+    for (uint32_t r = 0; r < o->records; ++r) {
+        if (text)
+            fprintf(f, "%u", o->counts[r]);
+        else
+            put32(f, o->counts[r], big);
+        for (uint32_t i = 0; i < o->counts[r]; ++i, ++it)
+            if (text)
+                fprintf(f, " %d", (int)*it);
+            else
+                put32(f, (uint32_t)*it, big);
+        if (text)
+            fputc('\n', f);
+    }
+    fclose(f);
+}
+
+/* A mesh's triangles as a set, orientation kept: each as its three positions rotated so that the
+ * smallest comes first (a rotation keeps the winding; a reversed triangle gives another key), sorted.
+ * 9 floats per triangle; NULL when out of memory. */
+static int cmp_key(const void *a, const void *b)
+{
+    const float *x = a, *y = b;
+    for (int k = 0; k < 9; ++k)
+        if (x[k] != y[k])
+            return x[k] < y[k] ? -1 : 1;
+    return 0;
+}
+static int cmp_point(const float *p, const float *q)
+{
+    for (int k = 0; k < 3; ++k)
+        if (p[k] != q[k])
+            return p[k] < q[k] ? -1 : 1;
+    return 0;
+}
+static float *triangle_keys(const struct scn_mesh *m)
+{
+    uint32_t n = m->index_count / 3;
+    float *keys = malloc(((size_t)n * 9 + 1) * sizeof *keys);
+    if (!keys)
+        return NULL;
+    for (uint32_t t = 0; t < n; ++t) {
+        const float *p[3];
+        for (int k = 0; k < 3; ++k)
+            p[k] = m->positions + 3 * (size_t)m->indices[3 * (size_t)t + k];
+        int first = cmp_point(p[1], p[0]) < 0 ? 1 : 0;
+        first = cmp_point(p[2], p[first]) < 0 ? 2 : first;
+        for (int k = 0; k < 3; ++k)
+            memcpy(keys + 9 * (size_t)t + 3 * k, p[(first + k) % 3], 3 * sizeof(float));
+    }
+    qsort(keys, n, 9 * sizeof *keys, cmp_key);
+    return keys;
+}
+
+/* 1 when a and b hold the same triangles with the same winding (vertex order and numbering aside). */
+static int same_triangles(const struct scn_mesh *a, const struct scn_mesh *b)
+{
+    if (a->index_count != b->index_count)
+        return 0;
+    float *ka = triangle_keys(a), *kb = triangle_keys(b);
+    int same = ka && kb && memcmp(ka, kb, (size_t)a->index_count * 3 * sizeof *ka) == 0;
+    free(ka);
+    free(kb);
+    return same;
+}
+
+/* Imports tmp file `name`: 0 with the mesh, or −1 (the reason printed and counted). */
+static int import_tmp(const char *name, struct scn_mesh *m)
+{
+    struct hl_error err = {{0}};
+    int rc = scn_mesh_import(tmp_path(name), m, NULL, &err);
+    if (rc != 0)
+        fprintf(stderr, "import %s: %s\n", name, err.msg);
+    CHECK(rc == 0);
+    return rc;
+}
+
+/* The z of every triangle's normal has sign `want` (+1 or −1): all face the same way. */
+static int all_facing(const struct scn_mesh *m, int want)
+{
+    for (uint32_t t = 0; t < m->index_count / 3; ++t)
+        if ((tri_normal(m, t).z > 0 ? 1 : -1) != want)
+            return 0;
+    return 1;
+}
+
+/* A 1 × 2 ribbon of four triangles, every one facing +z, as faces and as strips written five ways:
+ * one strip; a restart; a join of repeated indices (four degenerate triangles, k still counted); a
+ * triangle with a repeated index that leaves the next one odd (a decoder that counted only the kept
+ * triangles would turn it over); two records. In text and both byte orders: the same four triangles. */
+static void test_ply_strips(void)
+{
+    static const float grid[18] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 2, 0, 1, 2, 0};
+    static const int32_t faces[12] = {0, 1, 2, 2, 1, 3, 2, 3, 4, 4, 3, 5};
+    static const uint32_t face_counts[4] = {3, 3, 3, 3};
+    static const int32_t one[] = {0, 1, 2, 3, 4, 5};
+    static const int32_t restart[] = {0, 1, 2, 3, -1, 2, 3, 4, 5};
+    static const int32_t joined[] = {0, 1, 2, 3, 3, 2, 2, 3, 4, 5};
+    static const int32_t odd[] = {0, 1, 2, 1, 3, -1, 2, 3, 4, 5};
+    static const int32_t two[] = {0, 1, 2, 3, 2, 3, 4, 5};
+    static const uint32_t n_one = 6, n_restart = 9, n_joined = 10, n_odd = 10, n_two[2] = {4, 4};
+    static const struct {
+        const char *what;
+        const int32_t *items;
+        const uint32_t *counts;
+        uint32_t records;
+    } strips[] = {{"one strip", one, &n_one, 1},        {"restart", restart, &n_restart, 1},
+                  {"joined", joined, &n_joined, 1},     {"odd after a repeat", odd, &n_odd, 1},
+                  {"two records", two, n_two, 2}};
+    static const char *const formats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+    struct ply_out o = {"ascii", "face", grid, 6, faces, face_counts, 4};
+    write_ply("ribbon-faces.ply", &o);
+    struct scn_mesh want;
+    if (import_tmp("ribbon-faces.ply", &want) != 0)
+        return;
+    CHECK(want.index_count == 12 && all_facing(&want, 1));
+    for (size_t s = 0; s < sizeof strips / sizeof strips[0]; ++s)
+        for (int fmt = 0; fmt < 3; ++fmt) {
+            struct ply_out so = {formats[fmt], "tristrips", grid, 6, strips[s].items, strips[s].counts,
+                                 strips[s].records};
+            write_ply("ribbon-strips.ply", &so);
+            struct scn_mesh m;
+            if (import_tmp("ribbon-strips.ply", &m) != 0)
+                continue;
+            int ok = m.index_count == 12 && all_facing(&m, 1) && same_triangles(&m, &want);
+            if (!ok)
+                fprintf(stderr, "strips '%s' (%s): %u triangles, not the ribbon's four facing +z\n", strips[s].what,
+                        formats[fmt], m.index_count / 3);
+            CHECK(ok);
+            scn_mesh_free(&m);
+        }
+    scn_mesh_free(&want);
+
+    /* Longer than the 4096 items a face list may hold: a ribbon of 6000 indices, in text and binary;
+     * every triangle faces the same way (here −z: the ribbon starts at (0,0), (0,1), (1,0)). */
+    enum { RIBBON = 3000 };
+    float *xyz = malloc(2 * RIBBON * 3 * sizeof *xyz);
+    int32_t *items = malloc(2 * RIBBON * sizeof *items);
+    if (xyz && items) {
+        for (uint32_t i = 0; i < 2 * RIBBON; ++i) {
+            xyz[3 * i] = (float)(i / 2), xyz[3 * i + 1] = (float)(i % 2), xyz[3 * i + 2] = 0;
+            items[i] = (int32_t)i;
+        }
+        uint32_t count = 2 * RIBBON;
+        for (int fmt = 0; fmt < 3; ++fmt) {
+            struct ply_out lo = {formats[fmt], "tristrips", xyz, 2 * RIBBON, items, &count, 1};
+            write_ply("long-strip.ply", &lo);
+            struct scn_mesh m;
+            if (import_tmp("long-strip.ply", &m) == 0) {
+                CHECK(m.index_count == 3 * (2 * RIBBON - 2) && all_facing(&m, -1));
+                scn_mesh_free(&m);
+            }
+        }
+    }
+    free(xyz);
+    free(items);
+
+    /* Refusals: each names the file, the record or line, and the reason; nothing is imported. */
+    static const char ply_strip_head[] = "ply\nformat %s 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                         "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+                                         "end_header\n";
+    char text[1024];
+    /* a strip cut short by its line's end (the next line could hold the rest: the count fits) */
+    write_text("short-strip.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                                  "property float z\nelement tristrips 2\nproperty list int int vertex_indices\n"
+                                  "end_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n5 0 1 2 3\n4 0 1 2 3\n");
+    expect_refused(tmp_path("short-strip.ply"), "line 14: tristrips 0 (of 2): fewer values than its properties");
+    snprintf(text, sizeof text, ply_strip_head, "ascii");
+    strcat(text, "0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2   ");
+    write_text("unended-strip.ply", text);
+    expect_refused(tmp_path("unended-strip.ply"), "line 14: tristrips 0 (of 1): the file ends before this record's newline");
+    snprintf(text, sizeof text, ply_strip_head, "ascii");
+    strcat(text, "0 0 0\n1 0 0\n0 1 0\n1 1 0\n5 0 1 2 3 9\n");
+    write_text("missing-vertex.ply", text);
+    expect_refused(tmp_path("missing-vertex.ply"),
+                   "line 14: tristrips 0 (of 1): index 4 names vertex 9, which does not exist (4 vertices)");
+    snprintf(text, sizeof text, ply_strip_head, "ascii");
+    strcat(text, "0 0 0\n1 0 0\n0 1 0\n1 1 0\n5 0 1 -5 2 3\n");
+    write_text("negative-index.ply", text);
+    expect_refused(tmp_path("negative-index.ply"), "tristrips 0 (of 1): index 2 is -5 (only -1");
+    snprintf(text, sizeof text, ply_strip_head, "ascii");
+    strcat(text, "0 0 0\n1 0 0\n0 1 0\n1 1 0\n4 0 1 2.5 3\n");
+    write_text("fraction-index.ply", text);
+    expect_refused(tmp_path("fraction-index.ply"), "tristrips 0 (of 1): index 2: '2.5' is not a whole number");
+    snprintf(text, sizeof text, ply_strip_head, "ascii");
+    strcat(text, "0 0 0\n1 0 0\n0 1 0\n1 1 0\n2147483647 0 1 2 3\n");
+    write_text("huge-strip.ply", text);
+    expect_refused(tmp_path("huge-strip.ply"),
+                   "line 14: tristrips 0 (of 1): a strip of 2147483647 indices, but the file ends 8 bytes on");
+    snprintf(text, sizeof text, ply_strip_head, "ascii");
+    strcat(text, "0 0 0\n1 0 0\n0 1 0\n1 1 0\n5 0 1 -1 2 3\n");
+    write_text("no-triangle.ply", text);
+    expect_refused(tmp_path("no-triangle.ply"), "no faces: its triangle strips (5 indices) give no triangle");
+    write_text("strips-first.ply", "ply\nformat ascii 1.0\nelement tristrips 1\nproperty list int int vertex_indices\n"
+                                   "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n"
+                                   "3 0 1 2\n0 0 0\n1 0 0\n0 1 0\n");
+    expect_refused(tmp_path("strips-first.ply"), "line 5: element vertex after element tristrips, whose lists OpenMesh cannot skip");
+    write_text("float-strip.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                  "property float z\nelement tristrips 1\nproperty list int float vertex_indices\n"
+                                  "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    expect_refused(tmp_path("float-strip.ply"), "line 7: element tristrips: its vertex_indices must be a list of integers");
+    /* binary, both byte orders: the square's strip, then cut inside its indices, then a count of
+     * 2^31 − 1 in a file of a few dozen bytes (nothing is allocated for it), then vertex 9 */
+    for (int big = 0; big < 2; ++big) {
+        const char *fmt = big ? "binary_big_endian" : "binary_little_endian";
+        static const float sq[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+        static const int32_t sq_strip[4] = {0, 1, 2, 3}, sq_missing[4] = {0, 1, 2, 9};
+        static const uint32_t four = 4;
+        struct ply_out so = {fmt, "tristrips", sq, 4, sq_strip, &four, 1};
+        write_ply("square-strip.ply", &so);
+        struct scn_mesh m;
+        if (import_tmp("square-strip.ply", &m) == 0) {
+            CHECK(m.index_count == 6 && all_facing(&m, 1));
+            scn_mesh_free(&m);
+        }
+        size_t size = 0;
+        char *bytes = tu_read_file(tmp_path("square-strip.ply"), &size);
+        if (bytes && size > 20) {
+            write_bytes("cut-strip.ply", bytes, size - 2);
+            expect_refused(tmp_path("cut-strip.ply"),
+                           "tristrips 0 (of 1): a strip of 4 indices of 4 bytes, but the file ends 14 bytes on");
+            /* the count, before the 16 bytes of indices, made 2^31 − 1 (0x7fffffff in either order) */
+            memcpy(bytes + size - 20, big ? "\x7f\xff\xff\xff" : "\xff\xff\xff\x7f", 4);
+            write_bytes("huge-binary-strip.ply", bytes, size);
+            expect_refused(tmp_path("huge-binary-strip.ply"),
+                           "tristrips 0 (of 1): a strip of 2147483647 indices of 4 bytes, but the file ends 16 bytes on");
+        }
+        free(bytes);
+        so.items = sq_missing;
+        write_ply("missing-binary.ply", &so);
+        expect_refused(tmp_path("missing-binary.ply"),
+                       "tristrips 0 (of 1): index 3 names vertex 9, which does not exist (4 vertices)");
+    }
+}
+
+/* Triangle strips of a mesh's triangles, greedily: from each unused triangle, extend the strip while an
+ * unused triangle continues it with the winding the strip gives its next position (even: across the
+ * last edge as it runs, odd: as it runs back). −1 between strips. Returns the item count (items holds
+ * at most 5 per triangle), or 0 when out of memory. */
+struct dir_edge {
+    uint64_t key; /* from << 32 | to */
+    uint32_t tri;
+};
+static int cmp_dir_edge(const void *a, const void *b)
+{
+    const struct dir_edge *x = a, *y = b;
+    return x->key < y->key ? -1 : x->key > y->key;
+}
+static long find_dir_edge(const struct dir_edge *e, size_t n, const uint8_t *used, uint32_t from, uint32_t to)
+{
+    uint64_t key = (uint64_t)from << 32 | to;
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = (lo + hi) / 2;
+        if (e[mid].key < key)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    for (; lo < n && e[lo].key == key; ++lo)
+        if (!used[e[lo].tri])
+            return (long)e[lo].tri;
+    return -1;
+}
+static size_t stripify(const struct scn_mesh *m, int32_t *items)
+{
+    uint32_t nt = m->index_count / 3;
+    struct dir_edge *e = malloc(((size_t)nt * 3 + 1) * sizeof *e);
+    uint8_t *used = calloc((size_t)nt + 1, 1);
+    size_t n = 0;
+    if (!e || !used) {
+        free(e);
+        free(used);
+        return 0;
+    }
+    for (uint32_t t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k)
+            e[3 * (size_t)t + k] = (struct dir_edge){(uint64_t)m->indices[3 * t + k] << 32 | m->indices[3 * t + (k + 1) % 3], t};
+    qsort(e, (size_t)nt * 3, sizeof *e, cmp_dir_edge);
+    for (uint32_t t0 = 0; t0 < nt; ++t0) {
+        if (used[t0])
+            continue;
+        if (n > 0)
+            items[n++] = -1;
+        size_t start = n;
+        for (int k = 0; k < 3; ++k)
+            items[n++] = (int32_t)m->indices[3 * t0 + k];
+        used[t0] = 1;
+        for (;;) {
+            uint32_t u = (uint32_t)items[n - 2], v = (uint32_t)items[n - 1];
+            int odd = (n - start - 2) & 1; /* the position the next triangle would take */
+            long t = odd ? find_dir_edge(e, (size_t)nt * 3, used, v, u) : find_dir_edge(e, (size_t)nt * 3, used, u, v);
+            if (t < 0)
+                break;
+            const uint32_t *i = m->indices + 3 * (size_t)t;
+            uint32_t a = odd ? v : u, b = odd ? u : v; /* the edge as the triangle runs */
+            int at = i[0] == a && i[1] == b ? 2 : i[1] == a && i[2] == b ? 0 : 1;
+            items[n++] = (int32_t)i[at];
+            used[t] = 1;
+        }
+    }
+    free(e);
+    free(used);
+    return n;
+}
+
+/* The acceptance case: a real mesh (the bunny; suzanne when small) as one long tristrips element —
+ * real strips in little endian, one triangle per strip (four indices each) in big endian — loads
+ * with the same triangles, winding included, as the mesh written with face elements. */
+static void test_ply_strips_real_mesh(void)
+{
+    const char *name = small ? "suzanne.obj" : "stanford-bunny.obj";
+    struct scn_mesh src;
+    if (import_shared(name, &src, NULL) != 0)
+        return;
+    uint32_t nt = src.index_count / 3;
+    int32_t *items = malloc(((size_t)nt * 5 + 1) * sizeof *items);
+    uint32_t *face_counts = malloc(((size_t)nt + 1) * sizeof *face_counts);
+    int32_t *faces = malloc(((size_t)nt * 4 + 1) * sizeof *faces);
+    CHECK(items && face_counts && faces);
+    if (!items || !face_counts || !faces) {
+        free(items), free(face_counts), free(faces);
+        scn_mesh_free(&src);
+        return;
+    }
+    for (uint32_t t = 0; t < nt; ++t) {
+        face_counts[t] = 3;
+        for (int k = 0; k < 3; ++k)
+            faces[3 * (size_t)t + k] = (int32_t)src.indices[3 * (size_t)t + k];
+    }
+    struct ply_out fo = {"binary_little_endian", "face", src.positions, src.vertex_count, faces, face_counts, nt};
+    write_ply("real-faces.ply", &fo);
+    struct scn_mesh from_faces;
+    if (import_tmp("real-faces.ply", &from_faces) != 0) {
+        free(items), free(face_counts), free(faces);
+        scn_mesh_free(&src);
+        return;
+    }
+    CHECK(same_triangles(&from_faces, &src));
+    for (int trivial = 0; trivial < 2; ++trivial) {
+        uint32_t count = 0;
+        if (trivial)
+            for (uint32_t t = 0; t < nt; ++t) {
+                for (int k = 0; k < 3; ++k)
+                    items[count++] = (int32_t)src.indices[3 * (size_t)t + k];
+                items[count++] = -1;
+            }
+        else
+            count = (uint32_t)stripify(&src, items);
+        CHECK(count > 0);
+        struct ply_out so = {trivial ? "binary_big_endian" : "binary_little_endian", "tristrips", src.positions,
+                             src.vertex_count, items, &count, 1};
+        write_ply("real-strips.ply", &so);
+        struct scn_mesh m;
+        if (import_tmp("real-strips.ply", &m) != 0)
+            continue;
+        int same = same_triangles(&m, &from_faces);
+        printf("%s as one tristrips list of %u indices (%s): %u triangles, %s the face file's\n", name, count,
+               trivial ? "one triangle per strip, big endian" : "greedy strips, little endian", m.index_count / 3,
+               same ? "the same as" : "NOT the same as");
+        CHECK(same);
+        scn_mesh_free(&m);
+    }
+    scn_mesh_free(&from_faces);
+    scn_mesh_free(&src);
+    free(items), free(face_counts), free(faces);
 }
 
 int main(int argc, char **argv)
@@ -931,6 +1340,8 @@ int main(int argc, char **argv)
     test_small_formats();
     test_bad_inputs();
     test_mesh_headers();
+    test_ply_strips();
+    test_ply_strips_real_mesh();
     test_shared_meshes();
     test_truncated_and_glb();
     test_fandisk_features();

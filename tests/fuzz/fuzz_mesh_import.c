@@ -1,7 +1,8 @@
 /* Fuzz target: mesh import (scn_mesh_import: scene/mesh_import.cpp over OpenMesh IO for OBJ, PLY,
  * OFF and STL, scene/mesh_import_assimp.c over assimp for glTF 2.0), from a scratch file whose
- * extension byte 0 picks. Our code is the welding, triangulation, degenerate and index checks after
- * the libraries read the file. An imported mesh must keep the promises of scene/lodgen.h: faces,
+ * extension byte 0 picks. Our code is the checks before the libraries read the file (and the PLY
+ * triangle strips, which the PLY check reads itself), then the welding, triangulation, degenerate
+ * and index checks after. An imported mesh must keep the promises of scene/lodgen.h: faces,
  * indices in range, finite positions and normals. */
 #include "fuzz_util.h"
 

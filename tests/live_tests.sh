@@ -11,8 +11,9 @@ trap 'rm -rf "$tmp"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 here=$(cd "$(dirname "$0")" && pwd)
-# Each session gets its own Xvfb, known to listen before the session starts (tests/with_xvfb.sh): the
-# acceptance command's xvfb-run -a now and then let a client meet no server ("Failed to open display").
+# Each session gets its own Xvfb, known to answer before the session starts and never reset between
+# the session's connections (tests/with_xvfb.sh): xvfb-run -a now and then let a client meet no
+# server, or a resetting one ("Failed to open display").
 xvfb() { "$here/with_xvfb.sh" "$@"; }
 # probe FILE POINTS...: tests/png_probe.py's lines (RGB at points, distinct colours per half); empty
 # (and a note) without python3.
@@ -49,10 +50,19 @@ stray=$(ls "$tmp" | grep -v -E '^(out|err|live\.png)$')
 [ -z "$stray" ] || fail "acceptance: files left beside the capture: $stray"
 
 # Esc/close/SIGINT: a session without --frames stopped by SIGINT prints its summary and leaves a
-# complete head trace (no .partial) that replay reads back.
+# complete head trace (no .partial) that replay reads back. The signal goes once the session has
+# recorded two rows (a header and two lines in head.csv's temporary: rows are flushed per frame), not
+# after a fixed time, which a loaded machine can overrun; the wait is bounded (120 s × the time scale).
+polls=$(awk -v s="${HMDLOD_TEST_TIME_SCALE:-1}" 'BEGIN { s += 0; if (s < 1) s = 1; printf "%d", 1200 * s }')
 xvfb bash -c '"$0" live --device none --display dk2 --scene field --render-scale 0.25 --window-size 320x180 \
-    --yaw-degps 30 --record "$1/head.csv" --log "$1/frames.csv" --quiet >"$1/int.out" 2>"$1/int.err" & pid=$!; sleep 4; kill -INT $pid; wait $pid' \
-  "$bin" "$tmp"
+    --yaw-degps 30 --record "$1/head.csv" --log "$1/frames.csv" --quiet >"$1/int.out" 2>"$1/int.err" & pid=$!
+  for _ in $(seq 1 "$2"); do
+    [ "$(cat "$1"/head.csv.tmp.* 2>/dev/null | wc -l)" -ge 3 ] && break
+    kill -0 $pid 2>/dev/null || break
+    sleep 0.1
+  done
+  kill -INT $pid; wait $pid' \
+  "$bin" "$tmp" "$polls"
 rc=$?
 [ $rc -eq 0 ] || fail "SIGINT: exit $rc: $(tail -3 "$tmp/int.err")"
 grep -q "interrupted" "$tmp/int.err" || fail "SIGINT: no 'interrupted' note: $(cat "$tmp/int.err")"

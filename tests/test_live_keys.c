@@ -1,11 +1,15 @@
-/* The live session's keys, under Xvfb (run as `xvfb-run -a test_live_keys`): a second X connection
+/* The live session's keys, under Xvfb (tests/with_xvfb.sh, as ctest runs it): a second X connection
  * finds the session's window by its title and sends it key presses — + + (budget up 2 ms), V and E
  * (velocity and eccentricity terms off), G (gaze vor → head), S (selector reddy → static), R (head
  * trace recording paused: --record was given), C (a capture), then Esc — and the summary must show
- * each effect and the session must have ended before its frame limit. */
+ * each effect and the session must have ended before its frame limit. The sender waits for what the
+ * session shows, never for a fixed time: the keys go once the title says a frame was drawn (so the
+ * trace has a row before R pauses it), Esc once the capture C asked for is written; each wait is
+ * bounded (120 s × HMDLOD_TEST_TIME_SCALE) and says what did not happen. */
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
 #include <X11/keysym.h>
+#include <dirent.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +17,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "base/base.h"
 #include "live/live.h"
 #include "tests/test_util.h"
 
@@ -24,16 +29,26 @@ static void sleep_ms(int ms)
     nanosleep(&ts, NULL);
 }
 
+/* The bound of every wait: far above what the session needs, even on a loaded machine. */
+static double deadline_s(void) { return hl_clock_now_s() + 120.0 * tu_time_scale(); }
+
+/* 1 when the window's name starts with prefix. */
+static int name_starts(Display *d, Window w, const char *prefix)
+{
+    char *name = NULL;
+    int match = 0;
+    if (XFetchName(d, w, &name) && name) {
+        match = strncmp(name, prefix, strlen(prefix)) == 0;
+        XFree(name);
+    }
+    return match;
+}
+
 /* A top-level window whose name starts with "hmdlod live" (the title is the status line). */
 static Window find_window(Display *d, Window w)
 {
-    char *name = NULL;
-    if (XFetchName(d, w, &name) && name) {
-        int match = strncmp(name, "hmdlod live", 11) == 0;
-        XFree(name);
-        if (match)
-            return w;
-    }
+    if (name_starts(d, w, "hmdlod live"))
+        return w;
     Window root, parent, *kids = NULL, found = 0;
     unsigned n = 0;
     if (XQueryTree(d, w, &root, &parent, &kids, &n)) {
@@ -42,6 +57,21 @@ static Window find_window(Display *d, Window w)
         if (kids)
             XFree(kids);
     }
+    return found;
+}
+
+/* 1 when the working folder holds a finished capture (hl_out renames it to its name when complete). */
+static int capture_written(void)
+{
+    DIR *dir = opendir(".");
+    struct dirent *e;
+    int found = 0;
+    while (dir && !found && (e = readdir(dir)) != NULL) {
+        size_t n = strlen(e->d_name);
+        found = strncmp(e->d_name, "hmdlod-capture-", 15) == 0 && n > 4 && strcmp(e->d_name + n - 4, ".png") == 0;
+    }
+    if (dir)
+        closedir(dir);
     return found;
 }
 
@@ -61,35 +91,46 @@ static void send_key(Display *d, Window w, KeySym sym)
     e.type = KeyRelease;
     XSendEvent(d, w, True, KeyReleaseMask, (XEvent *)&e);
     XFlush(d);
-    /* A few frames: one key per frame's poll is enough, but keep them apart (longer where frames are
-     * slower: a sanitizer build, HMDLOD_TEST_TIME_SCALE). */
-    sleep_ms((int)(150 * tu_time_scale()));
+}
+
+static void *sender_fail(Display *d, const char *what)
+{
+    fprintf(stderr, "key sender: %s within %.0f s\n", what, 120.0 * tu_time_scale());
+    sender_failed = 1;
+    if (d)
+        XCloseDisplay(d);
+    return NULL;
 }
 
 static void *sender(void *arg)
 {
     (void)arg;
-    Display *d = XOpenDisplay(NULL);
-    if (!d) {
-        sender_failed = 1;
-        return NULL;
-    }
+    double until = deadline_s();
+    Display *d = NULL;
+    while (!(d = XOpenDisplay(NULL)) && hl_clock_now_s() < until)
+        sleep_ms(100);
+    if (!d)
+        return sender_fail(NULL, "no X connection");
     Window w = 0;
-    for (int i = 0; i < 300 && !w; ++i) { /* up to 30 s: the scene loads first */
-        w = find_window(d, DefaultRootWindow(d));
-        if (!w)
-            sleep_ms(100);
-    }
-    if (!w) {
-        fprintf(stderr, "no window titled 'hmdlod live…' appeared\n");
-        sender_failed = 1;
-        XCloseDisplay(d);
-        return NULL;
-    }
-    sleep_ms((int)(500 * tu_time_scale())); /* the first frames (warm-up draw) */
-    static const KeySym keys[] = {XK_plus, XK_equal, XK_v, XK_e, XK_g, XK_s, XK_r, XK_c, XK_Escape};
+    while (!(w = find_window(d, DefaultRootWindow(d))) && hl_clock_now_s() < until)
+        sleep_ms(100); /* the scene loads first */
+    if (!w)
+        return sender_fail(d, "no window titled 'hmdlod live…' appeared");
+    /* The title becomes the status line after the first frame, whose trace row is written by then. */
+    while (!name_starts(d, w, "hmdlod live: frame") && hl_clock_now_s() < until)
+        sleep_ms(50);
+    if (!name_starts(d, w, "hmdlod live: frame"))
+        return sender_fail(d, "the window's title never showed a frame");
+    /* All at once: the session takes every queued key in order at its next frame. */
+    static const KeySym keys[] = {XK_plus, XK_equal, XK_v, XK_e, XK_g, XK_s, XK_r, XK_c};
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; ++i)
         send_key(d, w, keys[i]);
+    /* Esc only once C's capture is on disk: sent together, Esc would end the session first. */
+    while (!capture_written() && hl_clock_now_s() < until)
+        sleep_ms(50);
+    if (!capture_written())
+        return sender_fail(d, "no capture after C");
+    send_key(d, w, XK_Escape);
     XCloseDisplay(d);
     return NULL;
 }
@@ -97,7 +138,7 @@ static void *sender(void *arg)
 int main(void)
 {
     if (!getenv("DISPLAY")) {
-        printf("skip: run under xvfb-run -a (ctest does)\n");
+        printf("skip: run under tests/with_xvfb.sh (ctest does)\n");
         return 77;
     }
     char dir[] = "/tmp/hmdlod-live-keys-XXXXXX";

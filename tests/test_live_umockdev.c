@@ -1,10 +1,13 @@
 /* A scripted live session whose tracker is the fake Rift DK2 of test_hid_umockdev (umockdev, PLATFORM.md
- * §6), in an Xvfb window: run as `xvfb-run -a umockdev-wrapper test_live_umockdev`. A feeder thread
- * streams DK2 reports at a constant yaw rate, unplugs the DK2 midway (remove uevent, hung-up node),
- * replugs it as hidraw1 and streams again, then stops the session with SIGINT. Checked: the session
- * used the tracker, saw one loss and one resumption, held the pose while unplugged (the head trace's
- * yaw does not move then), turned while streaming, rendered frames, and its capture and head trace
- * are complete. */
+ * §6), in an Xvfb window: run as `with_xvfb.sh umockdev-wrapper test_live_umockdev` (ctest does). A
+ * feeder thread streams DK2 reports at a constant yaw rate, unplugs the DK2 midway (remove uevent,
+ * hung-up node), replugs it as hidraw1 and streams again, then stops the session with SIGINT. Checked:
+ * the session used the tracker, saw one loss and one resumption, held the pose while unplugged (the
+ * head trace's yaw does not move then), turned while streaming, rendered frames, and its capture and
+ * head trace are complete. The feeder moves on when the session's head trace (rows flushed per
+ * frame into the temporary beside head.csv) shows what the checks need — turning, then the pose held
+ * for a second of trace time, then turning again — not after fixed times a loaded machine can
+ * overrun; each wait is bounded (120 s × HMDLOD_TEST_TIME_SCALE). */
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -29,7 +32,8 @@
 
 static UMockdevTestbed *tb;
 static char data_dir[1024];
-static volatile int feeder_failed;
+static char trace_dir[256]; /* where the session writes head.csv */
+static volatile int feeder_failed, session_done;
 static double unplug_s, replug_s; /* monotonic, when the feeder did them */
 
 static void sleep_ms(int ms)
@@ -77,6 +81,76 @@ static void clean_ptymap(void)
     closedir(d);
 }
 
+static double yaw_deg(double qw, double qx, double qy, double qz)
+{
+    hl_vec3d f = hl_q_rotate(hl_q(qw, qx, qy, qz), hl_v3(0, 0, -1));
+    return atan2(-f.x, -f.z) * HL_DEG_PER_RAD;
+}
+
+/* What the checks read from a head trace. Before the first report the pose is still; after the
+ * first turn, the longest run of equal yaws is the unplugged stretch (its length in the trace's time:
+ * frames may miss slots on a loaded machine), and turning must come back after it. */
+struct trace_stats {
+    long rows, moving_rows, moving_after_longest;
+    double longest_s;
+    int header_ok;
+};
+
+/* The stats of the head trace at path (whole lines only: the session may be writing it). */
+static void trace_stats_read(const char *path, struct trace_stats *st)
+{
+    memset(st, 0, sizeof *st);
+    FILE *f = fopen(path, "r");
+    char line[256];
+    if (!f)
+        return;
+    double prev_yaw = 0, prev_t = 0, run_start_s = -1;
+    if (fgets(line, sizeof line, f)) {
+        st->header_ok = strcmp(line, "t_s,qw,qx,qy,qz\n") == 0;
+        while (fgets(line, sizeof line, f) && strchr(line, '\n')) {
+            double t, qw, qx, qy, qz;
+            if (sscanf(line, "%lf,%lf,%lf,%lf,%lf", &t, &qw, &qx, &qy, &qz) != 5)
+                break;
+            double yaw = yaw_deg(qw, qx, qy, qz);
+            if (st->rows > 0) {
+                double d = fabs(yaw - prev_yaw);
+                d = d > 180 ? 360 - d : d;
+                if (d > 0.5) {
+                    st->moving_rows++, st->moving_after_longest++;
+                    run_start_s = -1;
+                } else if (d == 0.0 && st->moving_rows > 0) {
+                    if (run_start_s < 0)
+                        run_start_s = prev_t;
+                    if (t - run_start_s > st->longest_s) {
+                        st->longest_s = t - run_start_s;
+                        st->moving_after_longest = 0;
+                    }
+                }
+            }
+            prev_yaw = yaw;
+            prev_t = t;
+            st->rows++;
+        }
+    }
+    fclose(f);
+}
+
+/* The stats of the head trace the session is writing (its temporary beside head.csv). */
+static void live_trace_stats(struct trace_stats *st)
+{
+    memset(st, 0, sizeof *st);
+    DIR *d = opendir(trace_dir);
+    struct dirent *e;
+    char path[600] = "";
+    while (d && (e = readdir(d)) != NULL)
+        if (strncmp(e->d_name, "head.csv.tmp.", 13) == 0)
+            snprintf(path, sizeof path, "%s/%s", trace_dir, e->d_name);
+    if (d)
+        closedir(d);
+    if (path[0])
+        trace_stats_read(path, st);
+}
+
 /* Streams for `ms` of wall time: 10 reports (1 ms of device time each) every 10 ms. */
 static int stream(int master, struct trk_encoder *enc, int64_t *device_ns, int ms)
 {
@@ -101,6 +175,45 @@ static int stream(int master, struct trk_encoder *enc, int64_t *device_ns, int m
     return 0;
 }
 
+/* What the feeder waits for in the session's head trace. */
+enum until { UNTIL_ROWS, UNTIL_TURNED, UNTIL_HELD, UNTIL_TURNED_AGAIN };
+static int reached(enum until u)
+{
+    struct trace_stats st;
+    live_trace_stats(&st);
+    switch (u) {
+    case UNTIL_ROWS: /* the session runs: its tracker opened before the first frame */
+        return st.rows >= 1;
+    case UNTIL_TURNED:
+        return st.moving_rows >= 20; /* with the rest, at least the 30 frames the checks want */
+    case UNTIL_HELD: /* the checks want 0.8 s */
+        return st.longest_s >= 1.0;
+    case UNTIL_TURNED_AGAIN:
+        return st.moving_after_longest >= 10;
+    }
+    return 0;
+}
+static const char *const until_names[] = {"a first row", "20 turning rows", "the pose held for 1 s",
+                                          "10 turning rows after the held pose"};
+
+/* Streams to `master` (when >= 0; else waits) until the session's trace shows `u`, within the bound. */
+static int stream_until(int master, struct trk_encoder *enc, int64_t *device_ns, enum until u)
+{
+    double until = hl_clock_now_s() + 120.0 * tu_time_scale();
+    while (!reached(u)) {
+        if (hl_clock_now_s() > until) {
+            fprintf(stderr, "feeder: the head trace did not show %s within %.0f s\n", until_names[u],
+                    120.0 * tu_time_scale());
+            return -1;
+        }
+        if (master < 0)
+            sleep_ms(50);
+        else if (stream(master, enc, device_ns, 50) != 0)
+            return -1;
+    }
+    return 0;
+}
+
 static void *feeder(void *arg)
 {
     (void)arg;
@@ -108,8 +221,8 @@ static void *feeder(void *arg)
     struct trk_encoder enc;
     trk_encoder_init(&enc, TRK_DEVICE_RIFT_DK2, NULL);
     int64_t device_ns = 5000000000LL;
-    sleep_ms(1500); /* the window opens and the session starts */
-    if (master < 0 || stream(master, &enc, &device_ns, 1500) != 0)
+    if (master < 0 || stream_until(-1, NULL, NULL, UNTIL_ROWS) != 0 ||
+        stream_until(master, &enc, &device_ns, UNTIL_TURNED) != 0)
         goto fail;
     /* Unplug as test_hid_umockdev does it (PLATFORM.md §6 steps 3–4). */
     unplug_s = hl_clock_now_s();
@@ -122,7 +235,8 @@ static void *feeder(void *arg)
     umockdev_testbed_remove_device(tb, SYS_INTF "/0003:2833:0021.0001");
     umockdev_testbed_remove_device(tb, SYS_INTF);
     umockdev_testbed_remove_device(tb, SYS_USB);
-    sleep_ms(1500);
+    if (stream_until(-1, NULL, NULL, UNTIL_HELD) != 0)
+        goto fail;
     clean_ptymap();
     replug_s = hl_clock_now_s();
     if (add_device("dk2-hidraw1.umockdev", "/dev/hidraw1") != 0)
@@ -131,20 +245,23 @@ static void *feeder(void *arg)
     struct trk_encoder enc1;
     trk_encoder_init(&enc1, TRK_DEVICE_RIFT_DK2, NULL);
     int64_t device1_ns = 1000000;
-    if (master1 < 0 || stream(master1, &enc1, &device1_ns, 2000) != 0)
+    if (master1 < 0 || stream_until(master1, &enc1, &device1_ns, UNTIL_TURNED_AGAIN) != 0)
         goto fail;
     kill(getpid(), SIGINT); /* the user's Ctrl-C: the session ends cleanly */
+    /* Reports until it has: a second of silence before it stops would count as a second loss. Not
+     * blocking: once the session has closed the node, nothing drains it. */
+    int fl = fcntl(master1, F_GETFL);
+    if (fl >= 0)
+        fcntl(master1, F_SETFL, fl | O_NONBLOCK);
+    double until = hl_clock_now_s() + 120.0 * tu_time_scale();
+    while (!session_done && hl_clock_now_s() < until)
+        if (stream(master1, &enc1, &device1_ns, 50) != 0)
+            break;
     return NULL;
 fail:
     feeder_failed = 1;
     kill(getpid(), SIGINT);
     return NULL;
-}
-
-static double yaw_deg(double qw, double qx, double qy, double qz)
-{
-    hl_vec3d f = hl_q_rotate(hl_q(qw, qx, qy, qz), hl_v3(0, 0, -1));
-    return atan2(-f.x, -f.z) * HL_DEG_PER_RAD;
 }
 
 int main(void)
@@ -156,7 +273,7 @@ int main(void)
         return 77;
     }
     if (!getenv("DISPLAY")) {
-        fprintf(stderr, "skip: run under xvfb-run -a (ctest does)\n");
+        fprintf(stderr, "skip: run under tests/with_xvfb.sh (ctest does)\n");
         return 77;
     }
     const char *src_dir = getenv("HMDLOD_SOURCE");
@@ -167,6 +284,7 @@ int main(void)
 
     char dir[] = "/tmp/hmdlod-live-umockdev-XXXXXX";
     CHECK(mkdtemp(dir) != NULL);
+    snprintf(trace_dir, sizeof trace_dir, "%s", dir);
     char capture[256], record[256];
     snprintf(capture, sizeof capture, "%s/live.png", dir);
     snprintf(record, sizeof record, "%s/head.csv", dir);
@@ -190,6 +308,7 @@ int main(void)
     struct liv_summary s;
     struct hl_error err = {""};
     int rc = liv_run(&o, &s, &err);
+    session_done = 1;
     pthread_join(th, NULL);
     if (rc != 0)
         fprintf(stderr, "live: %s\n", err.msg);
@@ -223,49 +342,16 @@ int main(void)
     remove(raw);
 
     /* The head trace: rows of the session; yaw turning while streaming, held while unplugged. */
-    FILE *f = fopen(record, "r");
-    CHECK(f != NULL);
-    char line[256];
-    /* Before the first report the pose is still; after the first turn, the longest run of equal
-     * yaws is the unplugged stretch (its length in the trace's time: frames may miss slots on a
-     * loaded machine), and turning must come back after it. */
-    long rows = 0, moving_rows = 0, moving_after_longest = 0;
-    double prev_yaw = 0, prev_t = 0, run_start_s = -1, longest_s = 0;
-    if (f && fgets(line, sizeof line, f)) {
-        CHECK(strcmp(line, "t_s,qw,qx,qy,qz\n") == 0);
-        while (fgets(line, sizeof line, f)) {
-            double t, qw, qx, qy, qz;
-            if (sscanf(line, "%lf,%lf,%lf,%lf,%lf", &t, &qw, &qx, &qy, &qz) != 5)
-                break;
-            double yaw = yaw_deg(qw, qx, qy, qz);
-            if (rows > 0) {
-                double d = fabs(yaw - prev_yaw);
-                d = d > 180 ? 360 - d : d;
-                if (d > 0.5) {
-                    moving_rows++, moving_after_longest++;
-                    run_start_s = -1;
-                } else if (d == 0.0 && moving_rows > 0) {
-                    if (run_start_s < 0)
-                        run_start_s = prev_t;
-                    if (t - run_start_s > longest_s) {
-                        longest_s = t - run_start_s;
-                        moving_after_longest = 0;
-                    }
-                }
-            }
-            prev_yaw = yaw;
-            prev_t = t;
-            rows++;
-        }
-    }
-    if (f)
-        fclose(f);
+    struct trace_stats st;
+    trace_stats_read(record, &st);
+    CHECK(st.header_ok);
     printf("head trace: %ld rows, %ld turning; pose held for %.2f s after turning, %ld turning rows after that; "
-           "unplugged for %.2f s\n", rows, moving_rows, longest_s, moving_after_longest, replug_s - unplug_s);
-    CHECK(rows == s.frames);
-    CHECK(moving_rows >= 10);        /* 90 deg/s while streaming: 3 deg a frame at 30 Hz */
-    CHECK(longest_s >= 0.8);         /* about 1.5 s unplugged: held, not extrapolated */
-    CHECK(moving_after_longest >= 5); /* and turning again after the replug */
+           "unplugged for %.2f s\n", st.rows, st.moving_rows, st.longest_s, st.moving_after_longest,
+           replug_s - unplug_s);
+    CHECK(st.rows == s.frames);
+    CHECK(st.moving_rows >= 10);         /* 90 deg/s while streaming: 3 deg a frame at 30 Hz */
+    CHECK(st.longest_s >= 0.8);          /* held while unplugged, not extrapolated */
+    CHECK(st.moving_after_longest >= 5); /* and turning again after the replug */
     remove(capture);
     remove(record);
     rmdir(dir);

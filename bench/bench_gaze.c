@@ -39,11 +39,7 @@ struct gaze_trace {
 };
 
 struct gaze_bench {
-    long frames;
-    long objects;
-    double render_scale;
-    int quick;
-    const char *results;
+    struct bch_gaze_options o; /* as parsed (app/cmd_bench_gaze.c) */
     struct gaze_trace traces[MAX_TRACES];
     int n_traces;
     struct rpl_summary sum[MAX_TRACES][N_SCENES][N_MODELS];
@@ -100,9 +96,9 @@ static int run_all(struct gaze_bench *b)
                 o.frame.gaze = models[m].gaze;
                 o.frame.velocity_term_off = models[m].velocity_off;
                 o.out_dir = out_dir;
-                o.frames = b->frames;
-                o.frame.object_count = (int)b->objects;
-                o.frame.render_scale = b->render_scale;
+                o.frames = b->o.frames;
+                o.frame.object_count = (int)b->o.objects;
+                o.frame.render_scale = b->o.render_scale;
                 o.frame.quiet = 1;
                 fprintf(stderr, "hmdlod bench gaze: run %d of %d: %s, %s, %s\n", run, total, b->traces[t].label,
                         scenes[sc], models[m].label);
@@ -126,7 +122,7 @@ static int run_all(struct gaze_bench *b)
             o.frame.selector = whole_selectors[k];
             o.frame.gaze = "tracked";
             o.out_dir = out_dir;
-            o.frames = b->quick ? 1200 : 0;
+            o.frames = b->o.quick ? 1200 : 0;
             o.frame.render_scale = 0.25;
             o.frame.quiet = 1;
             fprintf(stderr, "hmdlod bench gaze: %s, whole log, field (100 objects), tracked, %s\n",
@@ -146,7 +142,7 @@ static void print_saccade_table(const struct gaze_bench *b)
     bch_emit("\n### Saccades over the %s (tracked; field, 100 objects, render scale 0.25)\n\n"
                "| trace | selector | frames | saccades | per second | frames suppressed | refinements missing 28 ms "
                "(frames / saccades) | triangles vs none |\n|---|---|--:|--:|--:|--:|--:|--:|\n",
-               b->quick ? "first 1200 frames" : "whole log");
+               b->o.quick ? "first 1200 frames" : "whole log");
     static const char *const names[2] = {"reddy", "fs"};
     for (int t = 0; t < b->n_traces; ++t)
         for (int k = 0; k < 2 && b->traces[t].has_gaze; ++k) {
@@ -170,7 +166,7 @@ static double velocity_saving_share(const struct rpl_summary *sum)
 static void print_scene_table(const struct gaze_bench *b, int sc)
 {
     if (sc == 0)
-        bch_emit("\n### %s (%ld objects)\n\n", scenes[sc], b->objects);
+        bch_emit("\n### %s (%ld objects)\n\n", scenes[sc], b->o.objects);
     else
         bch_emit("\n### %s\n\n", scenes[sc]);
     bch_emit("| trace | model | frames | triangles/eye mean | vs none | frame ms median / p95 | frame time vs none "
@@ -229,18 +225,14 @@ static void print_notes(const struct gaze_bench *b, double wall_s, int runs)
                "object still coarser than its target (the coarser of its ceiling and its level before the saccade) "
                "that the budget had room to raise (frame/saccade_step.c). "
                "Timings vary by ±20 %% between runs on a shared machine: compare ratios within one run.\n",
-               runs, wall_s, b->frames, s->display, s->rate_hz, b->render_scale);
+               runs, wall_s, b->o.frames, s->display, s->rate_hz, b->o.render_scale);
 }
 
 int bch_gaze(const struct bch_gaze_options *o, int full_argc, char **full_argv)
 {
     static struct gaze_bench b; /* the summaries are large */
     memset(&b, 0, sizeof b);
-    b.frames = o->frames;
-    b.objects = o->objects;
-    b.render_scale = o->render_scale;
-    b.quick = o->quick;
-    b.results = o->results;
+    b.o = *o;
     if (choose_traces(&b) != 0)
         return 1;
     struct timespec t0, t1;
@@ -254,7 +246,7 @@ int bch_gaze(const struct bch_gaze_options *o, int full_argc, char **full_argv)
         for (int sc = 0; sc < N_SCENES; ++sc)
             for (int m = 0; m < N_MODELS; ++m)
                 runs += b.ran[t][sc][m];
-    if (b.results && bch_copy_begin() != 0) {
+    if (b.o.results && bch_copy_begin() != 0) {
         fprintf(stderr, "hmdlod bench gaze: out of memory\n");
         return 1;
     }
@@ -265,5 +257,5 @@ int bch_gaze(const struct bch_gaze_options *o, int full_argc, char **full_argv)
     print_velocity_table(&b);
     print_saccade_table(&b);
     print_notes(&b, wall_s, runs);
-    return bch_copy_finish(b.results, BCH_GAZE_HEADING, "hmdlod bench gaze", 0);
+    return bch_copy_finish(b.o.results, BCH_GAZE_HEADING, "hmdlod bench gaze", 0);
 }

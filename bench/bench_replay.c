@@ -24,11 +24,7 @@ struct bench_trace {
 };
 
 struct replay_bench {
-    long frames; /* --frames; 0 → the defaults below */
-    double render_scale;
-    long objects;
-    int quick;
-    const char *results;
+    struct bch_replay_options o; /* as parsed (app/cmd_bench_replay.c) */
     struct bench_trace traces[MAX_TRACES];
     int n_traces;
     struct rpl_summary sum[MAX_TRACES][N_SCENES][N_SELECTORS];
@@ -37,18 +33,18 @@ struct replay_bench {
 /* The built-in clip always (it needs no files); the Corbillon users when the shared folder is there. */
 static void choose_traces(struct replay_bench *b)
 {
-    long corbillon_frames = b->frames ? b->frames : b->quick ? 200 : 600;
+    long corbillon_frames = b->o.frames ? b->o.frames : b->o.quick ? 200 : 600;
     struct bench_trace *t = &b->traces[b->n_traces++];
     snprintf(t->label, sizeof t->label, "built-in clip");
     t->path[0] = '\0';
-    t->frames = b->frames ? b->frames : b->quick ? 200 : 0;
+    t->frames = b->o.frames ? b->o.frames : b->o.quick ? 200 : 0;
     char shared[4096];
     if (bch_find_shared(shared, sizeof shared) != 0) {
         fprintf(stderr, "hmdlod bench replay: note: the shared data folder is absent (%s); built-in clip only\n",
                 shared);
         return;
     }
-    for (int user = 1; user <= (b->quick ? 1 : 3); ++user) {
+    for (int user = 1; user <= (b->o.quick ? 1 : 3); ++user) {
         t = &b->traces[b->n_traces++];
         snprintf(t->label, sizeof t->label, "corbillon user%d", user);
         snprintf(t->path, sizeof t->path, "%s/" CORBILLON_DIR "/user%d_quaternion.txt", shared, user);
@@ -76,8 +72,8 @@ static int run_all(struct replay_bench *b)
                 o.frame.selector = selectors[se];
                 o.out_dir = out_dir;
                 o.frames = b->traces[t].frames;
-                o.frame.object_count = (int)b->objects;
-                o.frame.render_scale = b->render_scale;
+                o.frame.object_count = (int)b->o.objects;
+                o.frame.render_scale = b->o.render_scale;
                 o.frame.quiet = 1;
                 fprintf(stderr, "hmdlod bench replay: run %d of %d: %s, %s, %s\n", run, total, b->traces[t].label,
                         scenes[sc], selectors[se]);
@@ -96,7 +92,7 @@ static void print_scene_table(const struct replay_bench *b, int sc)
 {
     const struct rpl_summary *first = &b->sum[0][sc][0];
     if (sc == 0)
-        bch_emit("\n### %s (%ld objects)\n\n", scenes[sc], b->objects);
+        bch_emit("\n### %s (%ld objects)\n\n", scenes[sc], b->o.objects);
     else
         bch_emit("\n### %s\n\n", scenes[sc]);
     bch_emit("| trace | selector | frames | frame ms median / p95 / p99 / max | draw ms median | triangles/eye "
@@ -165,18 +161,14 @@ static void print_notes(const struct replay_bench *b, double wall_s)
                "speed at each frame. The renderer is %s: timings vary by ±20 %% from run to run (PLATFORM.md), "
                "so compare the ratios within one run rather than figures across runs.\n",
                b->n_traces * N_SCENES * N_SELECTORS, wall_s, 1000.0 / s->budget_ms, 1000.0 / s->budget_ms,
-               b->render_scale, s->display, cpu);
+               b->o.render_scale, s->display, cpu);
 }
 
 int bch_replay(const struct bch_replay_options *o, int full_argc, char **full_argv)
 {
     struct replay_bench b;
     memset(&b, 0, sizeof b);
-    b.frames = o->frames;
-    b.render_scale = o->render_scale;
-    b.objects = o->objects;
-    b.quick = o->quick;
-    b.results = o->results;
+    b.o = *o;
     choose_traces(&b);
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
@@ -184,7 +176,7 @@ int bch_replay(const struct bch_replay_options *o, int full_argc, char **full_ar
         return 1;
     clock_gettime(CLOCK_MONOTONIC, &t1);
     double wall_s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
-    if (b.results && bch_copy_begin() != 0) {
+    if (b.o.results && bch_copy_begin() != 0) {
         fprintf(stderr, "hmdlod bench replay: out of memory\n");
         return 1;
     }
@@ -195,5 +187,5 @@ int bch_replay(const struct bch_replay_options *o, int full_argc, char **full_ar
         print_scene_table(&b, sc);
     print_band_table(&b);
     print_notes(&b, wall_s);
-    return bch_copy_finish(b.results, BCH_REPLAY_HEADING, "hmdlod bench replay", 0);
+    return bch_copy_finish(b.o.results, BCH_REPLAY_HEADING, "hmdlod bench replay", 0);
 }

@@ -246,18 +246,25 @@ int cmd_calibrate(int argc, char **argv)
     size_t train = 0;
     rnd_cost_split(cal.frame_count, (uint64_t)a.seed, order, &train);
     size_t held = cal.frame_count - train;
-    struct lod_cost_model fits[2];
-    struct frm_cost_fit_report reports[2];
-    struct frm_cost_accuracy acc[2];
+    struct lod_cost_model fits[2], free_fits[2];
+    struct frm_cost_fit_report reports[2], free_reports[2];
+    struct frm_cost_accuracy acc[2], free_acc[2];
     static const enum lod_cost_form forms[2] = {LOD_COST_MAX, LOD_COST_ADDITIVE};
     int rc = 0;
+    printf("fixed cost: %u empty frames (clear both eyes, glFinish) among the points: median %.3f ms "
+           "(quartiles %.3f … %.3f)\n",
+           cal.empty_frames, cal.empty_ms, cal.empty_p25_ms, cal.empty_p75_ms);
     for (int f = 0; f < 2 && rc == 0; ++f) {
-        if (frm_cost_fit(forms[f], cal.frames, order, train, cal.objects, &fits[f], &reports[f], &err) != 0) {
+        /* Kept: c0 as measured; the intercept fit is printed beside it as the old reference. */
+        if (frm_cost_fit_fixed(forms[f], cal.empty_ms, cal.frames, order, train, cal.objects, &fits[f], &reports[f],
+                               &err) != 0 ||
+            frm_cost_fit(forms[f], cal.frames, order, train, cal.objects, &free_fits[f], &free_reports[f], &err) != 0) {
             fprintf(stderr, "hmdlod calibrate: fitting the %s form: %s\n", frm_cost_form_name(forms[f]), err.msg);
             rc = 1;
             break;
         }
         acc[f] = frm_cost_evaluate(&fits[f], cal.frames, order + train, held, cal.objects);
+        free_acc[f] = frm_cost_evaluate(&free_fits[f], cal.frames, order + train, held, cal.objects);
     }
     if (rc == 0) {
         printf("fitted on %zu points, held out %zu (seed %ld); relative errors |predicted - measured| / measured\n",
@@ -266,6 +273,9 @@ int cmd_calibrate(int argc, char **argv)
                "    p95  under >5 %%\n");
         for (int f = 0; f < 2; ++f)
             print_fit(frm_cost_form_name(forms[f]), &fits[f], &reports[f], &acc[f]);
+        printf("  with c0 fitted as an intercept instead (not kept):\n");
+        for (int f = 0; f < 2; ++f)
+            print_fit(frm_cost_form_name(forms[f]), &free_fits[f], &free_reports[f], &free_acc[f]);
         struct frm_cost_accuracy edge;
         double ce[6];
         if (edge_proposal(&cal, order, train, &edge, ce) == 0)
@@ -278,6 +288,7 @@ int cmd_calibrate(int argc, char **argv)
         printf("kept: %s (held-out p95 %.1f %% against %.1f %%)\n", frm_cost_form_name(forms[keep]),
                100.0 * acc[keep].p95_rel, 100.0 * acc[!keep].p95_rel);
         prof.model = fits[keep];
+        prof.fixed = (struct frm_cost_fixed){cal.empty_ms, cal.empty_p25_ms, cal.empty_p75_ms, cal.empty_frames};
         prof.held_out = acc[keep];
         prof.held_out_other = acc[!keep];
         time_t now = time(NULL);

@@ -47,9 +47,10 @@ static const char replay_usage[] =
     "                     choice is feasible after every iteration (Nirenstein et al. 5.5)\n"
     "  --static-px N      static's pixels per triangle (default 64); feedback starts from it\n"
     "  --saccade-onset-degps V  gaze speed that starts a saccade (default 100; the end is at half of it)\n"
-    "  --cost-correction on|ratio|affine|off  correct fs's and mb's budget from measured draw times: the\n"
-    "                     smoothed measured/predicted ratio (on = ratio, the default), or an affine fit\n"
-    "                     measured = a + b x by recursive least squares (x: the objects' predicted cost)\n"
+    "  --cost-correction on|ratio|affine|off  correct fs's and mb's budget from measured draw times: an\n"
+    "                     affine fit measured = a + b x by recursive least squares (x: the objects'\n"
+    "                     predicted cost; on = affine, the default), or the smoothed measured/predicted\n"
+    "                     ratio, which divides the whole budget (docs/cost-model.md)\n"
     "  --gaze MODEL       how the eye moves (docs/gaze.md): auto (default: tracked when the trace has\n"
     "                     gaze columns, else vor), head (eye fixed in the head, Reddy's assumption),\n"
     "                     vor (the eye holds a world point ahead of the head), tracked (the trace's gaze)\n"
@@ -144,9 +145,9 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
                 return 1;
             }
         } else if (!strcmp(opt, "--cost-correction")) {
-            if (!strcmp(val, "on") || !strcmp(val, "ratio"))
+            if (!strcmp(val, "ratio"))
                 o->frame.cost_correction = FRM_CORRECTION_RATIO;
-            else if (!strcmp(val, "affine"))
+            else if (!strcmp(val, "on") || !strcmp(val, "affine"))
                 o->frame.cost_correction = FRM_CORRECTION_AFFINE;
             else if (!strcmp(val, "off"))
                 o->frame.cost_correction = FRM_CORRECTION_OFF;

@@ -44,6 +44,15 @@ int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, c
                  size_t row_count, const struct rnd_cost_object *objects, struct lod_cost_model *out,
                  struct frm_cost_fit_report *report, struct hl_error *err);
 
+/* The same with c0 measured, not fitted (`calibrate` times empty frames, rnd_calibration.empty_ms):
+ * only the objects' four coefficients are fitted, on measured − c0, with the same relative weighting.
+ * An intercept fitted to loaded frames absorbs whatever the per-object terms miss and is wrong at
+ * both ends; the measured one is right where the budget is tightest, at frames that draw little.
+ * c0_ms finite and ≥ 0. */
+int frm_cost_fit_fixed(enum lod_cost_form form, double c0_ms, const struct rnd_cost_frame *frames,
+                       const uint32_t *rows, size_t row_count, const struct rnd_cost_object *objects,
+                       struct lod_cost_model *out, struct frm_cost_fit_report *report, struct hl_error *err);
+
 /* Relative error (predicted − measured) / measured over the listed frames: median and 95th
  * percentile of its magnitude, and the share of frames under-predicted by more than 5 % (what
  * breaks a budget). Allocates row_count doubles; all zero when row_count is 0 or allocation fails. */
@@ -57,10 +66,17 @@ struct frm_cost_accuracy frm_cost_evaluate(const struct lod_cost_model *m, const
 
 
 /* ---- the cost profile (cost_profile.c, docs/cost-model.md) -------------------------------------- */
+/* The fixed cost as calibrate measured it (empty frames among the grid's points); frames 0: unknown
+ * (a profile from before it was measured: c0 was then an intercept). */
+struct frm_cost_fixed {
+    double median_ms, p25_ms, p75_ms;
+    uint32_t frames;
+};
 struct frm_cost_profile {
     struct lod_cost_model model;          /* what lod/ and the frame use */
     struct frm_cost_accuracy held_out;    /* of the kept form */
     struct frm_cost_accuracy held_out_other; /* of the form not kept (frames 0: unknown) */
+    struct frm_cost_fixed fixed;          /* the measured fixed cost c0 was taken from */
     char label[160];                      /* e.g. "built-in llvmpipe reference (2-core, measured …)" */
     char renderer[128];                   /* GL_RENDERER the coefficients were measured on */
     char display[HMD_NAME_MAX];

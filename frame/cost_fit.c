@@ -240,9 +240,10 @@ static double fit_objective(const struct lod_cost_model *m, const struct rnd_cos
  * assign == NULL every object contributes all terms (additive); else an object with assign 1 adds
  * its geometry terms only and one with 0 its pixels only: the max form with its max resolved. */
 static int fit_linear(const struct rnd_cost_frame *frames, const uint32_t *rows, size_t row_count,
-                      const struct rnd_cost_object *objects, const uint8_t *assign, double *a, double *b,
-                      double c[COST_COLS], struct hl_error *err)
+                      const struct rnd_cost_object *objects, const uint8_t *assign, double fixed_c0_ms, double *a,
+                      double *b, double c[COST_COLS], struct hl_error *err)
 {
+    int fixed = isfinite(fixed_c0_ms); /* c0 measured: its column is zero (never enters) and moves b */
     for (size_t r = 0; r < row_count; ++r) {
         const struct rnd_cost_frame *f = &frames[rows[r]];
         double t = 0, v = 0, p = 0, d = 0;
@@ -257,11 +258,14 @@ static int fit_linear(const struct rnd_cost_frame *frames, const uint32_t *rows,
             d += ob->draws;
         }
         double inv = 1.0 / f->measured_ms;
-        double row[COST_COLS] = {inv, t * inv, v * inv, p * inv, d * inv};
+        double row[COST_COLS] = {fixed ? 0.0 : inv, t * inv, v * inv, p * inv, d * inv};
         memcpy(a + r * COST_COLS, row, sizeof row);
-        b[r] = 1.0;
+        b[r] = fixed ? 1.0 - fixed_c0_ms * inv : 1.0;
     }
-    return frm_cost_nnls(a, row_count, COST_COLS, b, c, NULL, err);
+    int rc = frm_cost_nnls(a, row_count, COST_COLS, b, c, NULL, err);
+    if (fixed)
+        c[0] = fixed_c0_ms;
+    return rc;
 }
 
 /* Resolves each object's max under model m: 1 = geometry dominates. Returns how many changed. */
@@ -283,9 +287,9 @@ static size_t assign_stages(const struct lod_cost_model *m, const struct rnd_cos
     return changed;
 }
 
-int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, const uint32_t *rows,
-                 size_t row_count, const struct rnd_cost_object *objects, struct lod_cost_model *out,
-                 struct frm_cost_fit_report *report, struct hl_error *err)
+static int fit_form(enum lod_cost_form form, double fixed_c0_ms, const struct rnd_cost_frame *frames,
+                    const uint32_t *rows, size_t row_count, const struct rnd_cost_object *objects,
+                    struct lod_cost_model *out, struct frm_cost_fit_report *report, struct hl_error *err)
 {
     if (!frames || !rows || !objects || !out || row_count == 0)
         return hl_fail(err, "cost fit: no frames to fit");
@@ -314,7 +318,7 @@ int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, c
         return hl_fail(err, "cost fit: out of memory (%zu frames)", row_count);
     }
     double *b = a + row_count * COST_COLS, c[COST_COLS];
-    int rc = fit_linear(frames, rows, row_count, objects, NULL, a, b, c, err);
+    int rc = fit_linear(frames, rows, row_count, objects, NULL, fixed_c0_ms, a, b, c, err);
     struct lod_cost_model additive;
     model_from(LOD_COST_ADDITIVE, c, &additive);
     struct lod_cost_model best = additive;
@@ -332,7 +336,7 @@ int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, c
             /* Alternate: refit with the max resolved, re-resolve; keep the best true-max iterate (the
              * objective need not fall every round, as the refit optimises the resolved problem). */
             for (int round = 1; round <= MAX_ROUNDS; ++round) {
-                if ((rc = fit_linear(frames, rows, row_count, objects, assign, a, b, c, err)) != 0)
+                if ((rc = fit_linear(frames, rows, row_count, objects, assign, fixed_c0_ms, a, b, c, err)) != 0)
                     break;
                 model_from(LOD_COST_MAX, c, &m);
                 double obj = fit_objective(&m, frames, rows, row_count, objects);
@@ -353,6 +357,22 @@ int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, c
         report->rounds = best_rounds;
     }
     return 0;
+}
+
+int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, const uint32_t *rows,
+                 size_t row_count, const struct rnd_cost_object *objects, struct lod_cost_model *out,
+                 struct frm_cost_fit_report *report, struct hl_error *err)
+{
+    return fit_form(form, NAN, frames, rows, row_count, objects, out, report, err);
+}
+
+int frm_cost_fit_fixed(enum lod_cost_form form, double c0_ms, const struct rnd_cost_frame *frames,
+                       const uint32_t *rows, size_t row_count, const struct rnd_cost_object *objects,
+                       struct lod_cost_model *out, struct frm_cost_fit_report *report, struct hl_error *err)
+{
+    if (!isfinite(c0_ms) || c0_ms < 0.0)
+        return hl_fail(err, "cost fit: the measured fixed cost %g ms is not finite and ≥ 0", c0_ms);
+    return fit_form(form, c0_ms, frames, rows, row_count, objects, out, report, err);
 }
 
 /* ---- accuracy and split --------------------------------------------------------------------- */

@@ -119,6 +119,29 @@ static int read_accuracy(const cJSON *root, const char *key, struct frm_cost_acc
     return 0;
 }
 
+static int read_fixed(const cJSON *root, struct frm_cost_fixed *fx, const char *path, struct hl_error *err)
+{
+    static const char *const keys[] = {"frames", "median_ms", "p25_ms", "p75_ms"};
+    const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, "fixed_cost");
+    if (!o)
+        return 0;
+    if (!cJSON_IsObject(o))
+        return hl_fail(err, "%s: 'fixed_cost': not an object", path);
+    double frames = 0;
+    const char *where = "'fixed_cost': ";
+    if (check_keys(o, keys, 4, path, where, err) != 0 || read_number(o, "frames", 1, 1, &frames, path, where, err) != 0 ||
+        read_number(o, "median_ms", 1, 0, &fx->median_ms, path, where, err) != 0 ||
+        read_number(o, "p25_ms", 1, 0, &fx->p25_ms, path, where, err) != 0 ||
+        read_number(o, "p75_ms", 1, 0, &fx->p75_ms, path, where, err) != 0)
+        return -1;
+    if (frames > 1e9 || frames != floor(frames))
+        return hl_fail(err, "%s: %s'frames': not a whole number of frames", path, where);
+    if (!(fx->p25_ms <= fx->median_ms && fx->median_ms <= fx->p75_ms))
+        return hl_fail(err, "%s: %sexpected p25_ms ≤ median_ms ≤ p75_ms", path, where);
+    fx->frames = (uint32_t)frames;
+    return 0;
+}
+
 /* A JSON array of at most RND_COST_GRID_MAX finite non-negative numbers. */
 static int read_list(const cJSON *grid, const char *key, double *out, int *count, const char *path,
                      struct hl_error *err)
@@ -166,7 +189,7 @@ int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct
 {
     static const char *const keys[] = {"format", "label", "form", "coefficients", "renderer", "display", "eye_px",
                                        "held_out", "held_out_other_form", "grid", "date", "commit",
-                                       "load_average_1min"};
+                                       "load_average_1min", "fixed_cost"};
     memset(out, 0, sizeof *out);
     char *text = read_text(path, err);
     if (!text)
@@ -222,6 +245,7 @@ int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct
         read_string(root, "commit", 0, out->commit, sizeof out->commit, path, err) != 0 ||
         read_accuracy(root, "held_out", &out->held_out, path, err) != 0 ||
         read_accuracy(root, "held_out_other_form", &out->held_out_other, path, err) != 0 ||
+        read_fixed(root, &out->fixed, path, err) != 0 ||
         read_grid(root, &out->grid, path, err) != 0)
         goto done;
     out->load_before = out->load_after = -1;
@@ -294,6 +318,13 @@ int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, s
         cJSON_AddItemToObject(root, "held_out", accuracy_json(&p->held_out));
     if (p->held_out_other.frames)
         cJSON_AddItemToObject(root, "held_out_other_form", accuracy_json(&p->held_out_other));
+    if (p->fixed.frames) {
+        cJSON *fo = cJSON_AddObjectToObject(root, "fixed_cost");
+        cJSON_AddNumberToObject(fo, "frames", p->fixed.frames);
+        cJSON_AddNumberToObject(fo, "median_ms", p->fixed.median_ms);
+        cJSON_AddNumberToObject(fo, "p25_ms", p->fixed.p25_ms);
+        cJSON_AddNumberToObject(fo, "p75_ms", p->fixed.p75_ms);
+    }
     if (p->grid.repeats > 0) {
         const struct rnd_cost_grid *g = &p->grid;
         cJSON *go = cJSON_AddObjectToObject(root, "grid");

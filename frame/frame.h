@@ -42,7 +42,7 @@ struct frm_options {
     const char *cost_profile; /* JSON from hmdlod calibrate; NULL → the built-in llvmpipe profile */
     double opt_limit_us;     /* fs/mb time limit per frame (Nirenstein §5.5); 0 = none */
     double static_px_per_triangle; /* static: the average triangle covers at least this (default 64) */
-    int cost_correction;     /* enum frm_correction; FRM_CORRECTION_RATIO by default */
+    int cost_correction;     /* enum frm_correction; FRM_CORRECTION_AFFINE by default */
     /* Gaze models (acuity/gaze.h; docs/gaze.md) */
     const char *gaze;        /* NULL/"auto" (default): tracked when the source has gaze, else vor;
                               * or "head" | "vor" | "tracked" */

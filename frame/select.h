@@ -9,8 +9,13 @@
 #include "scene/scene.h"
 
 /* How fs and mb correct their budget from measured draw times (lod.h): not at all, by the smoothed
- * measured/predicted ratio (the default), or by the affine fit measured = a + b·x. */
+ * measured/predicted ratio, or by the affine fit measured = a + b·x (the default: it learns the
+ * fixed cost apart from the objects', so a fixed cost the model under-counts is not taken out of the
+ * objects' share again and again — the ratio divides the whole budget, which spirals down when
+ * little is drawn; docs/cost-model.md). The first FRM_CORRECTION_WARMUP_FRAMES frames of a session
+ * do not teach it: they pay first-use costs (page faults, driver caches) later frames do not. */
 enum frm_correction { FRM_CORRECTION_OFF = 0, FRM_CORRECTION_RATIO = 1, FRM_CORRECTION_AFFINE = 2 };
+enum { FRM_CORRECTION_WARMUP_FRAMES = 5 };
 
 enum frm_selector {
     FRM_SELECT_NONE = 0,
@@ -48,6 +53,7 @@ struct frm_select {
     struct lod_cost_correction correction;
     struct lod_cost_rls rls;   /* the affine correction, when correct is FRM_CORRECTION_AFFINE */
     double overhead_ms;        /* smoothed frame time outside the draw (pose, cull, selection) */
+    long frames_measured;      /* frames frm_select_measured has seen (the warm-up is not learnt from) */
     struct lod_feedback feedback;
 
     /* per visible object (capacity: the scene's instances) */

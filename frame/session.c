@@ -20,7 +20,7 @@ void frm_options_defaults(struct frm_options *o)
     o->acuity_scale = 1.0;
     o->render_scale = 1.0;
     o->static_px_per_triangle = 64.0;
-    o->cost_correction = FRM_CORRECTION_RATIO;
+    o->cost_correction = FRM_CORRECTION_AFFINE;
     o->gaze = "auto";
     o->vor_gain = -1.0;
     o->vor_latency_ms = -1.0;

@@ -151,8 +151,12 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
     struct rnd_cost_object *scratch = malloc(max_objects * sizeof *scratch); /* the warm-up's counts */
     uint32_t *order = malloc(points * sizeof *order);
     double *times = malloc(points * (size_t)grid->repeats * sizeof *times);
+    /* One empty frame before each family's points and after every RND_COST_EMPTY_EVERY of them. */
+    size_t empty_cap = ((points / RND_COST_EMPTY_EVERY) + 2 * (size_t)grid->families + 1) * (size_t)grid->repeats;
+    double *empty = malloc(empty_cap * sizeof *empty);
+    size_t empty_n = 0;
     int rc = -1;
-    if (!index || !lod || !scratch || !order || !times) {
+    if (!index || !lod || !scratch || !order || !times || !empty) {
         hl_fail(err, "calibrate: out of memory (%zu grid points)", points);
         goto done;
     }
@@ -230,12 +234,23 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
                     hl_fail(err, "calibrate: drawing the warm-up frame failed");
                     goto done;
                 }
+            size_t since_empty = RND_COST_EMPTY_EVERY;
             for (size_t n = 0; n < points; ++n) {
                 size_t p = order[n];
                 int f, l, c, k;
                 grid_point(grid, p, &f, &l, &c, &k);
                 if (f != fam)
                     continue;
+                /* The fixed cost, timed among the points it is part of: the same load, the same
+                 * caches, the same position in the driver's buffer cycle. */
+                if (since_empty >= RND_COST_EMPTY_EVERY && empty_n < empty_cap) {
+                    if (draw_point(r, scene, views, index, lod, 0, 0, &empty[empty_n++]) != 0) {
+                        hl_fail(err, "calibrate: drawing an empty frame failed");
+                        goto done;
+                    }
+                    since_empty = 0;
+                }
+                ++since_empty;
                 struct rnd_cost_frame *fr = &out->frames[p];
                 int level = (int)grid->level[l];
                 place_objects(scene, eyes, fr->object_count, grid->coverage[c], level, out->objects + fr->first_object);
@@ -257,6 +272,11 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
         hl_sort_doubles(t, m);
         out->frames[p].measured_ms = m % 2 ? t[m / 2] : 0.5 * (t[m / 2 - 1] + t[m / 2]);
     }
+    hl_sort_doubles(empty, empty_n);
+    out->empty_frames = (uint32_t)empty_n;
+    out->empty_ms = empty_n ? empty[empty_n / 2] : 0.0;
+    out->empty_p25_ms = empty_n ? empty[empty_n / 4] : 0.0;
+    out->empty_p75_ms = empty_n ? empty[(3 * empty_n) / 4] : 0.0;
     out->seconds = (double)(hl_clock_now_ns() - start_ns) * 1e-9;
     rc = 0;
 done:
@@ -268,6 +288,7 @@ done:
     free(scratch);
     free(order);
     free(times);
+    free(empty);
     if (rc != 0)
         rnd_calibration_free(out);
     return rc;

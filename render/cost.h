@@ -31,7 +31,7 @@ void rnd_cost_split(size_t count, uint64_t seed, uint32_t *order, size_t *train_
 
 
 /* ---- measurement (cost.c) ---------------------------------------------------------------------- */
-enum { RND_COST_GRID_MAX = 8 };
+enum { RND_COST_GRID_MAX = 8, RND_COST_EMPTY_EVERY = 8 };
 struct rnd_cost_grid {
     int families;                            /* 1: the field's bumpy sphere; 2: also the auditorium's chair */
     int levels;                              /* LOD indices used (the field: 0 = 3906 … 3 = 78 triangles) */
@@ -62,9 +62,14 @@ struct rnd_calibration {
     size_t frame_count, object_count;
     char renderer[128];              /* GL_RENDERER */
     double seconds;                  /* wall time of the measurement */
+    /* The frame's fixed cost measured directly: empty stereo frames (clear both eyes, glFinish — the
+     * passes every frame makes) timed between the grid's points, in every pass: their median and
+     * quartiles. The fit takes the median as c0 instead of guessing it as an intercept. */
+    double empty_ms, empty_p25_ms, empty_p75_ms;
+    uint32_t empty_frames;
 };
 /* Renders the field's bumpy sphere and the auditorium's chair (scene/) in stereo on `display` at
- * render_scale: for every grid point, k copies (at most the 150 chairs the auditorium has) in a grid in front of both eyes sized so their projected coverage totals the
+ * render_scale: empty frames (the fixed cost, RND_COST_EMPTY_EVERY points apart) and, for every grid point, k copies (at most the 150 chairs the auditorium has) in a grid in front of both eyes sized so their projected coverage totals the
  * requested share; `repeats` passes over the grid, each in a new seeded random order, time one
  * frame per point (hl_clock around rnd_renderer_draw_stereo, which ends with glFinish), and the
  * median over passes is kept — so a busy moment of a shared machine or a slow

@@ -216,6 +216,19 @@ static void test_fit_form(enum lod_cost_form form)
     check_recovered(&fit, &truth, 0.1);
     /* With 2 % noise on the measurements, |error| has median ≈ 0.674·2 % and p95 ≈ 1.96·2 %. */
     CHECK(acc.median_rel < 0.02 && acc.p95_rel < 0.05 && acc.under5_share < 0.05);
+
+    /* c0 measured (calibrate's empty frames): on exact data the other four come back exactly and
+     * c0 is the value given, not a fit; with c0 given wrong by 20 % the objects' terms absorb less
+     * than an intercept would, and the held-out error shows it. */
+    synthesize(&truth, 0.0);
+    CHECK(frm_cost_fit_fixed(form, truth.c0_ms, frames, order, train, objects, &fit, &rep, &err) == 0);
+    check_recovered(&fit, &truth, 1e-6);
+    CHECK(fit.c0_ms == truth.c0_ms);
+    CHECK(frm_cost_fit_fixed(form, 1.2 * truth.c0_ms, frames, order, train, objects, &fit, &rep, &err) == 0);
+    CHECK(fit.c0_ms == 1.2 * truth.c0_ms && rep.rms_relative > 1e-4);
+    CHECK(frm_cost_fit_fixed(form, NAN, frames, order, train, objects, &fit, &rep, &err) != 0 &&
+          strstr(err.msg, "fixed cost"));
+    CHECK(frm_cost_fit_fixed(form, -1.0, frames, order, train, objects, &fit, &rep, &err) != 0);
 }
 
 static void test_fit_misc(void)
@@ -326,6 +339,7 @@ static void test_profile(void)
     snprintf(p.commit, sizeof p.commit, "abc1234");
     p.load_before = 0.25, p.load_after = 1.5;
     rnd_cost_grid_default(&p.grid, 0);
+    p.fixed = (struct frm_cost_fixed){1.75, 1.5, 2.25, 28};
     char path[128];
     snprintf(path, sizeof path, "%s/round.json", dir);
     struct hl_error err = {""};
@@ -344,6 +358,7 @@ static void test_profile(void)
           !strcmp(q.date, p.date) && !strcmp(q.commit, p.commit));
     CHECK(q.eye_width_px == 1080 && q.eye_height_px == 1200);
     CHECK(q.load_before == 0.25 && q.load_after == 1.5);
+    CHECK(q.fixed.frames == 28 && q.fixed.median_ms == 1.75 && q.fixed.p25_ms == 1.5 && q.fixed.p75_ms == 2.25);
     CHECK(q.grid.levels == p.grid.levels && q.grid.coverages == p.grid.coverages && q.grid.counts == p.grid.counts &&
           q.grid.repeats == p.grid.repeats && q.grid.families == 2 && q.grid.objects[4] == p.grid.objects[4] &&
           q.grid.coverage[0] == p.grid.coverage[0]);
@@ -376,6 +391,15 @@ static void test_profile(void)
                             "\"load_average_1min\": [1]}",
                "'load_average_1min': expected two");
     expect_bad("nocoef.json", GOOD_HEAD "\"label\": \"x\"}", "'coefficients': missing");
+    expect_bad("fixed.json", GOOD_HEAD "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0}, "
+                             "\"fixed_cost\": {\"frames\": 4, \"median_ms\": 1, \"p25_ms\": 2, \"p75_ms\": 3}}",
+               "'fixed_cost': expected p25_ms ≤ median_ms ≤ p75_ms");
+    expect_bad("fixed0.json", GOOD_HEAD "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0}, "
+                              "\"fixed_cost\": {\"frames\": 0, \"median_ms\": 1, \"p25_ms\": 1, \"p75_ms\": 1}}",
+               "'fixed_cost': 'frames'");
+    expect_bad("fixedkey.json", GOOD_HEAD "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0}, "
+                                "\"fixed_cost\": {\"frames\": 4, \"mean_ms\": 1}}",
+               "'fixed_cost': 'mean_ms': unknown key");
     expect_bad("norenderer.json",
                "{\"format\": \"hmdlod-cost-profile-1\", \"form\": \"max\", \"coefficients\": {" GOOD_COEF
                ", \"c4_ms_per_draw\": 0}}",
@@ -427,6 +451,9 @@ static void test_measure(void)
         objects_seen += cal.frames[f].object_count;
     }
     CHECK(objects_seen == cal.object_count && cal.object_count == 2 * 2 * 2 * (1 + 8 + 32));
+    /* The fixed cost: one empty frame before each family's 12 points and one after every 8. */
+    CHECK(cal.empty_frames == 4 && cal.empty_ms > 0.0 && cal.empty_p25_ms <= cal.empty_ms &&
+          cal.empty_ms <= cal.empty_p75_ms);
     /* Grid order is level, coverage, count: frame 0 is level 0, coverage 2 %, 1 object; the estimate
      * is within 10 % of the requested coverage of both eyes (270 × 300 each). */
     const struct rnd_cost_object *o = &cal.objects[cal.frames[0].first_object];

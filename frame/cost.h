@@ -28,12 +28,12 @@ double frm_cost_predict_frame_ms(const struct lod_cost_model *m, const struct rn
 int frm_cost_nnls(const double *a, size_t rows, size_t cols, const double *b, double *x, double *residual_norm,
                   struct hl_error *err);
 
-/* Fits one form on the frames listed in rows[0 … row_count−1] (indices into frames), all five
+/* Fits one form on the frames listed in rows[0 … row_count−1] (indices into frames), all six
  * coefficients ≥ 0, minimising the squared RELATIVE error Σ((predicted − measured)/measured)²: the
  * budget cares about ratios, and unweighted least squares would let the heaviest frames decide.
  * LOD_COST_ADDITIVE: one NNLS. LOD_COST_MAX: alternating assignment — each object's max is replaced
  * by the stage that dominates it under the current coefficients, which makes the frame linear in
- * the coefficients; NNLS refits all five; repeat until no assignment changes (≤ 50 rounds), from
+ * the coefficients; NNLS refits all six; repeat until no assignment changes (≤ 50 rounds), from
  * three starts (the additive fit's coefficients, all geometry, all pixels); the best true-max
  * objective wins. Needs measured_ms > 0 and finite counts on every listed frame. */
 struct frm_cost_fit_report {
@@ -45,11 +45,13 @@ int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, c
                  struct frm_cost_fit_report *report, struct hl_error *err);
 
 /* The same with c0 measured, not fitted (`calibrate` times empty frames, rnd_calibration.empty_ms):
- * only the objects' four coefficients are fitted, on measured − c0, with the same relative weighting.
+ * only the objects' coefficients are fitted, on measured − c0, with the same relative weighting.
  * An intercept fitted to loaded frames absorbs whatever the per-object terms miss and is wrong at
  * both ends; the measured one is right where the budget is tightest, at frames that draw little.
- * c0_ms finite and ≥ 0. */
-int frm_cost_fit_fixed(enum lod_cost_form form, double c0_ms, const struct rnd_cost_frame *frames,
+ * expectile τ in (0, 1): asymmetric least squares (Newey & Powell 1987) — frames the model
+ * under-predicts weigh τ, the others 1 − τ, refitted until none changes side — so τ > ½ fits a model
+ * that under-predicts few frames (what breaks a budget); ½ is the ordinary fit. c0_ms finite, ≥ 0. */
+int frm_cost_fit_fixed(enum lod_cost_form form, double c0_ms, double expectile, const struct rnd_cost_frame *frames,
                        const uint32_t *rows, size_t row_count, const struct rnd_cost_object *objects,
                        struct lod_cost_model *out, struct frm_cost_fit_report *report, struct hl_error *err);
 

@@ -8,7 +8,7 @@
 
 #include "frame/cost.h"
 
-enum { NNLS_MAX_COLS = 16, COST_COLS = 5, MAX_ROUNDS = 50 };
+enum { NNLS_MAX_COLS = 16, COST_COLS = 6, MAX_ROUNDS = 50 };
 
 /* The coverage is acuity's estimate from each object's sphere, for the eyes render measured with:
  * the very numbers a replay frame prices its candidates with (frame/select.c). */
@@ -220,7 +220,7 @@ int frm_cost_nnls(const double *a_rows, size_t rows, size_t cols, const double *
 
 static void model_from(enum lod_cost_form form, const double c[COST_COLS], struct lod_cost_model *m)
 {
-    *m = (struct lod_cost_model){form, c[0], c[1], c[2], c[3], c[4]};
+    *m = (struct lod_cost_model){form, c[0], c[1], c[2], c[3], c[4], c[5]};
 }
 
 /* Relative error objective of a model on the listed frames: Σ((pred − meas)/meas)². */
@@ -236,17 +236,17 @@ static double fit_objective(const struct lod_cost_model *m, const struct rnd_cos
     return sum;
 }
 
-/* One NNLS on rows [1, Σt, Σv, Σp, Σd] / measured against 1 (the relative-error weighting). With
+/* One NNLS on rows [1, Σt, Σv, Σp, Σd, Σ√(t·p)] / measured against 1 (the relative-error weighting). With
  * assign == NULL every object contributes all terms (additive); else an object with assign 1 adds
  * its geometry terms only and one with 0 its pixels only: the max form with its max resolved. */
 static int fit_linear(const struct rnd_cost_frame *frames, const uint32_t *rows, size_t row_count,
-                      const struct rnd_cost_object *objects, const uint8_t *assign, double fixed_c0_ms, double *a,
-                      double *b, double c[COST_COLS], struct hl_error *err)
+                      const struct rnd_cost_object *objects, const uint8_t *assign, double fixed_c0_ms,
+                      const double *weight, double *a, double *b, double c[COST_COLS], struct hl_error *err)
 {
     int fixed = isfinite(fixed_c0_ms); /* c0 measured: its column is zero (never enters) and moves b */
     for (size_t r = 0; r < row_count; ++r) {
         const struct rnd_cost_frame *f = &frames[rows[r]];
-        double t = 0, v = 0, p = 0, d = 0;
+        double t = 0, v = 0, p = 0, d = 0, e = 0;
         for (uint32_t k = 0; k < f->object_count; ++k) {
             uint32_t o = f->first_object + k;
             const struct rnd_cost_object *ob = &objects[o];
@@ -254,13 +254,13 @@ static int fit_linear(const struct rnd_cost_frame *frames, const uint32_t *rows,
             if (geometry)
                 t += ob->triangles, v += ob->vertices;
             if (raster)
-                p += ob->pixels_px;
+                p += ob->pixels_px, e += sqrt(ob->triangles * ob->pixels_px);
             d += ob->draws;
         }
-        double inv = 1.0 / f->measured_ms;
-        double row[COST_COLS] = {fixed ? 0.0 : inv, t * inv, v * inv, p * inv, d * inv};
+        double inv = (weight ? sqrt(weight[r]) : 1.0) / f->measured_ms;
+        double row[COST_COLS] = {fixed ? 0.0 : inv, t * inv, v * inv, p * inv, d * inv, e * inv};
         memcpy(a + r * COST_COLS, row, sizeof row);
-        b[r] = fixed ? 1.0 - fixed_c0_ms * inv : 1.0;
+        b[r] = (fixed ? 1.0 - fixed_c0_ms / f->measured_ms : 1.0) * (weight ? sqrt(weight[r]) : 1.0);
     }
     int rc = frm_cost_nnls(a, row_count, COST_COLS, b, c, NULL, err);
     if (fixed)
@@ -279,7 +279,7 @@ static size_t assign_stages(const struct lod_cost_model *m, const struct rnd_cos
             uint32_t o = f->first_object + k;
             const struct rnd_cost_object *ob = &objects[o];
             uint8_t g = m->c1_ms_per_triangle * ob->triangles + m->c2_ms_per_vertex * ob->vertices >=
-                        m->c3_ms_per_pixel * ob->pixels_px;
+                        m->c3_ms_per_pixel * ob->pixels_px + m->c5_ms_per_edge_px * sqrt(ob->triangles * ob->pixels_px);
             changed += assign[o] != g;
             assign[o] = g;
         }
@@ -287,9 +287,10 @@ static size_t assign_stages(const struct lod_cost_model *m, const struct rnd_cos
     return changed;
 }
 
-static int fit_form(enum lod_cost_form form, double fixed_c0_ms, const struct rnd_cost_frame *frames,
-                    const uint32_t *rows, size_t row_count, const struct rnd_cost_object *objects,
-                    struct lod_cost_model *out, struct frm_cost_fit_report *report, struct hl_error *err)
+static int fit_form(enum lod_cost_form form, double fixed_c0_ms, const double *weight,
+                    const struct rnd_cost_frame *frames, const uint32_t *rows, size_t row_count,
+                    const struct rnd_cost_object *objects, struct lod_cost_model *out,
+                    struct frm_cost_fit_report *report, struct hl_error *err)
 {
     if (!frames || !rows || !objects || !out || row_count == 0)
         return hl_fail(err, "cost fit: no frames to fit");
@@ -318,7 +319,7 @@ static int fit_form(enum lod_cost_form form, double fixed_c0_ms, const struct rn
         return hl_fail(err, "cost fit: out of memory (%zu frames)", row_count);
     }
     double *b = a + row_count * COST_COLS, c[COST_COLS];
-    int rc = fit_linear(frames, rows, row_count, objects, NULL, fixed_c0_ms, a, b, c, err);
+    int rc = fit_linear(frames, rows, row_count, objects, NULL, fixed_c0_ms, weight, a, b, c, err);
     struct lod_cost_model additive;
     model_from(LOD_COST_ADDITIVE, c, &additive);
     struct lod_cost_model best = additive;
@@ -336,7 +337,7 @@ static int fit_form(enum lod_cost_form form, double fixed_c0_ms, const struct rn
             /* Alternate: refit with the max resolved, re-resolve; keep the best true-max iterate (the
              * objective need not fall every round, as the refit optimises the resolved problem). */
             for (int round = 1; round <= MAX_ROUNDS; ++round) {
-                if ((rc = fit_linear(frames, rows, row_count, objects, assign, fixed_c0_ms, a, b, c, err)) != 0)
+                if ((rc = fit_linear(frames, rows, row_count, objects, assign, fixed_c0_ms, weight, a, b, c, err)) != 0)
                     break;
                 model_from(LOD_COST_MAX, c, &m);
                 double obj = fit_objective(&m, frames, rows, row_count, objects);
@@ -363,16 +364,49 @@ int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, c
                  size_t row_count, const struct rnd_cost_object *objects, struct lod_cost_model *out,
                  struct frm_cost_fit_report *report, struct hl_error *err)
 {
-    return fit_form(form, NAN, frames, rows, row_count, objects, out, report, err);
+    return fit_form(form, NAN, NULL, frames, rows, row_count, objects, out, report, err);
 }
 
-int frm_cost_fit_fixed(enum lod_cost_form form, double c0_ms, const struct rnd_cost_frame *frames,
+/* Asymmetric least squares (Newey & Powell 1987): rows the model under-predicts weigh τ, the others
+ * 1 − τ, refitted until no row changes side (≤ 30 rounds). τ = ½ is the ordinary fit. */
+enum { EXPECTILE_ROUNDS = 30 };
+int frm_cost_fit_fixed(enum lod_cost_form form, double c0_ms, double expectile, const struct rnd_cost_frame *frames,
                        const uint32_t *rows, size_t row_count, const struct rnd_cost_object *objects,
                        struct lod_cost_model *out, struct frm_cost_fit_report *report, struct hl_error *err)
 {
     if (!isfinite(c0_ms) || c0_ms < 0.0)
         return hl_fail(err, "cost fit: the measured fixed cost %g ms is not finite and ≥ 0", c0_ms);
-    return fit_form(form, c0_ms, frames, rows, row_count, objects, out, report, err);
+    if (!(expectile > 0.0 && expectile < 1.0))
+        return hl_fail(err, "cost fit: expectile %g is outside (0, 1)", expectile);
+    if (expectile == 0.5)
+        return fit_form(form, c0_ms, NULL, frames, rows, row_count, objects, out, report, err);
+    double *weight = malloc((row_count ? row_count : 1) * sizeof *weight);
+    uint8_t *under = calloc(row_count ? row_count : 1, 1);
+    if (!weight || !under) {
+        free(weight);
+        free(under);
+        return hl_fail(err, "cost fit: out of memory (%zu frames)", row_count);
+    }
+    for (size_t r = 0; r < row_count; ++r)
+        weight[r] = 0.5;
+    int rc = 0;
+    for (int round = 0; round < EXPECTILE_ROUNDS; ++round) {
+        if ((rc = fit_form(form, c0_ms, weight, frames, rows, row_count, objects, out, report, err)) != 0)
+            break;
+        size_t changed = 0;
+        for (size_t r = 0; r < row_count; ++r) {
+            const struct rnd_cost_frame *f = &frames[rows[r]];
+            uint8_t u = frm_cost_predict_frame_ms(out, f, objects) < f->measured_ms;
+            changed += round == 0 || u != under[r];
+            under[r] = u;
+            weight[r] = u ? expectile : 1.0 - expectile;
+        }
+        if (!changed)
+            break;
+    }
+    free(weight);
+    free(under);
+    return rc;
 }
 
 /* ---- accuracy and split --------------------------------------------------------------------- */

@@ -9,7 +9,9 @@
 
 #include "frame/cost.h"
 
-#define COST_FORMAT_TAG "hmdlod-cost-profile-1"
+/* Version 2 adds c5 (the edge term, lod.h); version 1 files, with five coefficients, still read (c5 0). */
+#define COST_FORMAT_TAG "hmdlod-cost-profile-2"
+#define COST_FORMAT_TAG_V1 "hmdlod-cost-profile-1"
 enum { COST_PROFILE_MAX_BYTES = 1 << 20 };
 
 /* cJSON allocates through base's counting hooks, so a parse that fails for want of memory is told from
@@ -20,8 +22,8 @@ __attribute__((constructor)) static void cost_profile_json_hooks(void)
     cJSON_InitHooks(&hooks);
 }
 
-static const char *const coefficient_keys[5] = {"c0_ms", "c1_ms_per_triangle", "c2_ms_per_vertex",
-                                                 "c3_ms_per_pixel", "c4_ms_per_draw"};
+static const char *const coefficient_keys[6] = {"c0_ms", "c1_ms_per_triangle", "c2_ms_per_vertex",
+                                                 "c3_ms_per_pixel", "c4_ms_per_draw", "c5_ms_per_edge_px"};
 
 const char *frm_cost_form_name(enum lod_cost_form form)
 {
@@ -39,7 +41,8 @@ int frm_cost_form_parse(const char *name, enum lod_cost_form *form)
 
 static double *coefficient(struct lod_cost_model *m, int i)
 {
-    double *c[5] = {&m->c0_ms, &m->c1_ms_per_triangle, &m->c2_ms_per_vertex, &m->c3_ms_per_pixel, &m->c4_ms_per_draw};
+    double *c[6] = {&m->c0_ms,           &m->c1_ms_per_triangle, &m->c2_ms_per_vertex,
+                    &m->c3_ms_per_pixel, &m->c4_ms_per_draw,     &m->c5_ms_per_edge_px};
     return c[i];
 }
 
@@ -214,8 +217,9 @@ int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct
     if (check_keys(root, keys, (int)(sizeof keys / sizeof keys[0]), path, "", err) != 0 ||
         read_string(root, "format", 1, format, sizeof format, path, err) != 0)
         goto done;
-    if (strcmp(format, COST_FORMAT_TAG) != 0) {
-        hl_fail(err, "%s: 'format': '%s' is not " COST_FORMAT_TAG, path, format);
+    int coefficients = !strcmp(format, COST_FORMAT_TAG) ? 6 : !strcmp(format, COST_FORMAT_TAG_V1) ? 5 : 0;
+    if (!coefficients) {
+        hl_fail(err, "%s: 'format': '%s' is not " COST_FORMAT_TAG " (or " COST_FORMAT_TAG_V1 ")", path, format);
         goto done;
     }
     if (read_string(root, "form", 1, form, sizeof form, path, err) != 0)
@@ -233,9 +237,9 @@ int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct
         hl_fail(err, "%s: 'coefficients': not an object", path);
         goto done;
     }
-    if (check_keys(co, coefficient_keys, 5, path, "'coefficients': ", err) != 0)
+    if (check_keys(co, coefficient_keys, coefficients, path, "'coefficients': ", err) != 0)
         goto done;
-    for (int i = 0; i < 5; ++i)
+    for (int i = 0; i < coefficients; ++i)
         if (read_number(co, coefficient_keys[i], 1, 0.0, coefficient(&out->model, i), path, "'coefficients': ", err))
             goto done;
     if (read_string(root, "renderer", 1, out->renderer, sizeof out->renderer, path, err) != 0 ||
@@ -296,7 +300,7 @@ int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, s
     if (!form)
         return hl_fail(err, "%s: unknown cost form %d", path, (int)p->model.form);
     struct lod_cost_model m = p->model;
-    for (int i = 0; i < 5; ++i)
+    for (int i = 0; i < 6; ++i)
         if (!isfinite(*coefficient(&m, i)) || *coefficient(&m, i) < 0)
             return hl_fail(err, "%s: coefficient %s = %g is not finite and ≥ 0", path, coefficient_keys[i],
                            *coefficient(&m, i));
@@ -305,7 +309,7 @@ int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, s
     cJSON_AddStringToObject(root, "label", p->label);
     cJSON_AddStringToObject(root, "form", form);
     cJSON *co = cJSON_AddObjectToObject(root, "coefficients");
-    for (int i = 0; i < 5; ++i)
+    for (int i = 0; i < 6; ++i)
         cJSON_AddNumberToObject(co, coefficient_keys[i], *coefficient(&m, i));
     cJSON_AddStringToObject(root, "renderer", p->renderer);
     if (p->display[0])
@@ -368,7 +372,7 @@ void frm_cost_profile_builtin_llvmpipe(struct frm_cost_profile *out)
      * 2-core development machine, quiet (load average 0.08 before, 0.57 after): docs/RESULTS.md
      * "Cost model". The additive form was kept (held-out p95 35 % against the max form's 43 %). */
     out->model = (struct lod_cost_model){LOD_COST_ADDITIVE, 2.0701873118523273, 5.8741790932592125e-05, 0.0,
-                                         1.96660359366466e-06, 0.00686778371865242};
+                                         1.96660359366466e-06, 0.00686778371865242, 0.0};
     out->held_out = (struct frm_cost_accuracy){0.12822384272586673, 0.34758148156478935, 0.5, 50};
     out->held_out_other = (struct frm_cost_accuracy){0.1477496074210039, 0.42588616699206, 0.44, 50};
     snprintf(out->label, sizeof out->label, "built-in llvmpipe reference (2-core, measured 2026-12-01, quiet)");

@@ -9,6 +9,8 @@ double lod_cost_object_ms(const struct lod_cost_model *m, double triangles, doub
 {
     double geometry_ms = m->c1_ms_per_triangle * triangles + m->c2_ms_per_vertex * vertices;
     double fill_ms = m->c3_ms_per_pixel * pixels;
+    if (m->c5_ms_per_edge_px > 0.0) /* a square root per candidate only where the profile has the term */
+        fill_ms += m->c5_ms_per_edge_px * sqrt(triangles * pixels);
     double draw_ms = m->c4_ms_per_draw * draws;
     /* §4: a pipeline runs at its slowest stage; the additive form is for renderers whose stages
      * share the same CPUs (llvmpipe bins on the calling thread, rasterises at flush). */

@@ -63,11 +63,16 @@ void lod_feedback_init(struct lod_feedback *f, double start_px_per_triangle);
 void lod_feedback_update(struct lod_feedback *f, double measured_ms, double budget_ms);
 
 /* ---- the cost model's arithmetic (the coefficients are measured by render/, `hmdlod calibrate`) --
- * Funkhouser & Séquin §4 and an additive form, per object and eye pair, in milliseconds:
- *   LOD_COST_MAX:      max(c1·triangles + c2·vertices, c3·pixels) + c4·draws
- *   LOD_COST_ADDITIVE: c1·triangles + c2·vertices + c3·pixels + c4·draws
+ * Funkhouser & Séquin §4 and an additive form, per object and eye pair, in milliseconds, with
+ * e = √(triangles·pixels) the pixels along triangle edges:
+ *   LOD_COST_MAX:      max(c1·triangles + c2·vertices, c3·pixels + c5·e) + c4·draws
+ *   LOD_COST_ADDITIVE: c1·triangles + c2·vertices + c3·pixels + c5·e + c4·draws
  * and a frame costs c0 + Σ objects. triangles, vertices, draws count both eyes' work; pixels is the
- * object's projected coverage summed over both eyes (acu_compute_pixels). Coefficients ≥ 0. */
+ * object's projected coverage summed over both eyes (acu_compute_pixels). Coefficients ≥ 0. The edge
+ * term: n triangles sharing p pixels have perimeters ∝ √(p/n) each, so √(n·p) counts the pixels on
+ * their edges — the partly covered blocks a tiled rasteriser (llvmpipe: 4×4) visits per triangle,
+ * which make a pixel of a finely tessellated object dearer than one of a coarse one; without it the
+ * model under-predicted many finely tessellated objects filling the view by half (docs/cost-model.md). */
 enum lod_cost_form { LOD_COST_MAX = 0, LOD_COST_ADDITIVE = 1 };
 struct lod_cost_model {
     enum lod_cost_form form;
@@ -76,6 +81,7 @@ struct lod_cost_model {
     double c2_ms_per_vertex;
     double c3_ms_per_pixel;
     double c4_ms_per_draw;
+    double c5_ms_per_edge_px;  /* per √(triangles·pixels); 0 in profiles that predate it */
 };
 double lod_cost_object_ms(const struct lod_cost_model *m, double triangles, double vertices, double pixels,
                           double draws);

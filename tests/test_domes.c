@@ -688,7 +688,7 @@ static void test_domes_mb(int simplify)
     struct hl_error err = {{0}};
     struct scn_scene_params sp = {0};
     CHECK(scn_scene_build("domes", &sp, &s, &err) == 0);
-    const struct lod_cost_model m = {LOD_COST_ADDITIVE, 2.0, 9e-5, 0.0, 2.5e-6, 0.01};
+    const struct lod_cost_model m = {LOD_COST_ADDITIVE, 2.0, 9e-5, 0.0, 2.5e-6, 0.01, 0.0};
     struct lod_benefit_params bp;
     lod_benefit_params_default(&bp);
     struct acu_eye eyes[2];

@@ -77,13 +77,51 @@ int64_t lod_drop_to_fit(const struct lod_problem *p, int64_t total, int64_t budg
         ++n;
     }
     qsort(order, n, sizeof *order, lod_step_compare_asc);
-    for (size_t k = 0; k < n && total > budget; ++k) {
-        uint32_t i = order[k].object;
+    size_t gone = 0;
+    for (; gone < n && total > budget; ++gone) {
+        uint32_t i = order[gone].object;
         total -= lod_cost_units(p->cost_ms[p->first[i] + choice[i]]);
         choice[i] = LOD_DROPPED;
         ++*dropped;
     }
+    /* Drops are the last resort (issue 30): the last object dropped may be a large one that leaves
+     * most of the budget unused, while smaller objects dropped before it would fit in what is left.
+     * Those come back at candidate 0, highest benefit per cost first (ties by object_id), each one
+     * that still fits — a first-fit pass, not a stop at the first misfit, so no dropped object's
+     * candidate 0 fits in budget − total afterwards. With "no polygons" levels Funkhouser & Séquin
+     * (1993 §3) render only the most valuable objects when not all fit, not fewer than the budget
+     * holds; and the greedy draws every object it keeps at its cheapest before any step up, which
+     * this extends to the objects the budget can still hold. Later steps only raise the total
+     * (candidate 0 is each object's cheapest), so the property holds for the final choice too. */
+    qsort(order, gone, sizeof *order, lod_step_compare_desc);
+    for (size_t k = 0; k < gone; ++k) {
+        uint32_t i = order[k].object;
+        int64_t units = lod_cost_units(p->cost_ms[p->first[i]]);
+        if (total + units > budget)
+            continue;
+        total += units;
+        choice[i] = 0;
+        --*dropped;
+    }
     return total;
+}
+
+int lod_choice_underused_drop(const struct lod_problem *p, const uint8_t *choice, double fraction)
+{
+    int64_t budget = lod_budget_units(p->budget_ms), total = 0, smallest = INT64_MAX;
+    for (size_t i = 0; i < p->object_count; ++i) {
+        if (p->count[i] == 0)
+            continue; /* nothing it could draw: not a drop the budget decides */
+        if (choice[i] == LOD_DROPPED) {
+            int64_t units = lod_cost_units(p->cost_ms[p->first[i]]);
+            smallest = units < smallest ? units : smallest;
+        } else if (choice[i] < p->count[i]) {
+            total += lod_cost_units(p->cost_ms[p->first[i] + choice[i]]);
+        }
+    }
+    if (smallest == INT64_MAX || !((double)total < fraction * (double)budget))
+        return 0;
+    return total <= budget && smallest <= budget - total;
 }
 
 double lod_choice_benefit(const struct lod_problem *p, const uint8_t *choice)

@@ -185,8 +185,12 @@ size_t lod_hull_reduce(size_t object_count, const uint32_t *first, uint8_t *coun
 /* ---- cost-bounded optimizers ---------------------------------------------------------------------
  * Every optimizer writes choice[i], a candidate index of object i or LOD_DROPPED, and fills a
  * result. Predicted cost ≤ budget always; when even every object's candidate 0 does not fit, objects
- * are dropped, lowest benefit per cost of candidate 0 first (ties by object_id), and over_budget is
- * set. lod_level_of_choice maps choices to scene levels for drawing. */
+ * are dropped, lowest benefit per cost of candidate 0 first (ties by object_id), until the rest
+ * fits, and over_budget is set. Drops are the last resort: the dropped objects are then offered back
+ * at candidate 0, highest benefit per cost first (ties by object_id), each taken where it still
+ * fits, before any step up — so in the final choice no dropped object's candidate 0 fits in
+ * budget − cost (lod_choice_underused_drop with fraction 1 is 0). lod_level_of_choice maps choices
+ * to scene levels for drawing. */
 struct lod_result {
     double cost_ms, benefit;  /* Σ over the chosen candidates */
     uint32_t iterations;      /* increments + decrements (fs), steps taken (greedy) */
@@ -204,6 +208,13 @@ struct lod_result {
 /* Scratch bytes the optimizers need for up to max_objects objects and max_candidates candidates. */
 size_t lod_scratch_bytes(size_t max_objects, size_t max_candidates);
 void lod_level_of_choice(const struct lod_problem *p, const uint8_t *choice, uint8_t *level_out);
+
+/* 1 when the choice spends under fraction × p->budget_ms and some object marked LOD_DROPPED (with a
+ * candidate: count ≥ 1) would fit at its candidate 0 in budget − cost; else 0. Costs are summed and
+ * fits decided as the optimizers decide them (whole 1e-8 ms units, each candidate rounded up, the
+ * budget down). A frame the optimizers should never produce (issue 30: fraction 0.7 in replay's CSV;
+ * fraction 1 checks the rule above). 0 for an empty problem, fraction ≤ 0 or NaN. Pure, O(n). */
+int lod_choice_underused_drop(const struct lod_problem *p, const uint8_t *choice, double fraction);
 
 /* From-scratch greedy (Funkhouser & Séquin §6 with Mason & Blake's guard, §3): every object at its
  * candidate 0, then the steps up in falling value, stopping at the first that does not fit, then
@@ -295,8 +306,9 @@ void lod_mb_start_cheapest(const struct lod_tree *t, uint8_t *state);
  * highest and lowest values of each subtree are kept per node and updated post-order along the
  * changed path only; the imaginary root keeps its children in two tournament trees. Stops when (1) within
  * budget and nothing can rise, (2) over budget and nothing can fall — then representation-tree
- * leaves are dropped, lowest benefit per cost first (ties by node_id), over_budget set, and the rest
- * rises into what the drops freed, as in lod_optimize_greedy — or (3) the
+ * leaves are dropped, lowest benefit per cost first (ties by node_id), until the rest fits; dropped
+ * ones that still fit come back, highest benefit per cost first, as in lod_optimize_greedy; over_budget
+ * is set and the rest rises into what the drops freed — or (3) the
  * terminal just incremented is decremented. Ties: the lower node_id rises first, the higher falls
  * first (the reverse of the rising order). Then the ½-optimal guard (§6): the cheapest
  * representation with the single best candidate of one of its leaves, if that earns more. Every
@@ -306,5 +318,10 @@ void lod_mb_start_cheapest(const struct lod_tree *t, uint8_t *state);
  * lod_optimize_greedy. O(n) set-up, O(depth · fan-out + log roots) per iteration; no allocation. */
 void lod_optimize_mb(const struct lod_tree *t, double time_limit_us, void *scratch, uint8_t *state,
                      struct lod_result *r);
+
+/* lod_choice_underused_drop on a representation tree: 1 when the explicit nodes' candidates cost
+ * under fraction × t->budget_ms and some node marked LOD_DROPPED (with a candidate) would fit at
+ * its candidate 0 in budget − cost; else 0. state as lod_optimize_mb writes it. Pure, O(n). */
+int lod_tree_underused_drop(const struct lod_tree *t, const uint8_t *state, double fraction);
 
 #endif

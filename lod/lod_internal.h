@@ -51,7 +51,11 @@ int lod_step_compare_asc(const void *a, const void *b);  /* value rising, id and
  * stale), marks objects without candidates LOD_DROPPED, and returns Σ units of the choice. */
 int64_t lod_choice_sanitize(const struct lod_problem *p, uint8_t *choice, uint32_t *dropped);
 /* Over budget with every object at candidate 0: drops objects, lowest benefit per cost of
- * candidate 0 first, until the rest fits. `order` holds object_count steps. Returns the new total. */
+ * candidate 0 first (ties by object_id), until the rest fits; then re-admits the dropped ones at
+ * candidate 0, highest benefit per cost first (ties by object_id), each that still fits, so no
+ * dropped object's candidate 0 fits in budget − the returned total. Deterministic in the choice
+ * and total given, so greedy and fs, which call it on the same state, stay equal. `order` holds
+ * object_count steps. Returns the new total; *dropped counts what stays dropped. */
 int64_t lod_drop_to_fit(const struct lod_problem *p, int64_t total, int64_t budget, uint8_t *choice,
                         struct lod_step *order, uint32_t *dropped);
 /* Mason & Blake 1997 §3's guard: the best single upgrade over all-candidate-0 against the choice's

@@ -399,8 +399,19 @@ static int drop_cmp(const void *a, const void *b)
     return x->id < y->id ? -1 : x->id > y->id;
 }
 
+static int drop_cmp_desc(const void *a, const void *b) /* value falling, ties: the lower id first */
+{
+    const struct mb_drop *x = a, *y = b;
+    if (x->value != y->value)
+        return x->value > y->value ? -1 : 1;
+    return x->id < y->id ? -1 : x->id > y->id;
+}
+
 /* Rule (2): even the cheapest representation exceeds the budget. Its leaves go, lowest benefit per
- * cost first, until the rest fits (leaves that cost nothing never help and stay). */
+ * cost first, until the rest fits (leaves that cost nothing never help and stay); then those that
+ * still fit come back, highest benefit per cost first — drops are the last resort, the rule of
+ * lod_drop_to_fit (choice.c), so a tree without groups stays equal to the greedy. The set is chosen
+ * on the list before any state changes, so the tree's bookkeeping only ever sees final drops. */
 static uint32_t mb_drop_over_budget(struct mb *m)
 {
     const struct lod_tree *t = m->t;
@@ -412,9 +423,23 @@ static uint32_t mb_drop_over_budget(struct mb *m)
         m->drop[k++] = (struct mb_drop){cand_benefit(t, n, s) / cand_cost(t, n, s), t->node_id[n], n};
     }
     qsort(m->drop, k, sizeof *m->drop, drop_cmp);
+    int64_t units = m->units;
+    uint32_t gone = 0;
+    for (; gone < k && units > m->budget; ++gone)
+        units -= cand_units(t, m->drop[gone].node, m->state[m->drop[gone].node]);
+    qsort(m->drop, gone, sizeof *m->drop, drop_cmp_desc);
+    for (uint32_t j = 0; j < gone; ++j) {
+        int64_t u = cand_units(t, m->drop[j].node, m->state[m->drop[j].node]);
+        if (units + u <= m->budget) {
+            units += u;
+            m->drop[j].node = NONE; /* stays */
+        }
+    }
     uint32_t dropped = 0;
-    for (uint32_t j = 0; j < k && m->units > m->budget; ++j) {
+    for (uint32_t j = 0; j < gone; ++j) {
         uint32_t n = m->drop[j].node;
+        if (n == NONE)
+            continue;
         m->units -= cand_units(t, n, m->state[n]);
         m->benefit -= cand_benefit(t, n, m->state[n]);
         m->state[n] = LOD_DROPPED;
@@ -423,6 +448,25 @@ static uint32_t mb_drop_over_budget(struct mb *m)
         ++dropped;
     }
     return dropped;
+}
+
+int lod_tree_underused_drop(const struct lod_tree *t, const uint8_t *state, double fraction)
+{
+    int64_t budget = lod_budget_units(t->budget_ms), total = 0, smallest = INT64_MAX;
+    for (uint32_t n = 0; n < (uint32_t)t->node_count; ++n) {
+        uint8_t s = state[n];
+        if (t->count[n] == 0)
+            continue; /* a leaf without a valid candidate, or a group without impostor: never a budget drop */
+        if (s == LOD_DROPPED) {
+            int64_t u = cand_units(t, n, 0);
+            smallest = u < smallest ? u : smallest;
+        } else if (is_choice(s) && s < t->count[n]) {
+            total += cand_units(t, n, s);
+        }
+    }
+    if (smallest == INT64_MAX || !((double)total < fraction * (double)budget))
+        return 0;
+    return total <= budget && smallest <= budget - total;
 }
 
 /* Mason & Blake §6's guard, with "item" read on the tree: the cheapest representation with one node

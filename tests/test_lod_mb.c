@@ -434,10 +434,146 @@ static void test_any_tree(void)
         /* mb may ignore an impostor that breaks §3, which only raises the cheapest cost */
         CHECK(lo <= budget || r.over_budget);
         CHECK(!r.over_budget || r.dropped > 0);
+        struct lod_tree t = tb_tree(&T, budget);
+        CHECK(lod_tree_underused_drop(&t, state, 1.0) == 0); /* no dropped node would fit (drop last) */
         struct lod_result r2;
         run_mb(&T, budget, 0, state2, 0, &r2);
         CHECK(memcmp(state, state2, T.n) == 0 && r.benefit == r2.benefit);
     }
+}
+
+/* Drop last (issue 30 item 4): the auditorium in small. A hall (no impostor) over a wall (6 ms,
+ * benefit 6), four rows of chairs — each a group with an impostor (1 ms, 0.9) over two chairs (1 ms,
+ * 1 each) — and a statue (2 ms, 10; a step up to 3 ms, 15). The cheapest representation costs 12 ms
+ * over a budget of 7.5: the rows go first (0.9 per ms), then the wall, leaving 2 ms; the rows fit
+ * again and come back as impostors, and the statue rises into what is left. */
+static void build_hall(struct tb *b)
+{
+    memset(b, 0, sizeof *b);
+    const double wc[] = {6}, wb[] = {6}, rc[] = {1}, rb[] = {0.9}, sc[] = {2, 3}, sb[] = {10, 15};
+    const double cc[] = {1}, cb[] = {1};
+    tb_node(b, LOD_MB_ROOT, 0, NULL, NULL); /* 0: the hall */
+    tb_node(b, 0, 1, wc, wb);               /* 1: the wall */
+    for (int k = 0; k < 4; ++k)
+        tb_node(b, 0, 1, rc, rb); /* 2–5: rows */
+    tb_node(b, 0, 2, sc, sb);     /* 6: the statue */
+    for (uint32_t row = 2; row <= 5; ++row)
+        for (int k = 0; k < 2; ++k)
+            tb_node(b, row, 1, cc, cb); /* 7–14: chairs */
+    tb_link(b);
+}
+
+static void check_hall_answer(const struct lod_result *r)
+{
+    double c, v;
+    CHECK(state_complete(&T, state, &c, &v));
+    CHECK(r->over_budget == 1 && r->dropped == 1 && state[0] == LOD_MB_OPEN && state[1] == LOD_DROPPED);
+    for (int row = 2; row <= 5; ++row)
+        CHECK(state[row] == 0);
+    for (int chair = 7; chair <= 14; ++chair)
+        CHECK(state[chair] == LOD_MB_BELOW);
+    CHECK(state[6] == 1);
+    CHECK_NEAR(r->cost_ms, 7.0, 1e-12);
+    CHECK_NEAR(r->benefit, 4 * 0.9 + 15.0, 1e-12);
+    struct lod_tree t = tb_tree(&T, 7.5);
+    CHECK(lod_tree_underused_drop(&t, state, 0.7) == 0 && lod_tree_underused_drop(&t, state, 1.0) == 0);
+}
+
+static void test_drop_last(void)
+{
+    build_hall(&T);
+    struct lod_result r;
+    run_mb(&T, 7.5, 0, state, 1, &r);
+    check_hall_answer(&r);
+    /* Incrementally: from its own answer, and from last frame's full detail (every row open, every
+     * chair and the statue at their finest), the same. */
+    run_mb(&T, 7.5, 0, state, 0, &r);
+    check_hall_answer(&r);
+    run_mb(&T, 100.0, 0, state, 1, &r);
+    CHECK(state[0] == LOD_MB_OPEN && state[2] == LOD_MB_OPEN && state[7] == 0 && !r.over_budget);
+    run_mb(&T, 7.5, 0, state, 0, &r);
+    check_hall_answer(&r);
+    /* What the rule replaced: rows and wall dropped, the statue up — 3 ms of 7.5 with four rows that
+     * fit. */
+    struct lod_tree t = tb_tree(&T, 7.5);
+    memcpy(state2, state, T.n);
+    for (int n = 1; n <= 5; ++n)
+        state2[n] = LOD_DROPPED;
+    CHECK(lod_tree_underused_drop(&t, state2, 0.7) == 1);
+    CHECK(lod_tree_underused_drop(&t, state2, 0.4) == 0); /* 3 ms is not under 3 ms */
+    /* Room for the statue and one row only: the lowest node_id of the tied rows comes back. */
+    run_mb(&T, 3.5, 0, state, 1, &r);
+    double c, v;
+    CHECK(state_complete(&T, state, &c, &v) && c <= 3.5);
+    CHECK(state[1] == LOD_DROPPED && state[2] == 0 && state[3] == LOD_DROPPED && state[4] == LOD_DROPPED &&
+          state[5] == LOD_DROPPED && state[6] == 0 && r.dropped == 4);
+    t.budget_ms = 3.5;
+    CHECK(lod_tree_underused_drop(&t, state, 1.0) == 0);
+}
+
+/* lod_tree_underused_drop on its own: nodes below an explicit ancestor and leaves without a
+ * candidate do not count; a dropped group counts at its impostor; the fraction's edge. */
+static void test_underused_tree_cases(void)
+{
+    build_hall(&T);
+    struct lod_tree t = tb_tree(&T, 7.5);
+    memset(state, LOD_MB_BELOW, sizeof state);
+    state[0] = LOD_MB_OPEN, state[1] = 0, state[6] = 0; /* 8 ms chosen: over the budget */
+    for (int n = 2; n <= 5; ++n)
+        state[n] = LOD_DROPPED;
+    CHECK(lod_tree_underused_drop(&t, state, 1.0) == 0);
+    state[1] = LOD_DROPPED; /* 2 ms of 7.5, a row (1 ms) would fit */
+    CHECK(lod_tree_underused_drop(&t, state, 1.0) == 1);
+    CHECK(lod_tree_underused_drop(&t, state, 2.0 / 7.5) == 0);
+    CHECK(lod_tree_underused_drop(&t, state, NAN) == 0);
+    for (int n = 2; n <= 5; ++n)
+        state[n] = 0; /* 6 ms of 7.5: the wall (6 ms) does not fit */
+    CHECK(lod_tree_underused_drop(&t, state, 1.0) == 0);
+    T.count[1] = 0; /* a leaf without candidate is dropped, but not by the budget */
+    state[6] = LOD_DROPPED;
+    state[2] = LOD_DROPPED;
+    t.budget_ms = 4.0; /* 3 ms of 4: only the statue (2 ms) or a row (1 ms) */
+    CHECK(lod_tree_underused_drop(&t, state, 1.0) == 1);
+    t.budget_ms = 3.5;
+    CHECK(lod_tree_underused_drop(&t, state, 1.0) == 0);
+    t.node_count = 0;
+    CHECK(lod_tree_underused_drop(&t, state, 1.0) == 0);
+}
+
+/* Random hierarchies over budget: complete, within budget, and no dropped node would fit in what
+ * is left; from its own answer and from any earlier state, the same answer. */
+static void test_drop_last_random(void)
+{
+    rng_state = 3030;
+    int cases = 0, drops = 0;
+    for (int it = 0; it < 400; ++it) {
+        random_tree(&T, 1, 12);
+        if (T.n == 0)
+            continue;
+        double lo = 0;
+        for (uint32_t n = 0; n < T.n; ++n)
+            if (T.parent[n] == LOD_MB_ROOT)
+                lo += min_cost_of(&T, n);
+        double budget = lo * (0.1 + 0.85 * urand());
+        struct lod_tree t = tb_tree(&T, budget);
+        struct lod_result r, r2;
+        run_mb(&T, budget, 0, state, 1, &r);
+        double c, v;
+        CHECK(state_complete(&T, state, &c, &v) && c <= budget);
+        CHECK(r.over_budget && r.dropped > 0);
+        CHECK(lod_tree_underused_drop(&t, state, 1.0) == 0);
+        memcpy(state2, state, T.n);
+        run_mb(&T, budget, 0, state2, 0, &r2);
+        CHECK(memcmp(state, state2, T.n) == 0 && r2.benefit == r.benefit);
+        for (uint32_t n = 0; n < T.n; ++n)
+            state2[n] = (uint8_t)(urand() * 256);
+        run_mb(&T, budget, 0, state2, 0, &r2);
+        CHECK(state_complete(&T, state2, &c, &v) && c <= budget);
+        CHECK(lod_tree_underused_drop(&t, state2, 1.0) == 0);
+        ++cases, drops += (int)r.dropped;
+    }
+    CHECK(cases > 300);
+    printf("drop last on trees: %d over budget, %d nodes dropped, none that would fit\n", cases, drops);
 }
 
 /* Ties are broken by node id, not by memory order: two identical leaves, listed in both orders. */
@@ -529,6 +665,7 @@ static void test_flat_equals_greedy(void)
         CHECK(memcmp(state, fs_choice, T.n) == 0);
         CHECK_NEAR(r.benefit, rg.benefit, 1e-9 * (1 + rg.benefit));
         CHECK(r.over_budget == rg.over_budget && r.dropped == rg.dropped);
+        CHECK(lod_choice_underused_drop(&p, choice, 1.0) == 0);
         over += r.over_budget;
         ++cases;
         if (r.over_budget)
@@ -591,6 +728,9 @@ int main(void)
     test_hand_dome();
     test_single_item();
     test_ties();
+    test_drop_last();
+    test_underused_tree_cases();
+    test_drop_last_random();
     test_brute_force();
     test_any_tree();
     test_flat_equals_greedy();

@@ -602,6 +602,9 @@ static int check_outcome(const struct inst *in, const uint8_t *choice, const str
         CHECK(dropped == empty);
     else
         CHECK(dropped > empty);
+    /* Drops are the last resort (issue 30): no dropped object's candidate 0 fits in what is left. */
+    struct lod_problem p = problem(in);
+    CHECK(lod_choice_underused_drop(&p, choice, 1.0) == 0);
     return tu_failures == fails;
 }
 
@@ -820,6 +823,223 @@ static void test_over_budget(void)
     check_outcome(&in, choice, &r);
     CHECK(r.dropped == 4 && r.cost_ms == 0.0);
     inst_free(&in);
+}
+
+/* ---- drop last (issue 30 item 4) ----------------------------------------------------------------
+ * When even the cheapest candidates do not fit, objects are dropped lowest benefit per cost first
+ * until the rest fits; the last one dropped may be large and leave most of the budget unused while
+ * smaller objects dropped before it would fit. Those come back (lod.h). */
+
+/* The auditorium in small: a wall (6 ms, benefit 6: 1 per ms), four chairs (1 ms, 0.9 each: 0.9 per
+ * ms) and a statue K (2 ms, 10; a step up to 3 ms, 15). Σ cheapest = 12 ms over a budget of 7.5:
+ * the chairs go first, then the wall, leaving 2 ms of 7.5 — the chairs fit again. */
+static struct inst inst_hall(void)
+{
+    struct inst in = inst_new(6, 2);
+    in.count[0] = 1, in.cost_ms[in.first[0]] = 6.0, in.benefit[in.first[0]] = 6.0;
+    for (size_t i = 1; i <= 4; ++i)
+        in.count[i] = 1, in.cost_ms[in.first[i]] = 1.0, in.benefit[in.first[i]] = 0.9;
+    in.count[5] = 2;
+    in.cost_ms[in.first[5]] = 2.0, in.benefit[in.first[5]] = 10.0;
+    in.cost_ms[in.first[5] + 1] = 3.0, in.benefit[in.first[5] + 1] = 15.0;
+    in.level[in.first[5]] = 1;
+    in.budget_ms = 7.5;
+    return in;
+}
+
+/* A flat representation tree over a problem's objects (every object a root): lod_optimize_mb's view
+ * of it, which must give the greedy's answer (lod.h). */
+static void optimize_mb_flat(const struct inst *in, uint8_t *state, struct lod_result *r)
+{
+    uint32_t *parent = malloc(in->n * sizeof *parent), *zero = calloc(in->n + 1, sizeof *zero);
+    for (size_t i = 0; i < in->n; ++i)
+        parent[i] = LOD_MB_ROOT;
+    struct lod_tree t = {in->n, in->object_id, parent, zero, zero, zero, in->first, in->count, in->cost_ms,
+                         in->benefit, in->budget_ms};
+    void *scratch = malloc(lod_mb_scratch_bytes(in->n));
+    lod_mb_start_cheapest(&t, state);
+    lod_optimize_mb(&t, 0.0, scratch, state, r);
+    CHECK(lod_tree_underused_drop(&t, state, 1.0) == 0);
+    free(scratch), free(parent), free(zero);
+}
+
+static void test_drop_last(void)
+{
+    struct inst in = inst_hall();
+    struct lod_problem p = problem(&in);
+    uint8_t choice[6], fs_choice[6], state[6];
+    struct lod_result r, rf, rm;
+    optimize(&in, 0, -1, NULL, choice, &r);
+    check_outcome(&in, choice, &r);
+    /* The wall stays dropped (6 ms never fits beside the rest); the four chairs are back; the statue
+     * rises into the last 1.5 ms: 7 ms of 7.5. */
+    CHECK(r.over_budget == 1 && r.dropped == 1 && choice[0] == LOD_DROPPED);
+    CHECK(choice[1] == 0 && choice[2] == 0 && choice[3] == 0 && choice[4] == 0 && choice[5] == 1);
+    CHECK_NEAR(r.cost_ms, 7.0, 1e-12);
+    CHECK_NEAR(r.benefit, 4 * 0.9 + 15.0, 1e-12);
+    CHECK(lod_choice_underused_drop(&p, choice, 0.7) == 0);
+    /* fs from every start, and mb on the flat tree: the same. */
+    const uint8_t starts[][6] = {{0, 0, 0, 0, 0, 0}, {0, 0, 0, 0, 0, 1}, {LOD_DROPPED, LOD_DROPPED, 0, 0, 0, 1}};
+    for (size_t s = 0; s < 3; ++s) {
+        optimize(&in, 1, 0.0, starts[s], fs_choice, &rf);
+        check_outcome(&in, fs_choice, &rf);
+        CHECK(memcmp(fs_choice, choice, 6) == 0 && rf.dropped == 1);
+    }
+    optimize_mb_flat(&in, state, &rm);
+    CHECK(memcmp(state, choice, 6) == 0 && rm.dropped == 1 && rm.over_budget == 1);
+    CHECK_NEAR(rm.benefit, r.benefit, 1e-12);
+    /* What the rule replaced: wall and chairs dropped, the statue up — 3 ms of 7.5 (40 %) with four
+     * chairs that fit: an underused drop at 70 %, and at 100 %. */
+    const uint8_t before[6] = {LOD_DROPPED, LOD_DROPPED, LOD_DROPPED, LOD_DROPPED, LOD_DROPPED, 1};
+    CHECK(lod_choice_underused_drop(&p, before, 0.7) == 1);
+    CHECK(lod_choice_underused_drop(&p, before, 1.0) == 1);
+    CHECK(lod_choice_underused_drop(&p, before, 0.4) == 0); /* 3 ms is not under 3 ms */
+    /* Ties among the dropped: with room for one chair only (budget 3 + ½: the statue and one chair),
+     * the lowest object_id comes back. */
+    in.budget_ms = 3.5;
+    optimize(&in, 0, -1, NULL, choice, &r);
+    check_outcome(&in, choice, &r);
+    CHECK(choice[0] == LOD_DROPPED && choice[1] == 0 && choice[2] == LOD_DROPPED && choice[3] == LOD_DROPPED &&
+          choice[4] == LOD_DROPPED && choice[5] == 0 && r.dropped == 4);
+    optimize(&in, 1, 0.0, NULL, fs_choice, &rf);
+    CHECK(memcmp(fs_choice, choice, 6) == 0);
+    inst_free(&in);
+}
+
+/* lod_choice_underused_drop on its own: the fraction's edge, the fit's edge, objects without
+ * candidates, an empty problem and degenerate budgets and fractions. */
+static void test_underused_drop_cases(void)
+{
+    struct inst in = inst_new(3, 1);
+    for (size_t i = 0; i < 3; ++i)
+        in.count[i] = 1;
+    in.cost_ms[0] = 3.0, in.cost_ms[1] = 1.0, in.cost_ms[2] = 2.0;
+    in.budget_ms = 4.0;
+    struct lod_problem p = problem(&in);
+    uint8_t c[3] = {0, LOD_DROPPED, 0};
+    CHECK(lod_choice_underused_drop(&p, c, 1.0) == 0); /* 5 ms chosen: over the budget, nothing fits */
+    c[2] = LOD_DROPPED;                                /* 3 of 4 ms; object 1 (1 ms) fits exactly */
+    CHECK(lod_choice_underused_drop(&p, c, 1.0) == 1);
+    CHECK(lod_choice_underused_drop(&p, c, 0.76) == 1);
+    CHECK(lod_choice_underused_drop(&p, c, 0.75) == 0); /* 3 ms is not under 0.75 × 4 */
+    CHECK(lod_choice_underused_drop(&p, c, 0.0) == 0);
+    CHECK(lod_choice_underused_drop(&p, c, -1.0) == 0);
+    CHECK(lod_choice_underused_drop(&p, c, NAN) == 0);
+    CHECK(lod_choice_underused_drop(&p, c, INFINITY) == 1);
+    in.cost_ms[1] = 1.5, in.cost_ms[2] = 1.25; /* neither dropped object fits in 1 ms */
+    CHECK(lod_choice_underused_drop(&p, c, 1.0) == 0);
+    in.cost_ms[2] = 0.5; /* the smaller one does */
+    CHECK(lod_choice_underused_drop(&p, c, 1.0) == 1);
+    in.count[2] = 0; /* no candidate: dropped, but not by the budget */
+    CHECK(lod_choice_underused_drop(&p, c, 1.0) == 0);
+    const uint8_t none[3] = {LOD_DROPPED, LOD_DROPPED, LOD_DROPPED};
+    in.count[2] = 1;
+    CHECK(lod_choice_underused_drop(&p, none, 1.0) == 1); /* everything dropped, everything would fit */
+    p.budget_ms = 0.0;
+    CHECK(lod_choice_underused_drop(&p, none, 1.0) == 0);
+    p.budget_ms = NAN;
+    CHECK(lod_choice_underused_drop(&p, none, 1.0) == 0);
+    p.object_count = 0;
+    p.budget_ms = 4.0;
+    CHECK(lod_choice_underused_drop(&p, none, 1.0) == 0);
+    inst_free(&in);
+}
+
+/* The problem with objects `gone` (nonzero entries) taken out (count 0), otherwise the same. */
+static struct inst inst_without(const struct inst *in, const uint8_t *gone)
+{
+    struct inst out = inst_copy(in);
+    for (size_t i = 0; i < in->n; ++i)
+        if (gone[i])
+            out.count[i] = 0;
+    return out;
+}
+
+/* Random problems over budget: no dropped object fits in what the final choice leaves; fs and mb
+ * equal the greedy; the drawn set is a superset of the old rule's (drop until it fits, no return);
+ * and the choice is the greedy's on the problem without the dropped objects. The old rule's benefit
+ * is computed the same way (its drops taken out, the greedy run on the rest) for comparison. */
+static void test_drop_last_random(void)
+{
+    rng_state = 3030;
+    int cases = 0, readmitted = 0, old_underused = 0, lower = 0, higher = 0;
+    double worst = 1.0;
+    for (int t = 0; t < 600; ++t) {
+        struct inst raw = inst_random((size_t)rng_int(2, 40), 5, 1.0, t % 2, 1);
+        raw.budget_ms += t % 3 == 0 ? 0.0 : 0.5; /* exact fits too */
+        struct inst in = inst_copy(&raw);
+        CHECK(reduce(&in) == 0);
+        if (!(cheapest_sum_ms(&in) > in.budget_ms)) {
+            inst_free(&in), inst_free(&raw);
+            continue;
+        }
+        ++cases;
+        struct lod_problem p = problem(&in);
+        uint8_t choice[40], other[40], start[40], gone_old[40], gone_new[40];
+        struct lod_result r, ro;
+        optimize(&in, 0, -1, NULL, choice, &r);
+        CHECK(check_outcome(&in, choice, &r) && r.over_budget);
+        CHECK(lod_choice_underused_drop(&p, choice, 1.0) == 0);
+        for (int s = 0; s < 3; ++s) {
+            for (size_t i = 0; i < in.n; ++i) {
+                int top = in.count[i] ? in.count[i] - 1 : 0;
+                start[i] = (uint8_t)(s == 0 ? 0 : s == 1 ? top : rng_int(0, top));
+            }
+            optimize(&in, 1, 0.0, start, other, &ro);
+            CHECK(memcmp(other, choice, in.n) == 0 && ro.dropped == r.dropped);
+        }
+        optimize_mb_flat(&in, other, &ro);
+        CHECK(memcmp(other, choice, in.n) == 0 && ro.dropped == r.dropped);
+        /* The old rule's drops: lowest benefit per cost of candidate 0 first (ties: lower id, which
+         * the ids' memory order gives here), until the rest fits. */
+        double total = cheapest_sum_ms(&in);
+        memset(gone_old, 0, sizeof gone_old);
+        for (;;) {
+            size_t pick = SIZE_MAX;
+            double pick_value = 0.0;
+            for (size_t i = 0; i < in.n; ++i) {
+                if (in.count[i] == 0 || gone_old[i] || in.cost_ms[in.first[i]] <= 0.0)
+                    continue;
+                double v = in.benefit[in.first[i]] / in.cost_ms[in.first[i]];
+                if (pick == SIZE_MAX || v < pick_value)
+                    pick = i, pick_value = v;
+            }
+            if (total <= in.budget_ms || pick == SIZE_MAX)
+                break;
+            gone_old[pick] = 1;
+            total -= in.cost_ms[in.first[pick]];
+        }
+        size_t old_drops = 0, new_drops = 0;
+        for (size_t i = 0; i < in.n; ++i) {
+            gone_new[i] = in.count[i] > 0 && choice[i] == LOD_DROPPED;
+            CHECK(!gone_new[i] || gone_old[i]); /* every object the old rule drew is drawn */
+            old_drops += gone_old[i], new_drops += gone_new[i];
+        }
+        readmitted += new_drops < old_drops;
+        /* The choice is the greedy's on the objects it keeps (the drops add nothing else). */
+        struct inst kept = inst_without(&in, gone_new);
+        optimize(&kept, 0, -1, NULL, other, &ro);
+        for (size_t i = 0; i < in.n; ++i)
+            CHECK(other[i] == choice[i]);
+        inst_free(&kept);
+        /* The old rule's answer: its drops out, the greedy (steps and guard) on the rest. */
+        struct inst old = inst_without(&in, gone_old);
+        optimize(&old, 0, -1, NULL, other, &ro);
+        struct lod_problem po = p; /* the old choice judged on the whole problem */
+        old_underused += lod_choice_underused_drop(&po, other, 0.7);
+        if (ro.benefit > r.benefit + rel_tol(r.benefit)) {
+            ++lower;
+            worst = fmin(worst, r.benefit / ro.benefit);
+        }
+        higher += r.benefit > ro.benefit + rel_tol(ro.benefit);
+        inst_free(&old);
+        inst_free(&in);
+        inst_free(&raw);
+    }
+    CHECK(cases >= 300 && readmitted > 0 && old_underused > 0);
+    printf("drop last: %d problems over budget, dropped objects re-admitted in %d; the old rule ended under 70 %% "
+           "with one that fit in %d; benefit above the old rule's in %d, below in %d (worst %.3f of it)\n",
+           cases, readmitted, old_underused, higher, lower, worst);
 }
 
 /* Objects moved in memory (ids kept) must get the same choice: ties are broken by object_id. The
@@ -1210,6 +1430,8 @@ int main(int argc, char **argv)
     if (argc > 1 && strcmp(argv[1], "hard-cases") == 0) { /* ctest -L hard-cases */
         test_hard_cases();
         test_over_budget();
+        test_drop_last();
+        test_underused_drop_cases();
         test_exact_errors();
         test_lp_bound_cases();
         return tu_finish("test_lod_optimize hard-cases");
@@ -1228,6 +1450,9 @@ int main(int argc, char **argv)
     test_greedy_and_fs_random();
     test_counterexample();
     test_over_budget();
+    test_drop_last();
+    test_underused_drop_cases();
+    test_drop_last_random();
     test_determinism();
     test_fs_previous_frame();
     test_fs_time_limit();

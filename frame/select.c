@@ -244,11 +244,13 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
         if (s->selector == FRM_SELECT_MB) { /* Mason & Blake on the visible part of the hierarchy */
             frm_mb_select(s->mb, scene, &p, &s->cost, &s->benefit, in->eyes, s->opt_limit_us, lod_out, extra_index,
                           extra_level, extra_count, &r);
+            rec->underused_drop = frm_mb_underused_drop(s->mb, FRM_UNDERUSED_FRACTION);
         } else {
             lod_choice_start(&p, s->previous_level, s->choice);
             lod_optimize_fs(&p, s->opt_limit_us, s->scratch, s->choice, &r);
             s->fs_margin_value = r.margin_value; /* centres next frame's filters: one pass (lod.h) */
             lod_level_of_choice(&p, s->choice, lod_out);
+            rec->underused_drop = lod_choice_underused_drop(&p, s->choice, FRM_UNDERUSED_FRACTION);
         }
         rec->iterations = r.iterations;
         rec->dropped = r.dropped;

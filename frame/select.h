@@ -82,6 +82,10 @@ struct frm_select {
     struct frm_saccade saccade;
 };
 
+/* Issue 30's check on fs and mb: a frame that drops objects must not end under this share of its
+ * budget while a dropped object would have fit (the optimizers' rule makes it 0 every frame). */
+#define FRM_UNDERUSED_FRACTION 0.7
+
 /* What selection did in one frame, for its CSV row. */
 struct frm_select_record {
     double budget_ms, optimizer_budget_ms; /* the frame's budget; what the optimizer was given */
@@ -90,6 +94,9 @@ struct frm_select_record {
     uint32_t iterations, dropped, lod_changes;
     uint64_t acuity_evaluations;           /* objects whose H(v,E) was computed */
     int truncated, over_budget;
+    int underused_drop;                    /* fs, mb: 1 when the choice costs under FRM_UNDERUSED_FRACTION of
+                                            * optimizer_budget_ms while an object it dropped would have fit
+                                            * in the rest (lod_choice_underused_drop); 0 otherwise */
     double optimizer_us;
     double lp_us;                          /* the LP bound's own time, left out of the frame's */
     /* saccades (frame/saccade_step.c): phase this frame; once suppression has ended and until the

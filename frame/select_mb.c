@@ -30,6 +30,8 @@ struct frm_mb {
     double *cost_ms, *benefit;
     uint8_t *cand_level;
     void *scratch;
+    size_t tree_nodes;     /* the last frame's tree and budget, for frm_mb_underused_drop */
+    double tree_budget_ms;
     /* hierarchy simplification (Nirenstein et al. §5.6): per group COLLAPSED (a leaf of the tree),
      * UNDER (below one: not in the tree) or 0; per instance its collapsed ancestor or NONE; per frame
      * the visible objects' nodes (NONE under a collapsed group) and each collapsed node's objects */
@@ -379,6 +381,7 @@ void frm_mb_select(struct frm_mb *mb, const struct scn_scene *scene, const struc
     struct lod_tree t = {nodes, mb->node_id, mb->parent, mb->first_child, mb->child_count, mb->child, mb->first,
                          mb->count, mb->cost_ms, mb->benefit, p->budget_ms};
     lod_optimize_mb(&t, time_limit_us, mb->scratch, mb->state, r);
+    mb->tree_nodes = nodes, mb->tree_budget_ms = p->budget_ms;
 
     /* Last frame is forgotten, this one remembered (as levels, and BELOW under a drawn impostor). */
     for (uint32_t k = 0; k < mb->objects_seen_count; ++k)
@@ -422,4 +425,11 @@ void frm_mb_select(struct frm_mb *mb, const struct scn_scene *scene, const struc
     for (size_t i = n; i < p->object_count; ++i) /* beyond the capacity given at create: not drawn */
         level_out[i] = LOD_DROP;
     mb->objects_seen_count = (uint32_t)n;
+}
+
+int frm_mb_underused_drop(const struct frm_mb *mb, double fraction)
+{
+    struct lod_tree t = {mb->tree_nodes, mb->node_id, mb->parent, mb->first_child, mb->child_count, mb->child,
+                         mb->first, mb->count, mb->cost_ms, mb->benefit, mb->tree_budget_ms};
+    return lod_tree_underused_drop(&t, mb->state, fraction);
 }

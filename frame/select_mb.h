@@ -36,4 +36,8 @@ void frm_mb_select(struct frm_mb *mb, const struct scn_scene *scene, const struc
                    const struct acu_eye eyes[2], double time_limit_us, uint8_t *level_out, uint32_t *extra_index,
                    uint8_t *extra_level, size_t *extra_count, struct lod_result *r);
 
+/* After frm_mb_select: lod_tree_underused_drop on that frame's tree and answer (impostors included,
+ * against the optimizer's budget p->budget_ms); 0 before the first frame. */
+int frm_mb_underused_drop(const struct frm_mb *mb, double fraction);
+
 #endif

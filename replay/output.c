@@ -20,7 +20,7 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
     for (int k = 0; k < max_lods; ++k)
         fprintf(o->csv, ",lod%d", k);
     fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
-          "over_budget,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,visible_error,"
+          "over_budget,underused_drop,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,visible_error,"
           "psnr_db,ssim,ssim_rgb,fssim,fssim_e0,fssim_e1,fssim_e2,fssim_e3,px_over_32,acuity_us,select_us,"
           "optimizer_us,draw_ms,frame_ms,deadline_met,minor_faults\n", o->csv);
     return 0;
@@ -68,7 +68,8 @@ void rpl_output_row(struct rpl_output *o, const struct frm_frame_record *r, int 
         fprintf(o->csv, ",%.6g,%.6f", q->lp_bound, 1.0 - q->benefit / q->lp_bound);
     else
         fputs(",,", o->csv);
-    fprintf(o->csv, ",%u,%u,%d,%d", q->lod_changes, q->iterations, q->truncated, q->over_budget);
+    fprintf(o->csv, ",%u,%u,%d,%d,%d", q->lod_changes, q->iterations, q->truncated, q->over_budget,
+            q->underused_drop);
     /* The eye's angular speed in the world under the gaze model (deterministic). */
     fprintf(o->csv, ",%.3f", r->eye_speed_degps);
     fprintf(o->csv, ",%.3f,%d,%u,%d", q->gaze_speed_degps, q->saccade_phase, q->refine_pending,
@@ -217,6 +218,8 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct frm_frame_record *r)
     a->predicted_within += q->predicted_ms <= q->budget_ms;
     a->truncated_frames += q->truncated;
     a->over_budget_frames += q->over_budget;
+    a->underused_drop_frames += q->underused_drop;
+    a->dropped_sum += q->dropped;
     a->lod_changes_sum += q->lod_changes;
     a->optimizer_us_sum += q->optimizer_us;
     a->optimizer_us_max = fmax(a->optimizer_us_max, q->optimizer_us);
@@ -294,6 +297,8 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     s->predicted_within_fraction = (double)a->predicted_within / n;
     s->truncated_fraction = (double)a->truncated_frames / n;
     s->over_budget_fraction = (double)a->over_budget_frames / n;
+    s->underused_drops = a->underused_drop_frames;
+    s->dropped_mean = a->dropped_sum / n;
     s->optimizer_us_mean = a->optimizer_us_sum / n;
     s->optimizer_us_max = a->optimizer_us_max;
     s->iterations_mean = a->iterations_sum / n;
@@ -417,6 +422,8 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddNumberToObject(root, "frame_ms_stddev_share_of_budget", s->frame_ms_stddev_share_of_budget);
     cJSON_AddNumberToObject(root, "optimizer_truncated_fraction", s->truncated_fraction);
     cJSON_AddNumberToObject(root, "over_budget_fraction", s->over_budget_fraction);
+    cJSON_AddNumberToObject(root, "dropped_mean", s->dropped_mean);
+    cJSON_AddNumberToObject(root, "underused_drops", (double)s->underused_drops);
     cJSON_AddNumberToObject(root, "optimizer_us_mean", s->optimizer_us_mean);
     cJSON_AddNumberToObject(root, "optimizer_us_max", s->optimizer_us_max);
     cJSON_AddNumberToObject(root, "optimizer_iterations_mean", s->iterations_mean);

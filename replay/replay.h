@@ -138,6 +138,9 @@ struct rpl_summary {
     double frame_ms_stddev_share_of_budget, frame_ms_p99_share_of_budget;
     double predicted_within_fraction;  /* frames whose predicted cost ≤ budget */
     double truncated_fraction, over_budget_fraction; /* optimizer stopped at its limit; cheapest set did not fit */
+    double dropped_mean;               /* objects dropped per frame (fs, mb; 0 for the other selectors) */
+    long underused_drops;              /* frames that spent under 70 % of the optimizer's budget while an object
+                                        * they dropped would have fit (frm_select_record.underused_drop) */
     double lod_changes_per_object_s;   /* popping: level changes per visible object per second */
     double optimizer_us_mean, optimizer_us_max, iterations_mean;
     double benefit_share_of_lp_mean, benefit_share_of_lp_min; /* NaN when not measured */

@@ -202,6 +202,20 @@ done
 expect_ok "replay fs --budget-ms 50" "budget +50\.000 ms" -- "$bin" replay --scene field --objects 300 --selector fs \
   --budget-ms 50 --frames 60 --render-scale 0.25 --out "$tmp/fs-50"
 predicted_within "$tmp/fs-50/frames.csv" 50 || fail "fs --budget-ms 50: over the budget"
+# Drop last (issue 30 item 4; docs/optimizer.md): on a budget that forces drops (2.5 ms, c0 ≈ 2.07 ms
+# in the built-in profile), fs and mb drop objects yet no frame ends under 70 % of the optimizer's
+# budget while a dropped object would have fit: underused_drop 0 on every row, underused_drops 0.
+summary_number() { grep -o "\"$2\":[^,}]*" "$1/summary.json" | cut -d: -f2 | tr -d ' \t'; }
+for sel in fs mb; do
+  expect_ok "replay $sel over budget" "frames within the budget" -- "$bin" replay --scene field --objects 300 \
+    --selector $sel --budget-ms 2.5 --frames 30 --render-scale 0.25 --out "$tmp/drop-$sel"
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "underused_drop") c = i; next }
+           { n++; if ($c != 0) bad++ } END { exit !(c > 0 && n > 0 && bad == 0) }' "$tmp/drop-$sel/frames.csv" \
+    || fail "$sel --budget-ms 2.5: a frame under 70 % of its budget dropped an object that would have fit"
+  [ "$(summary_number "$tmp/drop-$sel" underused_drops)" = 0 ] || fail "$sel --budget-ms 2.5: underused_drops is not 0"
+  awk -v d="$(summary_number "$tmp/drop-$sel" dropped_mean)" 'BEGIN { exit !(d > 0) }' \
+    || fail "$sel --budget-ms 2.5: no objects dropped (dropped_mean), the check above proves nothing"
+done
 
 # Raw recordings (record, convert, replay --raw): help, and bad input giving one message, exit 1
 # and no output. The recording → CSV → replay path itself is run by tests/test_recording.c.

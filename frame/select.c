@@ -267,6 +267,12 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
     }
     }
     rec->predicted_ms = predicted_ms(s, scene, in, lod_out);
+    double visible_px = 0.0, dropped_px = 0.0;
+    for (size_t k = 0; k < in->count; ++k) {
+        visible_px += s->pixels_px[k];
+        dropped_px += lod_out[k] == LOD_DROP ? s->pixels_px[k] : 0.0;
+    }
+    rec->dropped_px_share = visible_px > 0.0 ? dropped_px / visible_px : 0.0;
     for (size_t k = 0; k < *extra_count; ++k) {
         const struct scn_chain *ch = &scene->chains[scene->instances[extra_index[k]].chain];
         double px = 0.0;

@@ -97,6 +97,8 @@ struct frm_select_record {
     int underused_drop;                    /* fs, mb: 1 when the choice costs under FRM_UNDERUSED_FRACTION of
                                             * optimizer_budget_ms while an object it dropped would have fit
                                             * in the rest (lod_choice_underused_drop); 0 otherwise */
+    double dropped_px_share;               /* Σ estimated pixels of the dropped visible objects / Σ of all
+                                            * visible objects': what vanished from the image, not how many */
     double optimizer_us;
     double lp_us;                          /* the LP bound's own time, left out of the frame's */
     /* saccades (frame/saccade_step.c): phase this frame; once suppression has ended and until the

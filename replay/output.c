@@ -20,7 +20,7 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
     for (int k = 0; k < max_lods; ++k)
         fprintf(o->csv, ",lod%d", k);
     fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
-          "over_budget,underused_drop,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,visible_error,"
+          "over_budget,underused_drop,dropped_px_share,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,visible_error,"
           "psnr_db,ssim,ssim_rgb,fssim,fssim_e0,fssim_e1,fssim_e2,fssim_e3,px_over_32,acuity_us,select_us,"
           "optimizer_us,draw_ms,frame_ms,deadline_met,minor_faults\n", o->csv);
     return 0;
@@ -68,8 +68,8 @@ void rpl_output_row(struct rpl_output *o, const struct frm_frame_record *r, int 
         fprintf(o->csv, ",%.6g,%.6f", q->lp_bound, 1.0 - q->benefit / q->lp_bound);
     else
         fputs(",,", o->csv);
-    fprintf(o->csv, ",%u,%u,%d,%d,%d", q->lod_changes, q->iterations, q->truncated, q->over_budget,
-            q->underused_drop);
+    fprintf(o->csv, ",%u,%u,%d,%d,%d,%.6f", q->lod_changes, q->iterations, q->truncated, q->over_budget,
+            q->underused_drop, q->dropped_px_share);
     /* The eye's angular speed in the world under the gaze model (deterministic). */
     fprintf(o->csv, ",%.3f", r->eye_speed_degps);
     fprintf(o->csv, ",%.3f,%d,%u,%d", q->gaze_speed_degps, q->saccade_phase, q->refine_pending,
@@ -220,6 +220,8 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct frm_frame_record *r)
     a->over_budget_frames += q->over_budget;
     a->underused_drop_frames += q->underused_drop;
     a->dropped_sum += q->dropped;
+    a->dropped_px_share_sum += q->dropped_px_share;
+    a->dropped_px_share_max = fmax(a->dropped_px_share_max, q->dropped_px_share);
     a->lod_changes_sum += q->lod_changes;
     a->optimizer_us_sum += q->optimizer_us;
     a->optimizer_us_max = fmax(a->optimizer_us_max, q->optimizer_us);
@@ -299,6 +301,8 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     s->over_budget_fraction = (double)a->over_budget_frames / n;
     s->underused_drops = a->underused_drop_frames;
     s->dropped_mean = a->dropped_sum / n;
+    s->dropped_px_share_mean = a->dropped_px_share_sum / n;
+    s->dropped_px_share_max = a->dropped_px_share_max;
     s->optimizer_us_mean = a->optimizer_us_sum / n;
     s->optimizer_us_max = a->optimizer_us_max;
     s->iterations_mean = a->iterations_sum / n;
@@ -416,6 +420,7 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
         cJSON_AddNullToObject(root, "minor_faults_per_frame");
     cJSON_AddNumberToObject(root, "minor_faults_from_frame", (double)s->minor_faults_from_frame);
     cJSON_AddStringToObject(root, "cost_profile", s->cost_profile);
+    cJSON_AddStringToObject(root, "cost_correction", s->cost_correction);
     cJSON_AddNumberToObject(root, "rate_hz", s->rate_hz);
     cJSON_AddNumberToObject(root, "predicted_within_budget_fraction", s->predicted_within_fraction);
     cJSON_AddNumberToObject(root, "frame_ms_p99_share_of_budget", s->frame_ms_p99_share_of_budget);
@@ -424,6 +429,9 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddNumberToObject(root, "over_budget_fraction", s->over_budget_fraction);
     cJSON_AddNumberToObject(root, "dropped_mean", s->dropped_mean);
     cJSON_AddNumberToObject(root, "underused_drops", (double)s->underused_drops);
+    cJSON_AddNumberToObject(root, "dropped_px_share_mean", s->dropped_px_share_mean);
+    cJSON_AddNumberToObject(root, "dropped_px_share_max", s->dropped_px_share_max);
+    cJSON_AddNumberToObject(root, "frame_ms_mean_share_of_budget", s->frame_ms_mean / s->budget_ms);
     cJSON_AddNumberToObject(root, "optimizer_us_mean", s->optimizer_us_mean);
     cJSON_AddNumberToObject(root, "optimizer_us_max", s->optimizer_us_max);
     cJSON_AddNumberToObject(root, "optimizer_iterations_mean", s->iterations_mean);
@@ -503,7 +511,8 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
 {
     fprintf(f, "\n%s on %s, selector %s, %ld frames (renderer: %s)\n", s->scene, s->display, s->selector,
             s->frames, s->renderer);
-    fprintf(f, "  %-34s %10.3f ms; cost model: %s\n", "budget", s->budget_ms, s->cost_profile);
+    fprintf(f, "  %-34s %10.3f ms; cost model: %s; correction %s\n", "budget", s->budget_ms, s->cost_profile,
+            s->cost_correction);
     if (strcmp(s->gaze, "vor") == 0)
         fprintf(f, "  %-34s %10s, fixation %.3g m, gain %.3g, latency %.3g ms\n", "gaze model", s->gaze,
                 s->fixation_m, s->vor_gain, s->vor_latency_ms);
@@ -538,6 +547,13 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
         fprintf(f, "  %-34s %10.1f / %.1f us, %.1f iterations, %.1f %% truncated, %.1f %% over budget\n",
                 "optimizer mean / max", s->optimizer_us_mean, s->optimizer_us_max, s->iterations_mean,
                 100.0 * s->truncated_fraction, 100.0 * s->over_budget_fraction);
+    if (s->iterations_mean > 0.0 || s->optimizer_us_mean > 0.0) {
+        fprintf(f, "  %-34s %10.1f %% of the budget\n", "frame time mean", 100.0 * s->frame_ms_mean / s->budget_ms);
+        fprintf(f, "  %-34s %10.1f of %.1f visible; %.2f %% of their pixels mean, %.2f %% max\n",
+                "objects dropped / frame", s->dropped_mean, s->visible_mean, 100.0 * s->dropped_px_share_mean,
+                100.0 * s->dropped_px_share_max);
+        fprintf(f, "  %-34s %10ld frames\n", "dropped while 30 % stayed unused", s->underused_drops);
+    }
     if (isfinite(s->benefit_share_of_lp_mean))
         fprintf(f, "  %-34s %10.4f mean, %.4f min\n", "benefit / LP bound", s->benefit_share_of_lp_mean,
                 s->benefit_share_of_lp_min);

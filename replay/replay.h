@@ -139,6 +139,7 @@ struct rpl_summary {
     double predicted_within_fraction;  /* frames whose predicted cost ≤ budget */
     double truncated_fraction, over_budget_fraction; /* optimizer stopped at its limit; cheapest set did not fit */
     double dropped_mean;               /* objects dropped per frame (fs, mb; 0 for the other selectors) */
+    double dropped_px_share_mean, dropped_px_share_max; /* the dropped objects' share of the visible pixels */
     long underused_drops;              /* frames that spent under 70 % of the optimizer's budget while an object
                                         * they dropped would have fit (frm_select_record.underused_drop) */
     double lod_changes_per_object_s;   /* popping: level changes per visible object per second */
@@ -146,6 +147,7 @@ struct rpl_summary {
     double benefit_share_of_lp_mean, benefit_share_of_lp_min; /* NaN when not measured */
     double rate_hz;
     char cost_profile[160];
+    char cost_correction[16];         /* "affine", "ratio" or "off": how fs and mb corrected their budget */
     long band_frames[RPL_SPEED_BAND_COUNT];
     double band_triangle_share[RPL_SPEED_BAND_COUNT]; /* triangles drawn / finest, per band */
     /* the gaze model used (acuity/gaze.h) and its parameters; the eye's mean angular speed */

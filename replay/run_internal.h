@@ -35,7 +35,7 @@ struct rpl_accumulator {
     double triangles_sum, finest_sum;
     long deadlines_met;
     long predicted_within, truncated_frames, over_budget_frames, underused_drop_frames;
-    double dropped_sum;
+    double dropped_sum, dropped_px_share_sum, dropped_px_share_max;
     double lod_changes_sum, optimizer_us_sum, optimizer_us_max, iterations_sum;
     double benefit_share_sum, benefit_share_min; /* benefit / LP bound where the bound is known */
     long benefit_share_frames;

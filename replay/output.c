@@ -204,6 +204,8 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct frm_frame_record *r)
     a->frame_mean += delta / (double)a->n;
     a->frame_m2 += delta * (r->frame_ms - a->frame_mean);
     a->frame_max = fmax(a->frame_max, r->frame_ms);
+    if (r->frame >= 1)
+        a->frame_sum_after_first += r->frame_ms;
     a->draw_sum += r->draw_ms;
     a->acuity_sum += r->acuity_us;
     a->select_sum += r->select_us;
@@ -283,6 +285,7 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     s->minor_faults_per_frame = a->fault_frames > 0 ? a->faults_sum / (double)a->fault_frames : NAN;
     s->minor_faults_from_frame = a->warm_frames;
     s->frame_ms_mean = a->frame_mean;
+    s->frame_ms_mean_after_first = a->n > 1 ? a->frame_sum_after_first / (double)(a->n - 1) : NAN;
     s->frame_ms_max = a->frame_max;
     s->frame_ms_stddev = a->n > 1 ? sqrt(a->frame_m2 / (double)(a->n - 1)) : 0.0;
     s->draw_ms_mean = a->draw_sum / n;
@@ -388,6 +391,10 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddNumberToObject(root, "frames", (double)s->frames);
     cJSON_AddNumberToObject(root, "budget_ms", s->budget_ms);
     cJSON_AddNumberToObject(root, "frame_ms_mean", s->frame_ms_mean);
+    if (isfinite(s->frame_ms_mean_after_first))
+        cJSON_AddNumberToObject(root, "frame_ms_mean_after_first", s->frame_ms_mean_after_first);
+    else
+        cJSON_AddNullToObject(root, "frame_ms_mean_after_first");
     cJSON_AddNumberToObject(root, "frame_ms_max", s->frame_ms_max);
     cJSON_AddNumberToObject(root, "frame_ms_stddev", s->frame_ms_stddev);
     cJSON_AddNumberToObject(root, "frame_ms_median", s->frame_ms_median);

@@ -122,6 +122,9 @@ struct rpl_summary {
     long frames;
     double frame_ms_mean, frame_ms_max, frame_ms_stddev;
     double frame_ms_median, frame_ms_p95, frame_ms_p99; /* nearest-rank percentiles */
+    /* The mean over frames 1… (NaN for a one-frame run): frame 0 pays the GL driver's shader
+     * compiles, about ten frames' worth on llvmpipe, and would tilt ratios between runs. */
+    double frame_ms_mean_after_first;
     double draw_ms_mean, draw_ms_median, acuity_us_mean, select_us_mean;
     double triangles_per_eye_mean;
     double triangles_relative_to_none; /* mean triangles / mean finest-LOD triangles of the same frames */

@@ -29,6 +29,7 @@ struct rpl_accumulator {
     long warm_frames, fault_frames;
     double faults_sum;
     double frame_mean, frame_m2, frame_max;
+    double frame_sum_after_first; /* frames 1… only: frame 0 pays the driver's shader compiles */
     double eye_speed_sum;
     double draw_sum, acuity_sum, select_sum, evals_sum, visible_sum;
     double cull_groups_sum, cull_instances_sum;

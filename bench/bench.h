@@ -103,6 +103,39 @@ struct scn_scene;
 struct hl_error;
 int bch_cull_make_grid(uint32_t n, uint64_t seed, struct scn_scene *s, struct hl_error *err);
 
+/* ---- alternated repeats (bench/alternate.c) ---------------------------------------------------
+ * Ratios between sessions measured in one process follow run order: the first session pays warm-up
+ * costs, and a machine's load drifts. So a ratio is taken from repeats: n sessions run `repeats`
+ * times, round r forward when r is even and backward when odd (ABC CBA ABC …), each session opened
+ * fresh (rpl_run); a steady drift then spreads the per-repeat ratios instead of biasing their median,
+ * since every session is first as often as last. */
+struct rpl_options;
+struct rpl_summary;
+enum { BCH_MAX_REPEATS = 100 };
+
+/* Which of the n configurations runs at position k of round `repeat`. */
+int bch_alternate_index(int repeat, int k, int n);
+/* The order of two rounds as words, "none, reddy, fs | fs, reddy, none | …" (always NUL-terminated). */
+void bch_alternate_order(int n, const char *const *names, char *out, size_t size);
+/* Runs configs[0..n) `repeats` times in the alternated order; sums[r * n + k] is configuration k's
+ * summary in repeat r. Each session writes into its own folder under a fresh temporary one, removed at
+ * the end either way (configs' out_dir is ignored; quiet is set). `who` prefixes the progress lines on
+ * stderr (NULL: none). 0, or 1 after saying why on stderr. */
+int bch_alternate_run(const struct rpl_options *configs, int n, int repeats, struct rpl_summary *sums,
+                      const char *who);
+
+/* Median (the mean of the middle two for an even count), min and max of the finite values among
+ * the first BCH_MAX_REPEATS of v; all NaN and n 0 when there are none. */
+struct bch_spread {
+    double median, min, max;
+    int n; /* finite values used */
+};
+void bch_spread_of(const double *v, int n, struct bch_spread *out);
+/* Over the repeats of bch_alternate_run's sums: configuration k's mean frame time (frame 0 left out,
+ * rpl_summary.frame_ms_mean_after_first), and the per-repeat ratio num / den of those means. */
+void bch_mean_spread(const struct rpl_summary *sums, int n, int repeats, int k, struct bch_spread *out);
+void bch_ratio_spread(const struct rpl_summary *sums, int n, int repeats, int num, int den, struct bch_spread *out);
+
 /* printf to stdout, and to the results copy while one is open. */
 void bch_emit(const char *fmt, ...)
 #if defined(__GNUC__)

@@ -1,9 +1,11 @@
 /* hmdlod replay and hmdlod demo: argument parsing around rpl_run. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "app/commands.h"
 #include "acuity/acuity.h"
+#include "bench/bench.h"
 #include "replay/replay.h"
 
 static const char replay_usage[] =
@@ -69,8 +71,9 @@ static const char replay_usage[] =
     "                     objects at one shared level — a cheaper optimizer, coarser choices\n"
     "  --quiet            no summary table on stdout\n";
 
-/* Parses the options replay and demo share; returns 0, or 1 after printing the message. */
-static int parse_replay_options(int argc, char **argv, struct rpl_options *o, const char *usage)
+/* Parses the options replay and demo share, and the demo's --repeats when `repeats` is not NULL;
+ * returns 0, or 1 after printing the message. */
+static int parse_replay_options(int argc, char **argv, struct rpl_options *o, long *repeats, const char *usage)
 {
     for (int i = 1; i < argc; ++i) {
         const char *opt = argv[i];
@@ -100,6 +103,10 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, co
             o->frame.frequency_reading = val;
         else if (!strcmp(opt, "--out"))
             o->out_dir = val;
+        else if (repeats && !strcmp(opt, "--repeats")) {
+            if (app_parse_long(opt, val, 1, BCH_MAX_REPEATS, repeats))
+                return 1;
+        }
         else if (!strcmp(opt, "--rate")) {
             if (app_parse_double(opt, val, &o->rate_hz))
                 return 1;
@@ -237,7 +244,7 @@ int cmd_replay(int argc, char **argv)
     }
     struct rpl_options o;
     rpl_options_defaults(&o);
-    if (parse_replay_options(argc, argv, &o, replay_usage) != 0)
+    if (parse_replay_options(argc, argv, &o, NULL, replay_usage) != 0)
         return 1;
     if (!o.out_dir) {
         fprintf(stderr, "hmdlod replay: --out DIR is required\n%s", replay_usage);
@@ -251,14 +258,64 @@ int cmd_replay(int argc, char **argv)
 }
 
 static const char demo_usage[] =
-    "usage: hmdlod demo [--out DIR] [replay options]\n"
+    "usage: hmdlod demo [--out DIR] [--repeats N] [replay options]\n"
     "  Replays the built-in 8 s head-motion clip (still, looking around, a fast turn) through the\n"
     "  built-in field scene on the built-in Vive profile, headless, three times: every object at its\n"
     "  finest LOD (selector none), Reddy's acuity model alone (reddy), and Funkhouser-Sequin's\n"
     "  cost-bounded optimizer capped by Reddy's acuity (fs) holding the display's frame budget.\n"
     "  Prints the summaries and a comparison; writes DIR/none, DIR/reddy and DIR/fs (frames.csv,\n"
-    "  summary.json, stereo PNGs every 60 frames). Default DIR: hmdlod-demo. Any replay option may\n"
-    "  be added (see hmdlod replay --help); --selector is ignored.\n";
+    "  summary.json, stereo PNGs every 60 frames). Default DIR: hmdlod-demo. Then measures the frame\n"
+    "  times and the ratios none/reddy and none/fs again from N alternated repeats in the same process\n"
+    "  (none, reddy, fs | fs, reddy, none | ...; each session opened fresh, nothing kept), and prints\n"
+    "  them as the median over the repeats with min-max, and how they were measured.\n"
+    "  --repeats N        alternated repeats for the frame times and ratios, 1..100 (default 2: the\n"
+    "                     fewest in which each selector runs first as often as last)\n"
+    "  Any replay option may be added (see hmdlod replay --help); --selector is ignored.\n";
+
+enum { DEMO_RUNS = 3 };
+static const char *const demo_selectors[DEMO_RUNS] = {"none", "reddy", "fs"};
+
+/* The ratios of the demo from alternated repeats (bench/alternate.c): the output round's sessions
+ * ran one after another from a fresh process, so none paid the process's warm-up and reddy and fs
+ * whatever the load did next; ratios taken there follow run order, not the selectors. */
+static int demo_repeats(const struct rpl_options *o, long repeats)
+{
+    struct rpl_options configs[DEMO_RUNS];
+    for (int k = 0; k < DEMO_RUNS; ++k) {
+        configs[k] = *o;
+        configs[k].frame.selector = demo_selectors[k];
+        configs[k].capture_every = 0; /* the output round has the PNGs; captures are outside the timing */
+    }
+    struct rpl_summary *sums = calloc((size_t)repeats * DEMO_RUNS, sizeof *sums);
+    if (!sums) {
+        fprintf(stderr, "hmdlod demo: out of memory\n");
+        return 1;
+    }
+    if (bch_alternate_run(configs, DEMO_RUNS, (int)repeats, sums, o->frame.quiet ? NULL : "hmdlod demo") != 0) {
+        free(sums);
+        return 1;
+    }
+    printf("\nframe time from %ld alternated repeat%s (ms, mean over frames 1…; median over the repeats, min–max):\n",
+           repeats, repeats == 1 ? "" : "s");
+    for (int k = 0; k < DEMO_RUNS; ++k) {
+        struct bch_spread m;
+        bch_mean_spread(sums, DEMO_RUNS, (int)repeats, k, &m);
+        printf("  %-10s %8.2f   %.2f–%.2f\n", demo_selectors[k], m.median, m.min, m.max);
+    }
+    for (int k = 1; k < DEMO_RUNS; ++k) {
+        struct bch_spread r;
+        bch_ratio_spread(sums, DEMO_RUNS, (int)repeats, 0, k, &r);
+        printf("  none/%-5s %7.2fx   %.2f–%.2f\n", demo_selectors[k], r.median, r.min, r.max);
+    }
+    char order[128];
+    bch_alternate_order(DEMO_RUNS, demo_selectors, order, sizeof order);
+    printf("  measured: %ld alternated repeat%s in one process after the output round (which warms it up), "
+           "order %s, each session opened fresh, frame 0 left out, ratio = median of per-repeat ratios "
+           "[min–max]\n",
+           repeats, repeats == 1 ? "" : "s", order);
+    free(sums);
+    return 0;
+}
 
 int cmd_demo(int argc, char **argv)
 {
@@ -270,28 +327,27 @@ int cmd_demo(int argc, char **argv)
     rpl_options_defaults(&o);
     o.capture_every = 60;
     o.out_dir = "hmdlod-demo";
-    if (parse_replay_options(argc, argv, &o, demo_usage) != 0)
+    long repeats = 2;
+    if (parse_replay_options(argc, argv, &o, &repeats, demo_usage) != 0)
         return 1;
     const char *base_dir = o.out_dir;
-    enum { RUNS = 3 };
-    const char *selectors[RUNS] = {"none", "reddy", "fs"};
-    struct rpl_summary summaries[RUNS];
-    char dirs[RUNS][4096];
-    for (int k = 0; k < RUNS; ++k) {
-        snprintf(dirs[k], sizeof dirs[k], "%s/%s", base_dir, selectors[k]);
-        o.frame.selector = selectors[k];
+    struct rpl_summary summaries[DEMO_RUNS];
+    char dirs[DEMO_RUNS][4096];
+    for (int k = 0; k < DEMO_RUNS; ++k) {
+        snprintf(dirs[k], sizeof dirs[k], "%s/%s", base_dir, demo_selectors[k]);
+        o.frame.selector = demo_selectors[k];
         o.out_dir = dirs[k];
         if (run_and_report(&o, &summaries[k]) != 0)
             return 1;
     }
     const struct rpl_summary *none = &summaries[0];
-    printf("\non the same frames (budget %.2f ms, cost model: %s):\n", summaries[2].budget_ms,
-           summaries[2].cost_profile);
+    printf("\non the same frames (budget %.2f ms, cost model: %s; frame ms: one session each, in this order):\n",
+           summaries[2].budget_ms, summaries[2].cost_profile);
     printf("  %-10s %16s %14s %14s %18s\n", "selector", "triangles/eye", "vs none", "frame ms mean",
            "within budget");
-    for (int k = 0; k < RUNS; ++k) {
+    for (int k = 0; k < DEMO_RUNS; ++k) {
         const struct rpl_summary *s = &summaries[k];
-        printf("  %-10s %16.0f %13.2fx %14.2f %17.1f %%\n", selectors[k], s->triangles_per_eye_mean,
+        printf("  %-10s %16.0f %13.2fx %14.2f %17.1f %%\n", demo_selectors[k], s->triangles_per_eye_mean,
                s->triangles_per_eye_mean > 0 ? none->triangles_per_eye_mean / s->triangles_per_eye_mean : 0.0,
                s->frame_ms_mean, 100.0 * s->deadline_met_fraction);
     }
@@ -299,5 +355,6 @@ int cmd_demo(int argc, char **argv)
            100.0 * summaries[2].predicted_within_fraction, summaries[2].benefit_share_of_lp_mean);
     printf("  output: %s/none, %s/reddy and %s/fs (frames.csv, summary.json, frame_*.png)\n", base_dir, base_dir,
            base_dir);
-    return 0;
+    o.out_dir = base_dir;
+    return demo_repeats(&o, repeats);
 }

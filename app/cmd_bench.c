@@ -16,6 +16,7 @@ struct bench {
 static const struct bench benches[] = {
     {"tracking", cmd_bench_tracking, "tracker accuracy and parse+fuse speed on the shared IMU streams, per device"},
     {"replay", cmd_bench_replay, "frame time and triangles, selector none vs reddy, on head-motion traces (Vive)"},
+    {"agree", cmd_bench_agree, "two identical sessions in one process, alternated: do their mean frame times agree?"},
     {"lodgen", cmd_bench_lodgen, "LOD chain of the bunny: OpenMesh vs meshoptimizer time, triangles, Hausdorff error"},
     {"cull", cmd_bench_cull, "culling time, flat vs hierarchical, on 1k/10k/100k-object scenes under real head motion"},
     {"optimizer", cmd_bench_optimizer, "fs vs from-scratch greedy per frame (1k/10k/100k objects), turn, budget, limit, scaling"},

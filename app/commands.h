@@ -14,6 +14,7 @@ int cmd_live(int argc, char **argv);    /* app/cmd_live.c: live session in a win
 int cmd_bench(int argc, char **argv);   /* app/cmd_bench.c: measurements (bench tracking, …) */
 /* The sub-benches' options (app/cmd_bench_NAME.c): argv[0] is the sub-bench's name, full_argc/argv
  * start at "bench" (for the context lines). */
+int cmd_bench_agree(int argc, char **argv, int full_argc, char **full_argv);
 int cmd_bench_cull(int argc, char **argv, int full_argc, char **full_argv);
 int cmd_bench_gaze(int argc, char **argv, int full_argc, char **full_argv);
 int cmd_bench_live(int argc, char **argv, int full_argc, char **full_argv);

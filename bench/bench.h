@@ -1,5 +1,5 @@
-/* bench: every benchmark — the sub-benches of `hmdlod bench NAME` (tracking, replay, lodgen, cull,
- * optimizer, gaze, live, soak), the soak (bench/soak.h) and the suite's plan, merge, tables, report
+/* bench: every benchmark — the sub-benches of `hmdlod bench NAME` (tracking, replay, agree, lodgen,
+ * cull, optimizer, gaze, live, soak), the soak (bench/soak.h) and the suite's plan, merge, tables, report
  * and plots (bench/suite.h). Prefix bch_. Bench code may call any module (replay, live, frame and
  * what they use); no module calls bench. It only measures: it never decides what a frame draws.
  * A sub-bench prints Markdown through bch_emit so that --results can store exactly what the
@@ -90,6 +90,16 @@ struct bch_replay_options {
     const char *results;  /* NULL: no results file */
 };
 int bch_replay(const struct bch_replay_options *o, int full_argc, char **full_argv);
+
+/* hmdlod bench agree (bench/bench_agree.c): two identical sessions in one process, alternated, agree? */
+#define BCH_AGREE_HEADING "## Session agreement (hmdlod bench agree)"
+struct bch_agree_options {
+    long repeats;        /* alternated repeats of A and A′, 2 … BCH_MAX_REPEATS */
+    long frames;         /* per session from the clip's start; 0: the whole built-in clip */
+    double render_scale; /* per-eye resolution factor in (0, 4] */
+    const char *results; /* NULL: no results file */
+};
+int bch_agree(const struct bch_agree_options *o, int full_argc, char **full_argv);
 
 /* hmdlod bench soak (bench/bench_soak.c): checks o (bch_soak_check_options), takes the trace and
  * the IMU stream from the shared folder (o's paths are replaced), runs the soak and prints its table. */

@@ -86,6 +86,7 @@ struct bch_replay_options {
     long frames;          /* per run from each trace's start; 0: the defaults (600, --quick 200) */
     double render_scale;  /* per-eye resolution factor in (0, 4] */
     long objects;         /* in the field scene */
+    long repeats;         /* alternated repeats of none and reddy, 1 … BCH_MAX_REPEATS; 0: 3 (--quick 2) */
     int quick;
     const char *results;  /* NULL: no results file */
 };

@@ -1,5 +1,6 @@
 /* hmdlod bench replay: the same head motion through both built-in scenes on the Vive with the
- * selectors none and reddy, in one run, so that their ratios are measured under the same load.
+ * selectors none and reddy, in one run, so that their ratios are measured under the same load: per
+ * trace and scene, none and reddy in alternated repeats (bench/alternate.c) after one warm-up session.
  * Everything measured comes from rpl_run's summary; this file only runs it and formats. */
 #define _XOPEN_SOURCE 700
 #include <math.h>
@@ -16,6 +17,7 @@
 static const char *const scenes[] = {"field", "auditorium"};
 static const char *const selectors[] = {"none", "reddy"}; /* none first: the ratios' numerator */
 enum { N_SCENES = 2, N_SELECTORS = 2, MAX_TRACES = 4 };
+#define WHO "hmdlod bench replay"
 
 struct bench_trace {
     char label[32];
@@ -27,7 +29,10 @@ struct replay_bench {
     struct bch_replay_options o; /* as parsed (app/cmd_bench_replay.c) */
     struct bench_trace traces[MAX_TRACES];
     int n_traces;
-    struct rpl_summary sum[MAX_TRACES][N_SCENES][N_SELECTORS];
+    int repeats;
+    /* [trace][scene][repeat * N_SELECTORS + selector] (bch_alternate_run's layout); the tables show
+     * repeat 0, the ratios come from all of them. */
+    struct rpl_summary *sum[MAX_TRACES][N_SCENES];
 };
 
 /* The built-in clip always (it needs no files); the Corbillon users when the shared folder is there. */
@@ -52,40 +57,57 @@ static void choose_traces(struct replay_bench *b)
     }
 }
 
-/* Every run into its own folder under a fresh temporary one, removed at the end either way. */
+static void trace_options(const struct replay_bench *b, int t, int sc, struct rpl_options *out)
+{
+    for (int se = 0; se < N_SELECTORS; ++se) {
+        struct rpl_options *o = &out[se];
+        rpl_options_defaults(o);
+        o->trace_path = b->traces[t].path[0] ? b->traces[t].path : NULL;
+        o->frame.scene = scenes[sc];
+        o->frame.display = "vive";
+        o->frame.selector = selectors[se];
+        o->frames = b->traces[t].frames;
+        o->frame.object_count = (int)b->o.objects;
+        o->frame.render_scale = b->o.render_scale;
+    }
+}
+
+/* One warm-up session (left out: the process's first pays the driver's start), then per trace and
+ * scene none and reddy in alternated repeats, each session opened fresh in a temporary folder. */
 static int run_all(struct replay_bench *b)
 {
-    char tmp[64];
-    if (bch_temp_dir("replay", tmp, sizeof tmp) != 0)
+    struct rpl_options pair[N_SELECTORS];
+    struct rpl_summary warmup;
+    trace_options(b, 0, 0, pair);
+    fprintf(stderr, WHO ": warm-up session (%s, %s, %s)\n", b->traces[0].label, scenes[0], selectors[0]);
+    if (bch_alternate_run(pair, 1, 1, &warmup, WHO) != 0)
         return 1;
-    int total = b->n_traces * N_SCENES * N_SELECTORS, run = 0, rc = 0;
-    for (int t = 0; t < b->n_traces && rc == 0; ++t)
-        for (int sc = 0; sc < N_SCENES && rc == 0; ++sc)
-            for (int se = 0; se < N_SELECTORS && rc == 0; ++se) {
-                char out_dir[sizeof tmp + 16];
-                snprintf(out_dir, sizeof out_dir, "%s/run%02d", tmp, ++run);
-                struct rpl_options o;
-                rpl_options_defaults(&o);
-                o.trace_path = b->traces[t].path[0] ? b->traces[t].path : NULL;
-                o.frame.scene = scenes[sc];
-                o.frame.display = "vive";
-                o.frame.selector = selectors[se];
-                o.out_dir = out_dir;
-                o.frames = b->traces[t].frames;
-                o.frame.object_count = (int)b->o.objects;
-                o.frame.render_scale = b->o.render_scale;
-                o.frame.quiet = 1;
-                fprintf(stderr, "hmdlod bench replay: run %d of %d: %s, %s, %s\n", run, total, b->traces[t].label,
-                        scenes[sc], selectors[se]);
-                struct hl_error err = {{0}};
-                if (rpl_run(&o, &b->sum[t][sc][se], &err) != 0) {
-                    fprintf(stderr, "hmdlod bench replay: %s, %s, %s: %s\n", b->traces[t].label, scenes[sc],
-                            selectors[se], err.msg);
-                    rc = 1;
-                }
+    for (int t = 0; t < b->n_traces; ++t)
+        for (int sc = 0; sc < N_SCENES; ++sc) {
+            b->sum[t][sc] = calloc((size_t)b->repeats * N_SELECTORS, sizeof *b->sum[t][sc]);
+            if (!b->sum[t][sc]) {
+                fprintf(stderr, WHO ": out of memory\n");
+                return 1;
             }
-    bch_temp_dir_remove(tmp);
-    return rc;
+            fprintf(stderr, WHO ": %s, %s\n", b->traces[t].label, scenes[sc]);
+            trace_options(b, t, sc, pair);
+            if (bch_alternate_run(pair, N_SELECTORS, b->repeats, b->sum[t][sc], WHO) != 0)
+                return 1;
+        }
+    return 0;
+}
+
+static double frame_median(const struct rpl_summary *s) { return s->frame_ms_median; }
+static double draw_median(const struct rpl_summary *s) { return s->draw_ms_median; }
+
+/* none's figure over reddy's, per repeat: their median and range. */
+static void ratio_over_repeats(const struct replay_bench *b, int t, int sc,
+                               double (*figure)(const struct rpl_summary *), struct bch_spread *out)
+{
+    double ratio[BCH_MAX_REPEATS];
+    for (int r = 0; r < b->repeats; ++r)
+        ratio[r] = figure(&b->sum[t][sc][r * N_SELECTORS + 0]) / figure(&b->sum[t][sc][r * N_SELECTORS + 1]);
+    bch_spread_of(ratio, b->repeats, out);
 }
 
 static void print_scene_table(const struct replay_bench *b, int sc)
@@ -101,7 +123,7 @@ static void print_scene_table(const struct replay_bench *b, int sc)
     bch_emit("|---|---|--:|--:|--:|--:|--:|--:|--:|\n");
     for (int t = 0; t < b->n_traces; ++t) {
         for (int se = 0; se < N_SELECTORS; ++se) {
-            const struct rpl_summary *s = &b->sum[t][sc][se];
+            const struct rpl_summary *s = &b->sum[t][sc][se]; /* repeat 0 */
             bch_emit("| %s | %s | %ld | %.2f / %.2f / %.2f / %.2f | %.2f | %.0f | %.3f | %.1f / %.1f | %.1f %% |\n",
                        b->traces[t].label, selectors[se], s->frames, s->frame_ms_median, s->frame_ms_p95,
                        s->frame_ms_p99, s->frame_ms_max, s->draw_ms_median, s->triangles_per_eye_mean,
@@ -109,9 +131,12 @@ static void print_scene_table(const struct replay_bench *b, int sc)
                        100.0 * s->deadline_met_fraction);
         }
         const struct rpl_summary *none = &b->sum[t][sc][0], *reddy = &b->sum[t][sc][1];
-        bch_emit("| %s | **none/reddy** | | **×%.2f** median | ×%.2f | **×%.2f** | | | |\n", b->traces[t].label,
-                   none->frame_ms_median / reddy->frame_ms_median, none->draw_ms_median / reddy->draw_ms_median,
-                   none->triangles_per_eye_mean / reddy->triangles_per_eye_mean);
+        struct bch_spread frame, draw;
+        ratio_over_repeats(b, t, sc, frame_median, &frame);
+        ratio_over_repeats(b, t, sc, draw_median, &draw);
+        bch_emit("| %s | **none/reddy** | | **×%.2f** [%.2f–%.2f] | ×%.2f [%.2f–%.2f] | **×%.2f** | | | |\n",
+                 b->traces[t].label, frame.median, frame.min, frame.max, draw.median, draw.min, draw.max,
+                 none->triangles_per_eye_mean / reddy->triangles_per_eye_mean);
     }
 }
 
@@ -130,7 +155,7 @@ static void print_band_table(const struct replay_bench *b)
     bch_emit("\n");
     for (int sc = 0; sc < N_SCENES; ++sc)
         for (int t = 0; t < b->n_traces; ++t) {
-            const struct rpl_summary *s = &b->sum[t][sc][1];
+            const struct rpl_summary *s = &b->sum[t][sc][1]; /* reddy, repeat 0 (deterministic) */
             bch_emit("| %s | %s |", scenes[sc], b->traces[t].label);
             for (int k = 0; k < RPL_SPEED_BAND_COUNT; ++k) {
                 if (s->band_frames[k] > 0 && isfinite(s->band_triangle_share[k]))
@@ -149,19 +174,25 @@ static void print_notes(const struct replay_bench *b, double wall_s)
                                                          "else running"
                                                        : "the renderer above, on a machine shared with whatever "
                                                          "else runs";
-    bch_emit("\nHow measured (replay/run.c, frame/frame.c): %d runs in %.0f s. Each run replays its trace from "
-               "the start on a virtual clock at the display's %.0f Hz (frame f at t0 + f / %.0f s, whatever the "
-               "wall clock did), both eyes rendered headless at render scale %g of the %s profile's pixels; none always "
-               "draws the finest LOD, reddy picks each object's LOD from the acuity model and each level's "
-               "measured frequency table (the default reading, narrow: the thickest lost feature, "
-               "docs/analysis.md). Frame time = pose + "
-               "cull + geometry + select + draw, the draw waited with glFinish; draw = the GL part alone; "
-               "percentiles are nearest rank. triangles vs none = triangles drawn / the finest-LOD triangles of "
-               "the same frames; none/reddy = none's figure divided by reddy's. Head speed is the trace's angular "
-               "speed at each frame. The renderer is %s: timings vary by ±20 %% from run to run (PLATFORM.md), "
-               "so compare the ratios within one run rather than figures across runs.\n",
-               b->n_traces * N_SCENES * N_SELECTORS, wall_s, 1000.0 / s->budget_ms, 1000.0 / s->budget_ms,
-               b->o.render_scale, s->display, cpu);
+    char order[64];
+    bch_alternate_order(N_SELECTORS, selectors, order, sizeof order);
+    bch_emit("\nHow measured (replay/run.c, frame/frame.c, bench/alternate.c): %d runs in %.0f s: one warm-up "
+             "session (left out), then per trace and scene none and reddy in %d alternated repeats in one process, "
+             "order %s, each session opened fresh. Each run replays its trace from "
+             "the start on a virtual clock at the display's %.0f Hz (frame f at t0 + f / %.0f s, whatever the "
+             "wall clock did), both eyes rendered headless at render scale %g of the %s profile's pixels; none always "
+             "draws the finest LOD, reddy picks each object's LOD from the acuity model and each level's "
+             "measured frequency table (the default reading, narrow: the thickest lost feature, "
+             "docs/analysis.md). Frame time = pose + "
+             "cull + geometry + select + draw, the draw waited with glFinish; draw = the GL part alone; "
+             "percentiles are nearest rank. The selector rows are the first repeat's sessions. triangles vs none = "
+             "triangles drawn / the finest-LOD triangles of the same frames; none/reddy = none's figure divided by "
+             "reddy's, for the timings the median of the per-repeat ratios [min–max] (triangles are deterministic). "
+             "Head speed is the trace's angular "
+             "speed at each frame. The renderer is %s: timings vary by ±20 %% from run to run (PLATFORM.md), "
+             "so compare the ratios within one run rather than figures across runs.\n",
+             1 + b->n_traces * N_SCENES * N_SELECTORS * b->repeats, wall_s, b->repeats, order,
+             1000.0 / s->budget_ms, 1000.0 / s->budget_ms, b->o.render_scale, s->display, cpu);
 }
 
 int bch_replay(const struct bch_replay_options *o, int full_argc, char **full_argv)
@@ -169,23 +200,29 @@ int bch_replay(const struct bch_replay_options *o, int full_argc, char **full_ar
     struct replay_bench b;
     memset(&b, 0, sizeof b);
     b.o = *o;
+    b.repeats = (int)(o->repeats ? o->repeats : o->quick ? 2 : 3);
     choose_traces(&b);
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
-    if (run_all(&b) != 0)
-        return 1;
+    int rc = run_all(&b);
     clock_gettime(CLOCK_MONOTONIC, &t1);
     double wall_s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
-    if (b.o.results && bch_copy_begin() != 0) {
-        fprintf(stderr, "hmdlod bench replay: out of memory\n");
-        return 1;
+    if (rc == 0 && b.o.results && bch_copy_begin() != 0) {
+        fprintf(stderr, WHO ": out of memory\n");
+        rc = 1;
     }
-    /* Printed after the runs: the renderer line of the context comes from a summary. */
-    bch_emit(BCH_REPLAY_HEADING "\n\n");
-    bch_print_context(full_argc, full_argv, b.sum[0][0][0].renderer);
-    for (int sc = 0; sc < N_SCENES; ++sc)
-        print_scene_table(&b, sc);
-    print_band_table(&b);
-    print_notes(&b, wall_s);
-    return bch_copy_finish(b.o.results, BCH_REPLAY_HEADING, "hmdlod bench replay", 0);
+    if (rc == 0) {
+        /* Printed after the runs: the renderer line of the context comes from a summary. */
+        bch_emit(BCH_REPLAY_HEADING "\n\n");
+        bch_print_context(full_argc, full_argv, b.sum[0][0][0].renderer);
+        for (int sc = 0; sc < N_SCENES; ++sc)
+            print_scene_table(&b, sc);
+        print_band_table(&b);
+        print_notes(&b, wall_s);
+        rc = bch_copy_finish(b.o.results, BCH_REPLAY_HEADING, WHO, 0);
+    }
+    for (int t = 0; t < MAX_TRACES; ++t)
+        for (int sc = 0; sc < N_SCENES; ++sc)
+            free(b.sum[t][sc]);
+    return rc;
 }

@@ -240,6 +240,34 @@ expect_error "replay bad --raw" "short.raw: byte 10" -- "$bin" replay --raw "$tm
 expect_ok "bench replay --quick" "\| \*\*none/reddy\*\* \| \| \*\*×[0-9.]+\*\*" -- \
   "$bin" bench replay --quick --frames 20 --render-scale 0.25
 expect_error "bench replay bad --frames" "--frames: 'x' is not a whole number" -- "$bin" bench replay --frames x
+expect_error "bench replay --repeats 0" "--repeats: 0 is outside \[1, 100\]" -- "$bin" bench replay --repeats 0
+
+# demo: its frame times and ratios come from alternated repeats and it says how they were measured
+# (the figures themselves are not asserted: performance is measured by benches, not timed tests).
+out=$("$bin" demo --frames 5 --render-scale 0.25 --repeats 2 --quiet --out "$tmp/demo" 2>"$tmp/err")
+rc=$?
+if [ $rc -ne 0 ]; then
+  fail "demo --repeats 2: exit $rc: $(cat "$tmp/err")"
+else
+  for pattern in "frame time from 2 alternated repeats" "^  none/reddy +[0-9.]+x +[0-9.]+–[0-9.]+$" \
+    "^  none/fs +[0-9.]+x +[0-9.]+–[0-9.]+$" \
+    "measured: 2 alternated repeats in one process .*order none, reddy, fs \| fs, reddy, none \| .*each session opened fresh, frame 0 left out, ratio = median of per-repeat ratios \[min–max\]"; do
+    grep -Eq -- "$pattern" <<<"$out" || fail "demo --repeats 2: output does not match /$pattern/: $out"
+  done
+  [ -f "$tmp/demo/none/summary.json" ] && [ -f "$tmp/demo/fs/frames.csv" ] || fail "demo: the output round's files are missing"
+  [ "$(ls "$tmp/demo")" = "$(printf 'fs\nnone\nreddy')" ] || fail "demo: the repeats left files in its folder: $(ls "$tmp/demo")"
+fi
+for v in 0 -1 101 x ""; do
+  expect_error "demo --repeats '$v'" "--repeats: '?$v'? is (outside \[1, 100\]|not a whole number)" -- \
+    "$bin" demo --repeats "$v" --out "$tmp/demo-bad"
+done
+[ ! -e "$tmp/demo-bad" ] || fail "demo with a bad --repeats made its folder"
+expect_error "replay --repeats" "unknown option '--repeats'" -- "$bin" replay --repeats 2 --out "$tmp/x"
+
+# bench agree: a tiny run prints both sessions' verdicts; fewer than 2 repeats is refused.
+expect_ok "bench agree tiny" "\| field, built-in clip, vive, none \| 5 \|.*\| \*\*(PASS|FAIL)\*\* \|" -- \
+  "$bin" bench agree --repeats 2 --frames 5 --render-scale 0.25
+expect_error "bench agree --repeats 1" "--repeats: 1 is outside \[2, 100\]" -- "$bin" bench agree --repeats 1
 
 # bench soak: bad arguments are refused at once with the option named, and a --out that is a file
 # fails before the session loads, leaving nothing (the run itself: tests/soak_smoke.sh).

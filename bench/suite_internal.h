@@ -12,6 +12,8 @@
 struct bch_result {
     int present;
     char renderer[128];
+    char host[64];                          /* summary.json's wall_clock; "" when absent */
+    double wall_start_unix_s, wall_end_unix_s; /* NaN when absent (folders made before they were kept) */
     double budget_ms;
     double visible_error_mean, visible_error_max;
     double ref_frames, identical_frames, psnr_db_mean, psnr_db_min, ssim_mean, ssim_min, ssim_rgb_mean, fssim_mean,

@@ -78,6 +78,11 @@ static int load_summary(const char *dir, struct bch_result *r, struct hl_error *
     const cJSON *renderer = cJSON_GetObjectItemCaseSensitive(root, "renderer");
     snprintf(r->renderer, sizeof r->renderer, "%s", cJSON_IsString(renderer) ? renderer->valuestring : "unknown");
     r->budget_ms = json_num(root, "budget_ms");
+    const cJSON *wall = cJSON_GetObjectItemCaseSensitive(root, "wall_clock");
+    const cJSON *host = cJSON_GetObjectItemCaseSensitive(wall, "host");
+    snprintf(r->host, sizeof r->host, "%s", cJSON_IsString(host) ? host->valuestring : "");
+    r->wall_start_unix_s = json_num(wall, "start_unix_s");
+    r->wall_end_unix_s = json_num(wall, "end_unix_s");
     r->visible_error_mean = json_stat(root, "visible_error", "mean");
     r->visible_error_max = json_stat(root, "visible_error", "max");
     const cJSON *e = cJSON_GetObjectItemCaseSensitive(root, "image_error"); /* null without --reference */

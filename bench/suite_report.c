@@ -270,6 +270,58 @@ static int make_dir(const char *path, struct hl_error *err)
     return 0;
 }
 
+/* One context line on how the runs shared the machine, from each run's wall-clock span and host
+ * (summary.json): runs whose spans overlap on one host ran in parallel (GNU parallel, a Slurm array
+ * on one node), so their timing columns measured a shared machine; runs from several hosts measured
+ * different machines. Deterministic columns are not affected either way. */
+static void timing_note(const struct bch_result *results, size_t count, char *out, size_t size)
+{
+    size_t timed = 0, present = 0, overlapped = 0, hosts = 0;
+    for (size_t i = 0; i < count; ++i) {
+        const struct bch_result *a = &results[i];
+        if (!a->present)
+            continue;
+        ++present;
+        if (!(isfinite(a->wall_start_unix_s) && isfinite(a->wall_end_unix_s)))
+            continue;
+        ++timed;
+        int new_host = 1, overlaps = 0;
+        for (size_t j = 0; j < count; ++j) {
+            const struct bch_result *b = &results[j];
+            if (j == i || !b->present || strcmp(a->host, b->host) != 0)
+                continue;
+            if (j < i && isfinite(b->wall_start_unix_s))
+                new_host = 0;
+            if (a->wall_start_unix_s < b->wall_end_unix_s && b->wall_start_unix_s < a->wall_end_unix_s)
+                overlaps = 1;
+        }
+        hosts += (size_t)new_host;
+        overlapped += (size_t)overlaps;
+    }
+    size_t used = 0;
+    out[0] = '\0';
+    if (timed < present)
+        used += (size_t)snprintf(out, size, "- timing: %zu of %zu runs have no wall-clock span in summary.json "
+                                            "(made by an older hmdlod): whether they ran in parallel is unknown\n",
+                                 present - timed, present);
+    if (used >= size || timed == 0)
+        return;
+    if (overlapped)
+        used += (size_t)snprintf(out + used, size - used,
+                                 "- timing: **from parallel runs** — %zu of %zu runs ran while another run of this "
+                                 "plan ran on the same host, so their timing columns (frame, draw and optimizer "
+                                 "time, deadline share, and every figure of fs, mb and feedback) shared the "
+                                 "machine: compare them with each other, not with a serial run's; † columns are "
+                                 "unaffected\n",
+                                 overlapped, timed);
+    else
+        used += (size_t)snprintf(out + used, size - used,
+                                 "- timing: serial — no run overlapped another on its host\n");
+    if (used < size && hosts > 1)
+        snprintf(out + used, size - used,
+                 "- timing: runs from %zu hosts: timing columns mix machines (compare rows of one host)\n", hosts);
+}
+
 static int write_report(const struct bch_report_options *o, struct bch_result *results, size_t n_missing,
                         const char *missing, struct hl_error *err)
 {
@@ -297,15 +349,26 @@ static int write_report(const struct bch_report_options *o, struct bch_result *r
             renderer = results[i].renderer;
             break;
         }
+    /* The timing note goes under every table, with the rest of the context. */
+    char note[1024];
+    timing_note(results, o->plan->count, note, sizeof note);
+    size_t context_len = strlen(o->context) + strlen(note) + 1;
+    char *context = malloc(context_len);
+    if (!context) {
+        hl_out_abort(&md_out);
+        hl_out_abort(&det_out);
+        return hl_fail(err, "bench report: out of memory");
+    }
+    snprintf(context, context_len, "%s%s", o->context, note);
     struct bch_ctx c = {
-        o->plan, results, o->out_dir, md, o->echo, det, o->context, renderer, bch_have_gnuplot()};
+        o->plan, results, o->out_dir, md, o->echo, det, context, renderer, bch_have_gnuplot()};
     if (o->echo)
         fprintf(o->echo, "# hmdlod bench report (%s): %s/report.md\n\n%s- renderer: %s\n",
-                bch_mode_name(o->plan->mode), o->out_dir, o->context, renderer);
+                bch_mode_name(o->plan->mode), o->out_dir, context, renderer);
     fprintf(md,
             "# hmdlod bench report (%s)\n\n%s- renderer: %s\n- runs: %zu of %zu (each run's replay command: "
             "runs.csv)\n",
-            bch_mode_name(o->plan->mode), o->context, renderer, o->plan->count - n_missing, o->plan->count);
+            bch_mode_name(o->plan->mode), context, renderer, o->plan->count - n_missing, o->plan->count);
     if (!c.gnuplot)
         fputs("\n**gnuplot is not on PATH: the plots' scripts are in plots/*.gp, but no PNG was made** (install "
               "gnuplot-nox, then run `gnuplot NAME.gp` in plots/).\n",
@@ -320,6 +383,7 @@ static int write_report(const struct bch_report_options *o, struct bch_result *r
     };
     for (int k = 0; k < 6 && rc == 0; ++k)
         rc = tables[k](&c, err);
+    free(context);
     if (rc != 0) {
         hl_out_abort(&md_out);
         hl_out_abort(&det_out);

@@ -377,6 +377,10 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddStringToObject(root, "display", s->display);
     cJSON_AddStringToObject(root, "selector", s->selector);
     cJSON_AddStringToObject(root, "renderer", s->renderer);
+    cJSON *wall = cJSON_AddObjectToObject(root, "wall_clock");
+    cJSON_AddStringToObject(wall, "host", s->host);
+    cJSON_AddNumberToObject(wall, "start_unix_s", s->wall_start_unix_s);
+    cJSON_AddNumberToObject(wall, "end_unix_s", s->wall_end_unix_s);
     cJSON *gaze = cJSON_AddObjectToObject(root, "gaze");
     cJSON_AddStringToObject(gaze, "model", s->gaze);
     cJSON_AddNumberToObject(gaze, "fixation_m", s->fixation_m);

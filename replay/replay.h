@@ -161,6 +161,11 @@ struct rpl_summary {
     double eye_speed_degps_mean;
     char renderer[128];
     char selector[16], scene[256], display[64];
+    /* When and where the frames ran: the wall clock (CLOCK_REALTIME, s since 1970) before the first
+     * frame and after the last, and the host's name ("" unknown). A report merging many runs tells
+     * from these which ran at the same time on one machine (their timings shared it). */
+    double wall_start_unix_s, wall_end_unix_s;
+    char host[64];
     /* saccades (frame/saccade_step.c; docs/gaze.md), only when the trace has gaze (gaze_frames > 0) */
     long gaze_frames, saccades, suppressed_frames;
     double suppressed_fraction;           /* frames inside a saccade or its window / frames */

@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
 
 #include "replay/run_internal.h"
 
@@ -61,6 +63,13 @@ static int open_session(struct frm_session *s, const struct rpl_options *o, stru
     if (frm_session_open_display(s, &fo, NULL, err) != 0 || open_trace(s, o, err) != 0)
         return -1;
     return frm_session_open_scene(s, &fo, err);
+}
+
+static double wall_clock_unix_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 static int make_dirs(const char *dir, struct hl_error *err)
@@ -172,6 +181,7 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
         goto done;
     struct hl_progress progress;
     hl_progress_begin(&progress, "replay", (uint64_t)frames);
+    summary->wall_start_unix_s = wall_clock_unix_s();
     for (long f = 0; f < frames; ++f) {
         /* Virtual clock: frame f is displayed at start + f / rate, whatever the wall clock did. */
         double t_s = s.source->start_time_s + (double)f / rate_hz;
@@ -197,6 +207,10 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
         hl_progress_update(&progress, (uint64_t)f + 1);
     }
     hl_progress_end(&progress);
+    summary->wall_end_unix_s = wall_clock_unix_s();
+    if (gethostname(summary->host, sizeof summary->host) != 0)
+        summary->host[0] = '\0';
+    summary->host[sizeof summary->host - 1] = '\0'; /* POSIX leaves a truncated name unterminated */
     if (rpl_output_close(&out, err) != 0)
         goto done;
 

@@ -70,6 +70,11 @@ runs=$(wc -l <"$tmp/plan.txt")
 parallel --will-cite -j2 <"$tmp/plan.txt" >"$tmp/parallel.out" 2>&1 || fail "parallel: $(tail -3 "$tmp/parallel.out")"
 "$bin" bench --merge "$tmp/par" >"$tmp/merge.out" 2>"$tmp/merge.err" || fail "--merge: exit $?: $(cat "$tmp/merge.err")"
 check_report "$tmp/par"
+# how the runs shared the machine, from their wall-clock spans: the serial run says serial, the plan
+# under parallel -j2 marks its timing columns as from parallel runs
+grep -q -- "- timing: serial" "$tmp/serial/report.md" || fail "the serial report does not say its runs were serial"
+grep -q -- "- timing: \*\*from parallel runs\*\*" "$tmp/par/report.md" ||
+  fail "the report of the plan under parallel -j2 does not mark its timings as from parallel runs"
 # deterministic columns: merged (parallel) against serial
 python3 - "$tmp/serial" "$tmp/par" <<'EOF' || fail "deterministic columns differ between the serial and the parallel run"
 import csv, sys

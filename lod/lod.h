@@ -103,18 +103,24 @@ void lod_cost_correction_init(struct lod_cost_correction *c, double alpha);
 void lod_cost_correction_update(struct lod_cost_correction *c, double measured_ms, double predicted_ms);
 double lod_cost_correction_budget_ms(const struct lod_cost_correction *c, double budget_ms);
 
-/* Affine online correction, by recursive least squares: measured ≈ a + b·x with x the objects' part
- * of the prediction (predicted − c0), fitted with forgetting factor `lambda` per frame, starting
- * from the model (a = c0, b = 1). Where the ratio above scales the whole budget — so a per-frame
- * cost the model under-counts (clear, flush, read-back) shrinks it even when little is drawn, the
- * less drawn the more, until nearly nothing is — this corrects the fixed part and the per-object
- * part separately. The optimizer's budget for the objects is (budget − a − spread·σ) / b, σ the
- * smoothed residual; never more than the model's own budget − c0. The covariance is capped at its
- * start (frames that all draw the same say nothing new about b: no wind-up). */
+/* Affine online correction: measured ≈ a + b·x with x the objects' part of the prediction
+ * (predicted − c0), fitted by exponentially weighted least squares (forgetting factor `lambda` per
+ * frame) with a weak prior at the model (a = c0, b = 1). Where the ratio above scales the whole
+ * budget — so a per-frame cost the model under-counts (clear, flush, read-back) shrinks it even when
+ * little is drawn, the less drawn the more, until nearly nothing is — this corrects the fixed part
+ * and the per-object part separately. The optimizer's budget for the objects is
+ * (budget − a − spread·σ) / b, σ the smoothed a-priori error; never more than the model's own
+ * budget − c0. The fit is solved in closed form every frame from five weighted sums, with a and b
+ * held in their bounds by solving on the bound (a recursive-least-squares filter clamped after each
+ * step does not know it was clamped: at half scale it drove b to its bound and the budget to 13 %
+ * of the frame, issue 30). Frames that all draw alike leave a + b·x̄ fixed by the data and the rest
+ * to the prior, which puts an unexplained cost mostly on a when x̄ is small (prior_x_ms below): an
+ * under-counted fixed cost never shrinks the objects' budget. Each frame's error enters σ clipped to
+ * 3σ (at least 0.3 ms): one preempted frame must not shrink the next fifty frames' budgets. */
 struct lod_cost_rls {
     double a_ms, b;          /* measured ≈ a_ms + b · x */
-    double p00, p01, p11;    /* covariance of (a, b) */
-    double residual_var;     /* smoothed squared a-priori error, ms² */
+    double s1, sx, sxx, sm, sxm; /* exponentially weighted Σ1, Σx, Σx², Σm, Σxm */
+    double residual_var;     /* smoothed squared a-priori error (clipped), ms² */
     double c0_ms, lambda, spread;
 };
 void lod_cost_rls_init(struct lod_cost_rls *c, double c0_ms, double lambda);

@@ -124,7 +124,8 @@ static void test_cost_rls(void)
         double x = 2.0 + 6.0 * (double)(f % 7) / 6.0;
         lod_cost_rls_update(&c, 4.0 + 1.2 * x, x);
     }
-    CHECK_NEAR(c.a_ms, 4.0, 0.01);
+    /* The prior (a tenth of a frame at a = 2, b = 1 against ~50 frames of data) pulls a little. */
+    CHECK_NEAR(c.a_ms, 4.0, 0.03);
     CHECK_NEAR(c.b, 1.2, 0.005);
     CHECK_NEAR(lod_cost_rls_objects_budget_ms(&c, 11.0), (11.0 - c.a_ms - 2.0 * sqrt(c.residual_var)) / c.b, 1e-12);
     CHECK(lod_cost_rls_objects_budget_ms(&c, 11.0) > 5.4 && lod_cost_rls_objects_budget_ms(&c, 11.0) < 5.9);
@@ -153,18 +154,21 @@ static void test_cost_rls(void)
     CHECK(xa > budget - truth_c0 - 0.6);
     CHECK(xr < 4.0);
 
-    /* The same x every frame: nothing new about b, and the covariance stays capped. */
+    /* The same x every frame: the data fix a + 5·b and nothing else; the prior splits the 2 ms the
+     * model missed (9 against c0 2 + 5) 80 : 20 between a and b (prior_x 10 ms: 10² / (10² + 5²)),
+     * and it stays there, however many such frames come. */
     struct lod_cost_rls flat;
     lod_cost_rls_init(&flat, 2.0, 0.98);
     for (int f = 0; f < 2000; ++f)
         lod_cost_rls_update(&flat, 9.0, 5.0);
-    CHECK(flat.p00 <= 4.0 + 1e-12 && flat.p11 <= 0.0625 + 1e-12);
-    CHECK_NEAR(flat.a_ms + flat.b * 5.0, 9.0, 1e-3); /* the frames it saw, predicted right */
+    CHECK_NEAR(flat.a_ms, 2.0 + 0.8 * 2.0, 0.02);
+    CHECK_NEAR(flat.b, 1.0 + 0.2 * 2.0 / 5.0, 0.005);
+    CHECK_NEAR(flat.a_ms + flat.b * 5.0, 9.0, 5e-3); /* the frames it saw, predicted right but for the prior's pull */
     struct lod_cost_rls keep = flat;
     lod_cost_rls_update(&flat, NAN, 5.0);
     lod_cost_rls_update(&flat, 9.0, -1.0);
     lod_cost_rls_update(&flat, 0.0, 5.0);
-    CHECK(flat.a_ms == keep.a_ms && flat.b == keep.b && flat.p00 == keep.p00);
+    CHECK(flat.a_ms == keep.a_ms && flat.b == keep.b && flat.s1 == keep.s1 && flat.residual_var == keep.residual_var);
     lod_cost_rls_update(&flat, 1e6, 5.0); /* one wild frame: clamped, still a usable budget */
     CHECK(flat.b <= 4.0 && flat.a_ms <= 4.0 * 2.0 + 10.0);
     CHECK(lod_cost_rls_objects_budget_ms(&flat, 11.0) >= 0.0);
@@ -213,9 +217,15 @@ static void synthetic_problem(struct synthetic_machine *m, size_t visible, doubl
  * everything; returns the objects' budget of the last frame, *first_dense that of the first frame
  * on the dense part, *min_late the least objects' budget after frame 150 and *within the share of
  * frames after frame 50 whose measured time kept the budget. */
-static double synthetic_run(int affine, int frames, double *first_dense, double *min_late, double *within)
+struct synthetic_truth {
+    double model_c0, true_c0; /* the profile's fixed cost and the machine's */
+    double object_scale;      /* what the objects truly cost, × the model's */
+    int spike_every;          /* every so many frames one preempted frame, 20 ms late (0: none) */
+};
+static double synthetic_run(int affine, const struct synthetic_truth *t, int frames, double *first_dense,
+                            double *min_late, double *within)
 {
-    const double budget = 11.1, model_c0 = 2.5, true_c0 = 5.0;
+    const double budget = 11.1, model_c0 = t->model_c0, true_c0 = t->true_c0;
     struct synthetic_machine m;
     m.scratch = malloc(lod_scratch_bytes(SYN_OBJECTS, SYN_OBJECTS * SYN_LEVELS));
     memset(m.choice, 0, sizeof m.choice);
@@ -238,8 +248,10 @@ static double synthetic_run(int affine, int frames, double *first_dense, double 
         struct lod_result r;
         lod_optimize_fs(&p, 0.0, m.scratch, m.choice, &r);
         double jitter = 0.4 * ((double)((f * 7919) % 11) - 5.0) / 5.0; /* ±0.4 ms: other work */
-        double measured = true_c0 + r.cost_ms + jitter;
+        double measured = true_c0 + t->object_scale * r.cost_ms + jitter;
         kept += f >= 50 && measured <= budget;
+        if (t->spike_every > 0 && f % t->spike_every == t->spike_every - 1)
+            measured += 20.0; /* not counted against the budget: no correction can foresee it */
         if (affine)
             lod_cost_rls_update(&rls, measured, r.cost_ms);
         else
@@ -253,8 +265,9 @@ static double synthetic_run(int affine, int frames, double *first_dense, double 
 static void test_cost_correction_no_spiral(void)
 {
     double affine_dense, affine_min, affine_within, ratio_dense, ratio_min, ratio_within;
-    double affine_end = synthetic_run(1, 400, &affine_dense, &affine_min, &affine_within);
-    double ratio_end = synthetic_run(0, 400, &ratio_dense, &ratio_min, &ratio_within);
+    const struct synthetic_truth twice = {2.5, 5.0, 1.0, 0};
+    double affine_end = synthetic_run(1, &twice, 400, &affine_dense, &affine_min, &affine_within);
+    double ratio_end = synthetic_run(0, &twice, 400, &ratio_dense, &ratio_min, &ratio_within);
     printf("synthetic machine, fixed cost twice the model's (5.0 ms against 2.5 ± 0.4), budget 11.1 ms (the truth "
            "allows the objects 6.1 ms): affine — on entering the dense view %.2f ms, least later %.2f, at the end "
            "%.2f, frames within budget %.1f %%; ratio — %.2f, %.2f, %.2f, %.1f %%\n",
@@ -269,6 +282,22 @@ static void test_cost_correction_no_spiral(void)
      * gets the objects' share at once; the ratio learnt "everything costs 1.8×" and shrinks it. */
     CHECK(affine_dense >= 0.8 * 6.1);
     CHECK(ratio_dense < 0.8 * affine_dense);
+
+    /* A full-scale profile at half scale (replay --render-scale 0.5, docs/RESULTS.md issue 30): the
+     * model's fixed cost is three times the machine's (1.39 ms against 0.44), the objects cost 1.2×
+     * the model, and one frame in 40 is preempted by 20 ms. A clamped recursive-least-squares filter
+     * ran b to its bound here and left the objects 1.4 ms of an 11.1 ms frame measured at 3 ms. The
+     * truth allows (11.1 − 0.44) / 1.2 = 8.9 ms; the fit must leave at least 70 % of it after the
+     * view turns dense (the spikes widen the margin a little, they must not collapse it). */
+    const struct synthetic_truth half = {1.39, 0.44, 1.2, 40};
+    double half_dense, half_min, half_within;
+    double half_end = synthetic_run(1, &half, 600, &half_dense, &half_min, &half_within);
+    printf("synthetic machine, fixed cost a third of the model's, objects 1.2x, a 20 ms spike every 40 frames (the "
+           "truth allows the objects 8.9 ms): affine — least after frame 150 %.2f ms, at the end %.2f, frames within "
+           "budget %.1f %%\n", half_min, half_end, 100.0 * half_within);
+    CHECK(half_min >= 0.7 * 8.9);
+    CHECK(half_end <= 8.9);
+    CHECK(half_within >= 0.97);
 }
 
 int main(void)

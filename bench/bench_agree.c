@@ -79,6 +79,17 @@ static void print_table(const struct bch_agree_options *o, const struct agree_re
                  within_goal ? "yes" : "no", within_spread ? "yes" : "no",
                  within_goal && within_spread ? "PASS" : "FAIL");
     }
+    /* Each repeat's ratio with the session that ran first in it: an order effect shows as ratios that
+     * flip with the order, a difference between A and A′ as ratios on one side whatever the order. */
+    bch_emit("\nA/A′ per repeat (the session that ran first):");
+    for (int c = 0; c < N_CONFIGS; ++c) {
+        const struct agree_result *r = &res[c];
+        bch_emit("%s %s, %s:", c ? ";" : "", configs[c].scene, configs[c].selector);
+        for (long k = 0; k < o->repeats; ++k)
+            bch_emit(" %.3f (%s)", r->sums[2 * k].frame_ms_mean_after_first / r->sums[2 * k + 1].frame_ms_mean_after_first,
+                     bch_alternate_index((int)k, 0, 2) == 0 ? "A" : "A′");
+    }
+    bch_emit(".\n");
     const struct rpl_summary *w = &res[0].warmup;
     bch_emit("\nWarm-up (the process's first session, %s, %s, left out): %.2f ms mean, %.3f × the timed A's "
              "median.\n",

@@ -48,6 +48,7 @@ int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct 
     s->pixels_px = calloc(n, sizeof(double));
     s->ceiling_level = calloc(n, 1);
     s->previous_level = calloc(n, 1);
+    s->keep = calloc(n, 1);
     s->choice = calloc(n, 1);
     s->first = calloc(n, sizeof(uint32_t));
     s->count = calloc(n, 1);
@@ -61,7 +62,7 @@ int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct 
     s->chain_lod_count = calloc(chains, 1);
     s->scratch = malloc(lod_scratch_bytes(n, cands));
     s->saccade.level_before = malloc(n);
-    if (!s->pixels_px || !s->ceiling_level || !s->previous_level || !s->choice || !s->first || !s->count ||
+    if (!s->pixels_px || !s->ceiling_level || !s->previous_level || !s->keep || !s->choice || !s->first || !s->count ||
         !s->cand_cost_ms || !s->cand_benefit || !s->cand_level || !s->cand_samples || !s->level_of_instance ||
         !s->last_visible || !s->chain_triangles || !s->chain_lod_count || !s->scratch || !s->saccade.level_before)
         return hl_fail(err, "scene '%s': out of memory for the selector's arrays (%zu objects)", scene->name, n);
@@ -97,6 +98,7 @@ void frm_select_free(struct frm_select *s)
     free(s->pixels_px);
     free(s->ceiling_level);
     free(s->previous_level);
+    free(s->keep);
     free(s->choice);
     free(s->first);
     free(s->count);
@@ -126,12 +128,16 @@ static double level_cost_ms(const struct lod_cost_model *m, const struct scn_lod
 static struct lod_problem build_problem(struct frm_select *s, const struct scn_scene *scene,
                                         const struct frm_view_inputs *in, double budget_ms)
 {
+    double image_px = 0.0, kept_ms = 0.0;
+    for (int e = 0; e < 2; ++e)
+        image_px += in->eyes[e].width_px * in->eyes[e].height_px;
     uint32_t c = 0;
     for (size_t k = 0; k < in->count; ++k) {
         uint32_t inst = in->visible[k];
         const struct scn_chain *ch = &scene->chains[scene->chain_of_instance[inst]];
         s->first[k] = c;
-        if (ch->null_impostor) {
+        s->keep[k] = s->pixels_px[k] >= FRM_KEEP_IMAGE_SHARE * image_px;
+        if (ch->null_impostor && !s->keep[k]) {
             s->cand_level[c] = LOD_DROP;
             s->cand_cost_ms[c] = 0.0;
             s->cand_samples[c] = 0;
@@ -144,7 +150,12 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
         }
         s->count[k] = (uint8_t)(c - s->first[k]);
         s->previous_level[k] = s->level_of_instance[inst];
+        if (s->keep[k] && s->count[k] > 0)
+            kept_ms += s->cand_cost_ms[s->first[k]];
     }
+    /* Drop last, and never what fills a large part of the view: the kept objects' coarsest levels
+     * are in the frame whatever the budget says (the frame then runs late rather than show a hole). */
+    budget_ms = fmax(budget_ms, kept_ms + 1e-6); /* lod/ rounds each cost up to 1e-8 ms */
     lod_benefit_fill(&s->benefit, in->count, s->first, s->count, s->cand_level, s->cand_samples, s->pixels_px,
                      NULL, s->ceiling_level, s->previous_level, s->cand_benefit);
     if (scene->importance)
@@ -154,7 +165,7 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
     lod_hull_reduce(in->count, s->first, s->count, s->cand_cost_ms, s->cand_benefit, s->cand_level, budget_ms,
                     (int64_t *)s->scratch); /* before the optimizer: the scratch is free */
     return (struct lod_problem){in->count, in->visible, s->first, s->count, s->cand_cost_ms, s->cand_benefit,
-                                s->cand_level, budget_ms, s->fs_margin_value};
+                                s->cand_level, budget_ms, s->fs_margin_value, s->keep};
 }
 
 /* c0 + Σ predicted cost of what is drawn, for any selector. */
@@ -240,6 +251,7 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
         }
         rec->optimizer_budget_ms = budget;
         struct lod_problem p = build_problem(s, scene, in, budget);
+        rec->optimizer_budget_ms = p.budget_ms; /* raised to hold the kept objects, if they need it */
         struct lod_result r;
         if (s->selector == FRM_SELECT_MB) { /* Mason & Blake on the visible part of the hierarchy */
             frm_mb_select(s->mb, scene, &p, &s->cost, &s->benefit, in->eyes, s->opt_limit_us, lod_out, extra_index,

@@ -16,6 +16,12 @@
  * do not teach it: they pay first-use costs (page faults, driver caches) later frames do not. */
 enum frm_correction { FRM_CORRECTION_OFF = 0, FRM_CORRECTION_RATIO = 1, FRM_CORRECTION_AFFINE = 2 };
 enum { FRM_CORRECTION_WARMUP_FRAMES = 5 };
+/* fs drops objects only when even the coarsest levels do not fit, and never one whose estimated
+ * coverage is at least this share of all eyes' pixels (about 13 000 pixels an eye on a Vive, an
+ * 11° square): a hole that size shows at any eccentricity, whatever it saves. A room's walls, floor
+ * and stage fill 5–40 % each; dropping them held a load-shrunk budget by showing an empty room. mb
+ * chooses among group impostors and does not use it yet. */
+#define FRM_KEEP_IMAGE_SHARE 0.01
 
 enum frm_selector {
     FRM_SELECT_NONE = 0,
@@ -59,6 +65,7 @@ struct frm_select {
     /* per visible object (capacity: the scene's instances) */
     double *pixels_px;
     uint8_t *ceiling_level, *previous_level, *choice;
+    uint8_t *keep;             /* 1: covers ≥ FRM_KEEP_IMAGE_SHARE of the image, never dropped */
     uint32_t *first;
     uint8_t *count;
     /* per candidate (capacity: instances × (LOD_MAX_LEVELS + 1)) */

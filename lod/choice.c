@@ -66,8 +66,8 @@ int64_t lod_drop_to_fit(const struct lod_problem *p, int64_t total, int64_t budg
 {
     size_t n = 0;
     for (size_t i = 0; i < p->object_count; ++i) {
-        if (choice[i] == LOD_DROPPED)
-            continue;
+        if (choice[i] == LOD_DROPPED || (p->keep && p->keep[i]))
+            continue; /* kept objects are not candidates for dropping */
         uint32_t c = p->first[i];
         double cost = p->cost_ms[c];
         order[n].value = cost > 0.0 ? p->benefit[c] / cost : DBL_MAX; /* free objects are never dropped */

@@ -60,6 +60,7 @@ double lod_cost_correction_budget_ms(const struct lod_cost_correction *c, double
 #define RLS_B_MIN 0.25
 #define RLS_B_MAX 4.0
 #define RLS_SIGMA_FLOOR_MS 0.3
+#define RLS_SIGMA_START_MS 1.5
 
 void lod_cost_rls_init(struct lod_cost_rls *c, double c0_ms, double lambda)
 {
@@ -68,6 +69,11 @@ void lod_cost_rls_init(struct lod_cost_rls *c, double c0_ms, double lambda)
     c->a_ms = c->c0_ms, c->b = 1.0;
     c->lambda = lambda > 0.5 && lambda <= 1.0 ? lambda : 0.98;
     c->spread = 2.0;
+    c->within_share = 0.97;
+    /* Not yet measured is not exact: the first frames keep spread · 1.5 ms in hand (a full-scale
+     * auditorium frame here is under-predicted by 30–45 % at first), and the margin falls as the
+     * frames show how well the fit does. */
+    c->residual_var = RLS_SIGMA_START_MS * RLS_SIGMA_START_MS;
 }
 
 /* Minimises Σ w (m − a − b·x)² + r_a (a − c0)² + r_b (b − 1)² with a in [0, a_max] and b in
@@ -99,6 +105,10 @@ void lod_cost_rls_update(struct lod_cost_rls *c, double measured_ms, double x_ms
     /* The error before this frame is fitted: the margin must cover how wrong the prediction was,
      * not how well the fit explains that frame after. Clipped, so a wild frame widens it by 16 %. */
     double e = measured_ms - (c->a_ms + c->b * x_ms);
+    c->recent_error_ms[c->recent_next] = e; /* unclipped: the margin must see the late frames as they were */
+    c->recent_next = (c->recent_next + 1) % LOD_COST_RLS_WINDOW;
+    if (c->recent_count < LOD_COST_RLS_WINDOW)
+        ++c->recent_count;
     double clip = fmax(3.0 * sqrt(c->residual_var), RLS_SIGMA_FLOOR_MS);
     e = fmin(fmax(e, -clip), clip);
     double l = c->lambda;
@@ -115,10 +125,50 @@ void lod_cost_rls_update(struct lod_cost_rls *c, double measured_ms, double x_ms
     rls_solve(c);
 }
 
+/* Hoare's selection: the k-th smallest of v[0 … n−1] (reorders v). O(n) expected. */
+static double select_kth(double *v, int n, int k)
+{
+    int lo = 0, hi = n - 1;
+    while (lo < hi) {
+        double pivot = v[(lo + hi) / 2];
+        int i = lo, j = hi;
+        while (i <= j) {
+            while (v[i] < pivot)
+                ++i;
+            while (v[j] > pivot)
+                --j;
+            if (i <= j) {
+                double t = v[i];
+                v[i++] = v[j], v[j--] = t;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            break;
+    }
+    return v[k];
+}
+
+double lod_cost_rls_margin_ms(const struct lod_cost_rls *c)
+{
+    int n = (int)c->recent_count;
+    if (n < 32)
+        return c->spread * sqrt(c->residual_var);
+    double v[LOD_COST_RLS_WINDOW];
+    memcpy(v, c->recent_error_ms, (size_t)n * sizeof *v);
+    double share = c->within_share > 0.5 && c->within_share < 1.0 ? c->within_share : 0.97;
+    int k = (int)ceil(share * (double)n) - 1;
+    double q = select_kth(v, n, k < n ? k : n - 1);
+    return q > 0.0 ? q : 0.0;
+}
+
 double lod_cost_rls_objects_budget_ms(const struct lod_cost_rls *c, double budget_ms)
 {
     double model = budget_ms - c->c0_ms;
-    double fitted = (budget_ms - c->a_ms - c->spread * sqrt(c->residual_var)) / c->b;
+    double fitted = (budget_ms - c->a_ms - lod_cost_rls_margin_ms(c)) / c->b;
     double x = fitted < model ? fitted : model; /* only ever tightens */
     return x > 0.0 ? x : 0.0;
 }

@@ -393,6 +393,11 @@ void lod_optimize_fs(const struct lod_problem *p, double time_limit_us, void *sc
     int64_t t_setup = hl_clock_now_ns();
     r->setup_us = (double)(t_setup - t0) * 1e-3;
     s.deadline_ns = deadline, s.rebuild_ns = t_setup - t0;
+    /* Still over after the drops: the objects the caller keeps exceed the budget alone. Nothing can
+     * be raised (the greedy stops at its first step for the same reason), and nothing is left to
+     * lower: the choice stands as it is. */
+    if (s.total > budget)
+        converged = 1, cap = 0;
     while (r->iterations < cap) {
         if (limited && hl_clock_now_ns() >= deadline) {
             r->truncated = 1;
@@ -417,6 +422,12 @@ void lod_optimize_fs(const struct lod_problem *p, double time_limit_us, void *sc
                 break;
             }
             uint32_t lowered = top_cur(&s);
+            if (lowered == UINT32_MAX) { /* cannot happen from a feasible start; never index with it */
+                step(&s, raised, 0);
+                ++r->iterations;
+                undone = 1;
+                break;
+            }
             step(&s, lowered, 0);
             ++r->iterations;
             undone |= lowered == raised;

@@ -55,7 +55,8 @@ int64_t lod_choice_sanitize(const struct lod_problem *p, uint8_t *choice, uint32
  * candidate 0, highest benefit per cost first (ties by object_id), each that still fits, so no
  * dropped object's candidate 0 fits in budget − the returned total. Deterministic in the choice
  * and total given, so greedy and fs, which call it on the same state, stay equal. `order` holds
- * object_count steps. Returns the new total; *dropped counts what stays dropped. */
+ * object_count steps. Objects p->keep marks are never dropped (the total may then stay over the
+ * budget when they alone exceed it). Returns the new total; *dropped counts what stays dropped. */
 int64_t lod_drop_to_fit(const struct lod_problem *p, int64_t total, int64_t budget, uint8_t *choice,
                         struct lod_step *order, uint32_t *dropped);
 /* Mason & Blake 1997 §3's guard: the best single upgrade over all-candidate-0 against the choice's

@@ -655,7 +655,7 @@ static void test_flat_equals_greedy(void)
         for (uint32_t n = 0; n < T.n; ++n)
             for (int k = 0; k < T.count[n]; ++k)
                 level[T.first[n] + k] = (uint8_t)(T.count[n] - 1 - k);
-        struct lod_problem p = {T.n, T.id, T.first, T.count, T.cost, T.benefit, level, budget, 0.0};
+        struct lod_problem p = {T.n, T.id, T.first, T.count, T.cost, T.benefit, level, budget, 0.0, NULL};
         CHECK(lod_scratch_bytes(T.n, T.nc) <= sizeof flat_scratch);
         struct lod_result rg, rf;
         lod_optimize_greedy(&p, flat_scratch, choice, &rg);

@@ -1347,7 +1347,7 @@ static void hard_free(struct hard *h)
  * must be feasible and agree. Returns the greedy's result in *rg. */
 static void hard_run(struct hard *h, double budget_ms, double limit_us, struct lod_result *rg)
 {
-    struct lod_problem p = {h->n, h->id, h->first, h->count, h->cost, h->benefit, h->level, budget_ms, 0.0};
+    struct lod_problem p = {h->n, h->id, h->first, h->count, h->cost, h->benefit, h->level, budget_ms, 0.0, NULL};
     size_t cands = 0;
     for (size_t i = 0; i < h->n; ++i)
         cands += h->count[i];
@@ -1371,7 +1371,7 @@ static void test_hard_cases(void)
     const double nothing[] = {0.0, -1.0, NAN};
     for (size_t b = 0; b < 3; ++b) {
         hard_make(&h, 5, 3, 1.0, 0.0, 1.0);
-        struct lod_problem p = {h.n, h.id, h.first, h.count, h.cost, h.benefit, h.level, nothing[b], 0.0};
+        struct lod_problem p = {h.n, h.id, h.first, h.count, h.cost, h.benefit, h.level, nothing[b], 0.0, NULL};
         void *scratch = malloc(lod_scratch_bytes(h.n, 16));
         lod_optimize_greedy(&p, scratch, h.choice_g, &r);
         CHECK(r.over_budget && r.dropped == 5 && r.cost_ms == 0.0);
@@ -1397,7 +1397,7 @@ static void test_hard_cases(void)
     hard_make(&h, 4, 3, 0.0, 0.0, 1.0);
     hard_run(&h, 0.0, 0.0, &r);
     CHECK(!r.over_budget && r.dropped == 0 && r.cost_ms == 0.0);
-    struct lod_problem zp = {h.n, h.id, h.first, h.count, h.cost, h.benefit, h.level, 0.0, 0.0};
+    struct lod_problem zp = {h.n, h.id, h.first, h.count, h.cost, h.benefit, h.level, 0.0, 0.0, NULL};
     CHECK(lod_lp_bound(&zp, NULL) >= r.benefit - 1e-12);
     hard_free(&h);
     /* Ties: two identical objects, room for one upgrade — the lower object_id gets it, every run. */

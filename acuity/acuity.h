@@ -1,13 +1,14 @@
-/* acuity: what can be seen. Reddy's visual acuity model (Reddy 1998 eqs. 1–5), per-object viewing
- * geometry batched over plain arrays, and the acuity limit per object (the selectors that use it are
- * in lod/). Prefix acu_. Knows nothing of OpenGL, files or devices; allocates nothing. Angles in degrees
- * (as the paper). */
+/* acuity: what can be seen. Reddy's visual acuity model (Reddy 1998 eqs. 1–5), contrast sensitivity
+ * (csf.h), per-object viewing geometry batched over plain arrays, and the acuity limit per object
+ * (the selectors that use it are in lod/). Prefix acu_. Knows nothing of OpenGL, files or devices;
+ * allocates nothing. Angles in degrees (as the paper). */
 #ifndef HMDLOD_ACUITY_H
 #define HMDLOD_ACUITY_H
 
 #include "base/base.h"
 #include "acuity/gaze.h"    /* gaze models: head-locked, VOR, tracked */
 #include "acuity/saccade.h" /* saccades and their suppression window */
+#include "acuity/csf.h"     /* contrast sensitivity: castleCSF, stelaCSF */
 
 /* ---- Reddy's model --------------------------------------------------------------------------
  * Preconditions for the three below: inputs are not NaN (check at the boundary with

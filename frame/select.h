@@ -17,11 +17,14 @@
 enum frm_correction { FRM_CORRECTION_OFF = 0, FRM_CORRECTION_RATIO = 1, FRM_CORRECTION_AFFINE = 2 };
 enum { FRM_CORRECTION_WARMUP_FRAMES = 5 };
 /* fs drops objects only when even the coarsest levels do not fit, and never one whose estimated
- * coverage is at least this share of all eyes' pixels (about 13 000 pixels an eye on a Vive, an
- * 11° square): a hole that size shows at any eccentricity, whatever it saves. A room's walls, floor
- * and stage fill 5–40 % each; dropping them held a load-shrunk budget by showing an empty room. mb
- * chooses among group impostors and does not use it yet. */
-#define FRM_KEEP_IMAGE_SHARE 0.01
+ * coverage is at least this share of all eyes' pixels (about 26 000 pixels an eye on a Vive, a
+ * 160-pixel square): a hole that size shows at any eccentricity, whatever it saves. A room's walls,
+ * floor and ceiling fill 5–40 % of the image each, its stage about 3 %; dropping them held a
+ * load-shrunk budget by showing an empty room. On the auditorium at full resolution (users 1–2,
+ * docs/RESULTS.md "Honest speed") 1 % kept so many chairs that frames ran 12–16 ms; 5 % let the
+ * stage go; 2 % kept the room and the nearest rows within the budget on 93–94 % of the frames.
+ * mb chooses among group impostors and does not use it yet. */
+#define FRM_KEEP_IMAGE_SHARE 0.02
 
 enum frm_selector {
     FRM_SELECT_NONE = 0,

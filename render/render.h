@@ -54,6 +54,9 @@ int rnd_png_write(const char *path, const uint8_t *rgba, int width_px, int heigh
 /* ---- image error against a reference frame (PSNR, SSIM, foveated SSIM) ------------------ */
 #include "render/image_error.h"
 
+/* ---- FLIP, the error seen flipping between a frame and its reference (LDR-FLIP, HPG 2020) ---- */
+#include "render/flip.h"
+
 /* ---- the machine cost model and its profile (PAPERS.md §2, §5) ------------------------------ */
 #include "render/cost.h"
 

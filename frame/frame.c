@@ -254,6 +254,14 @@ int frm_frame_reference(struct frm_session *s, struct frm_frame_record *rec, uin
     rnd_renderer_size(s->renderer, &width, &height);
     if (rnd_image_error_compute(w, test, ref, width, height, 2, gaze, reddy_weight, NULL, &rec->image, err) != 0)
         return -1;
+    /* FLIP's observer: the pixels per degree at the centre of the eye images (horizontal, the eyes'
+     * mean): a rendered eye of W px spans tan_left + tan_right on the image plane at distance 1. */
+    double ppd = 0.0;
+    for (int e = 0; e < 2; ++e)
+        ppd += 0.5 * (width / 2) / (s->eyes[e].tan_left + s->eyes[e].tan_right) / HL_DEG_PER_RAD;
+    rec->flip_ppd = ppd;
+    if (rnd_flip_compute(test, ref, width, height, 2, ppd, &rec->flip, NULL, err) != 0)
+        return -1;
     rec->has_image_error = 1;
     return 0;
 }

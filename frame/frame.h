@@ -149,8 +149,10 @@ struct frm_frame_record {
     long minor_faults;        /* pages the process faulted in during the frame (getrusage, all threads) */
     struct frm_select_record sel;
     double visible_error;     /* frm_select_visible_error, outside the frame's timing */
-    int has_image_error;      /* a --reference frame: image holds its comparison */
+    int has_image_error;      /* a --reference frame: image and flip hold its comparison */
     struct rnd_image_error image;
+    struct rnd_flip_result flip; /* LDR-FLIP (render/flip.h) at flip_ppd, the eye images' centre */
+    double flip_ppd;
 };
 
 /* Before the visible set: moves the scene to time t_s (scene/motion.h): instance poses, bounding-
@@ -178,8 +180,9 @@ int frm_frame_warm_up(struct frm_session *s, struct hl_error *err);
 /* After frm_frame_run (and any capture of it): reads the frame back into test (unless test_read: a
  * capture has just read it there), draws the same visible objects at their finest levels from the
  * same eyes into ref, and compares them (render/image_error.h) with the foveated weights M(E) around
- * the frame's gaze; fills rec->image and has_image_error. Both buffers hold the renderer's whole
- * image; w fits it. Outside the frame's timing. */
+ * the frame's gaze, and by LDR-FLIP (render/flip.h, which allocates its scratch per call) at the
+ * pixels per degree of the eye images' centre; fills rec->image, flip, flip_ppd and has_image_error.
+ * Both buffers hold the renderer's whole image; w fits it. Outside the frame's timing. */
 int frm_frame_reference(struct frm_session *s, struct frm_frame_record *rec, uint8_t *test, int test_read,
                         uint8_t *ref, struct rnd_image_error_work *w, struct hl_error *err);
 

@@ -15,7 +15,9 @@
  *   5. the pixel's error = colour error^(1 − feature error).
  * Both convolutions are separable. Each eye is swept row by row: a source row is converted and
  * filtered horizontally into a ring of the 2R + 1 rows the vertical pass needs (R the larger of the two
- * radii), so the scratch is a few rows per eye plus one double per pixel for the pooling. */
+ * radii), so the scratch is a few rows per eye plus one double per pixel for the pooling. A pixel
+ * whose filtered values are equal in both images has error exactly 0 and skips the conversions, and
+ * only the nonzero errors are sorted for the weighted percentiles (zeros weigh nothing). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -268,6 +270,16 @@ static void flip_eye(struct flip_scratch *s, const uint8_t *const img[2], int wi
 
         const double *a0 = s->acc, *a1 = s->acc + (size_t)V_CHANNELS * (size_t)ew;
         for (int x = 0; x < ew; ++x) {
+            size_t i = (size_t)y * (size_t)width_px + (size_t)x0 + (size_t)x;
+            int same = 1; /* equal filtered values: HyAB 0, features 0, error exactly 0 */
+            for (int c = 0; c < V_CHANNELS && same; ++c)
+                same = a0[c * ew + x] == a1[c * ew + x];
+            if (same) {
+                s->values[i] = 0.0;
+                if (error_map)
+                    error_map[i] = 0.0f;
+                continue;
+            }
             double lab0[3], lab1[3];
             ycxcz_to_hunt_lab(a0[V_Y * ew + x], a0[V_CX * ew + x], a0[V_CZ * ew + x], lab0);
             ycxcz_to_hunt_lab(a1[V_Y * ew + x], a1[V_CX * ew + x], a1[V_CZ * ew + x], lab1);
@@ -283,7 +295,6 @@ static void flip_eye(struct flip_scratch *s, const uint8_t *const img[2], int wi
             double feature = pow(d / sqrt(2.0), RND_FLIP_QF);
 
             double e = pow(colour, 1.0 - feature);
-            size_t i = (size_t)y * (size_t)width_px + (size_t)x0 + (size_t)x;
             s->values[i] = e;
             if (error_map)
                 error_map[i] = (float)e;
@@ -358,21 +369,26 @@ int rnd_flip_compute(const uint8_t *test, const uint8_t *reference, int width_px
     for (int e = 0; e < eyes; ++e)
         flip_eye(&s, img, width_px, height_px, e * s.eye_w, srgb_to_linear, cmax, error_map);
 
+    /* Zeros add nothing to the weighted sums, so only the nonzero errors are sorted (a frame that
+     * differs from its reference in a few objects sorts a few pixels). */
     double sum = 0.0, lo = INFINITY, hi = -INFINITY;
+    size_t nonzero = 0;
     for (size_t i = 0; i < pixels; ++i) {
         double v = s.values[i];
         sum += v;
         lo = v < lo ? v : lo;
         hi = v > hi ? v : hi;
+        if (v != 0.0)
+            s.values[nonzero++] = v;
     }
-    qsort(s.values, pixels, sizeof *s.values, cmp_double);
+    qsort(s.values, nonzero, sizeof *s.values, cmp_double);
     double total = 0.0; /* summed in the order the percentiles walk */
-    for (size_t i = 0; i < pixels; ++i)
+    for (size_t i = 0; i < nonzero; ++i)
         total += s.values[i];
     out->mean = sum / (double)pixels;
-    out->weighted_median = weighted_percentile(s.values, pixels, total, 0.5);
-    out->weighted_q1 = weighted_percentile(s.values, pixels, total, 0.25);
-    out->weighted_q3 = weighted_percentile(s.values, pixels, total, 0.75);
+    out->weighted_median = weighted_percentile(s.values, nonzero, total, 0.5);
+    out->weighted_q1 = weighted_percentile(s.values, nonzero, total, 0.25);
+    out->weighted_q3 = weighted_percentile(s.values, nonzero, total, 0.75);
     out->min = lo;
     out->max = hi;
     scratch_free(&s);

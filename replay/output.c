@@ -21,7 +21,7 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
         fprintf(o->csv, ",lod%d", k);
     fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
           "over_budget,underused_drop,dropped_px_share,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,visible_error,"
-          "psnr_db,ssim,ssim_rgb,fssim,fssim_e0,fssim_e1,fssim_e2,fssim_e3,px_over_32,acuity_us,select_us,"
+          "psnr_db,ssim,ssim_rgb,fssim,fssim_e0,fssim_e1,fssim_e2,fssim_e3,px_over_32,flip_mean,flip_median,flip_max,acuity_us,select_us,"
           "optimizer_us,draw_ms,frame_ms,deadline_met,minor_faults\n", o->csv);
     return 0;
 }
@@ -37,11 +37,11 @@ static void write_optional(FILE *f, const char *format, double v)
         fprintf(f, format, v);
 }
 
-/* --reference frames' columns (render/image_error.h); empty on other frames. */
+/* --reference frames' columns (render/image_error.h, render/flip.h); empty on other frames. */
 static void write_image_error(FILE *f, const struct frm_frame_record *r)
 {
     if (!r->has_image_error) {
-        fputs(",,,,,,,,,", f);
+        fputs(",,,,,,,,,,,,", f);
         return;
     }
     const struct rnd_image_error *e = &r->image;
@@ -52,6 +52,7 @@ static void write_image_error(FILE *f, const struct frm_frame_record *r)
     for (int b = 0; b < RND_ECC_BANDS; ++b)
         write_optional(f, ",%.6f", e->fssim_band[b]);
     write_optional(f, ",%.6f", e->px_over_32_share);
+    fprintf(f, ",%.6f,%.6f,%.6f", r->flip.mean, r->flip.weighted_median, r->flip.max);
 }
 
 void rpl_output_row(struct rpl_output *o, const struct frm_frame_record *r, int max_lods)
@@ -182,6 +183,11 @@ static void accumulate_image_error(struct rpl_accumulator *a, const struct frm_f
     for (int b = 0; b < RND_ECC_BANDS; ++b)
         if (isfinite(e->fssim_band[b]))
             a->ref_band_sum[b] += e->fssim_band[b], a->ref_band_n[b]++;
+    a->ref_flip_sum += r->flip.mean;
+    a->ref_flip_median_sum += r->flip.weighted_median;
+    a->ref_flip_mean_max = fmax(a->ref_flip_mean_max, r->flip.mean);
+    a->ref_flip_max = fmax(a->ref_flip_max, r->flip.max);
+    a->ref_flip_ppd = r->flip_ppd;
 }
 
 void rpl_accumulate(struct rpl_accumulator *a, const struct frm_frame_record *r)
@@ -258,6 +264,11 @@ static void finish_image_error(struct rpl_accumulator *a, struct rpl_summary *s)
     s->fssim_mean = a->ref_n ? a->ref_fssim_sum / n : NAN;
     s->px_over_32_share_mean = a->ref_n ? a->ref_over32_sum / n : NAN;
     s->visible_error_reference_mean = a->ref_n ? a->ref_visible_sum / n : NAN;
+    s->flip_ppd = a->ref_n ? a->ref_flip_ppd : NAN;
+    s->flip_mean = a->ref_n ? a->ref_flip_sum / n : NAN;
+    s->flip_median_mean = a->ref_n ? a->ref_flip_median_sum / n : NAN;
+    s->flip_mean_max = a->ref_n ? a->ref_flip_mean_max : NAN;
+    s->flip_max = a->ref_n ? a->ref_flip_max : NAN;
     for (int b = 0; b < RND_ECC_BANDS; ++b)
         s->fssim_band_mean[b] = a->ref_band_n[b] ? a->ref_band_sum[b] / (double)a->ref_band_n[b] : NAN;
     hl_sort_doubles(a->ref_psnr_db, (size_t)stored);
@@ -367,6 +378,12 @@ static void add_image_error(cJSON *root, const struct rpl_summary *s)
     }
     add_number_or_null(e, "px_over_32_share_mean", s->px_over_32_share_mean);
     add_number_or_null(e, "visible_error_mean", s->visible_error_reference_mean);
+    cJSON *flip = cJSON_AddObjectToObject(e, "flip");
+    add_number_or_null(flip, "ppd", s->flip_ppd);
+    add_number_or_null(flip, "mean", s->flip_mean);
+    add_number_or_null(flip, "mean_max", s->flip_mean_max);
+    add_number_or_null(flip, "weighted_median_mean", s->flip_median_mean);
+    add_number_or_null(flip, "max", s->flip_max);
 }
 
 int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct hl_out *out, struct hl_error *err)
@@ -516,6 +533,9 @@ static void print_image_error(FILE *f, const struct rpl_summary *s)
     }
     fprintf(f, "\n    %-32s %10.2f %%\n", "pixels off by > 32 levels", 100.0 * s->px_over_32_share_mean);
     fprintf(f, "    %-32s %10.4f\n", "predicted visible error (these)", s->visible_error_reference_mean);
+    fprintf(f, "    %-32s %10.4f mean, %.4f worst frame, %.4f weighted median, %.4f worst pixel\n", "FLIP (LDR)",
+            s->flip_mean, s->flip_mean_max, s->flip_median_mean, s->flip_max);
+    fprintf(f, "    %-32s %10.2f\n", "  at pixels per degree", s->flip_ppd);
 }
 
 void rpl_summary_print(FILE *f, const struct rpl_summary *s)

@@ -186,6 +186,10 @@ struct rpl_summary {
     double fssim_band_mean[4];
     double px_over_32_share_mean;          /* pixels with a channel off by more than 32 levels */
     double visible_error_reference_mean;   /* predicted visible error over the compared frames only */
+    /* LDR-FLIP (render/flip.h) at flip_ppd, the eye images' centre: the mean and weighted median of
+     * each frame's error map, averaged over the compared frames; the largest frame mean; the largest
+     * pixel error of any compared frame. */
+    double flip_ppd, flip_mean, flip_median_mean, flip_mean_max, flip_max;
 };
 
 /* Runs the replay and writes DIR/frames.csv, DIR/summary.json and PNG captures. */

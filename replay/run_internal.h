@@ -55,6 +55,7 @@ struct rpl_accumulator {
     double ref_psnr_sum, ref_ssim_sum, ref_ssim_rgb_sum, ref_fssim_sum, ref_over32_sum, ref_visible_sum;
     double ref_band_sum[RND_ECC_BANDS];
     long ref_band_n[RND_ECC_BANDS];
+    double ref_flip_sum, ref_flip_median_sum, ref_flip_mean_max, ref_flip_max, ref_flip_ppd; /* LDR-FLIP */
 };
 /* frames: the run's frame count; references: how many of them are --reference frames (0 for none). */
 int rpl_accumulator_init(struct rpl_accumulator *a, long frames, long references, struct hl_error *err);

@@ -3,7 +3,8 @@
  * replay` compared with NVIDIA's FLIP tool (built from ../shared/oracles/flip with its build.sh into
  * the build tree, once) to 1e-3 on every pooled value it prints with -txt. The tool filters the image
  * it is given as one, so each eye is cropped into its own PNG for it; our stereo result must equal the
- * two eyes' results put side by side. Exits 77 after the known answers when g++, the oracle's source
+ * two eyes' results put side by side; replay --reference's FLIP columns must be ours on the frame and
+ * the reference it writes beside it. Exits 77 after the known answers when g++, the oracle's source
  * or the hmdlod program is absent. */
 #include "render/render.h"
 #include "test_util.h"
@@ -202,7 +203,7 @@ static int run_tool(const char *tool, const char *dir, const char *name, const c
                     double ppd, double v[6])
 {
     char cmd[20000], txt[4200];
-    snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=1 '%s' -r '%s' -t '%s' -ppd %.9g -d '%s' -b '%s' -txt -nerm -v 0", tool,
+    snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=1 '%s' -r '%s' -t '%s' -ppd %.9g -d '%s' -b '%s' -txt -nerm -v 0 >/dev/null", tool,
              ref_png, test_png, ppd, dir, name);
     if (system(cmd) != 0)
         return -1;
@@ -302,6 +303,65 @@ static void compare_pair(const char *tool, const char *dir, const char *label, c
     free(eye_map[0]), free(eye_map[1]), free(whole), free(stereo), free(ref), free(test);
 }
 
+/* The value of column `name` in frame `frame`'s row of a frames.csv, found by the header; NAN if absent. */
+static double csv_value(const char *csv, long frame, const char *name)
+{
+    char key[80];
+    snprintf(key, sizeof key, ",%s,", name);
+    const char *at = strstr(csv, key), *eol = strchr(csv, '\n');
+    if (!at || !eol || at > eol)
+        return NAN;
+    int column = 0; /* commas before the value */
+    for (const char *c = csv; c <= at; ++c)
+        column += *c == ',';
+    const char *line = csv;
+    for (long k = -1; k < frame && line; ++k)
+        line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL;
+    for (int commas = 0; line && *line && *line != '\n' && commas < column; ++line)
+        commas += *line == ',';
+    if (!line || *line == ',' || *line == '\n')
+        return NAN;
+    return strtod(line, NULL);
+}
+
+/* `hmdlod replay --reference 1`: frames.csv's FLIP columns are rnd_flip_compute of the capture against
+ * the reference written beside it, both eyes apart, at the ppd summary.json names; that pair is
+ * also checked against the tool. */
+static void check_replay_reference(const char *tool, const char *dir)
+{
+    char path[4200], cap[4200], ref[4200];
+    snprintf(path, sizeof path, "%s/refrun/summary.json", dir);
+    size_t size = 0;
+    char *json = tu_read_file(path, &size);
+    snprintf(path, sizeof path, "%s/refrun/frames.csv", dir);
+    char *csv = tu_read_file(path, &size);
+    CHECK(json && csv);
+    const char *at = json ? strstr(json, "\"flip\"") : NULL;
+    const char *ppd_at = at ? strstr(at, "\"ppd\":") : NULL;
+    double ppd = ppd_at ? strtod(ppd_at + 6, NULL) : NAN;
+    CHECK(isfinite(ppd) && ppd > 0.0);
+    snprintf(cap, sizeof cap, "%s/refrun/frame_000001.png", dir);
+    snprintf(ref, sizeof ref, "%s/refrun/frame_000001_reference.png", dir);
+    int w = 0, h = 0, rw = 0, rh = 0;
+    uint8_t *test = png_read_rgba(cap, &w, &h), *reference = png_read_rgba(ref, &rw, &rh);
+    CHECK(test && reference && w == rw && h == rh);
+    if (csv && test && reference && isfinite(ppd) && w == rw && h == rh) {
+        struct hl_error err = {""};
+        struct rnd_flip_result r;
+        CHECK(rnd_flip_compute(test, reference, w, h, 2, ppd, &r, NULL, &err) == 0);
+        double mean = csv_value(csv, 1, "flip_mean"), median = csv_value(csv, 1, "flip_median"),
+               max = csv_value(csv, 1, "flip_max");
+        printf("replay --reference frame 1   ppd %6.2f  frames.csv mean %.6f  median %.6f  max %.6f\n", ppd, mean,
+               median, max);
+        CHECK_NEAR(mean, r.mean, 1e-6);
+        CHECK_NEAR(median, r.weighted_median, 1e-6);
+        CHECK_NEAR(max, r.max, 1e-6);
+        CHECK(isnan(csv_value(csv, 1, "no_such_column")));
+        compare_pair(tool, dir, "replay reference frame 1", ref, cap, ppd, 0.005);
+    }
+    free(test), free(reference), free(json), free(csv);
+}
+
 /* Where this program lives: the oracle is built beside it, in the build tree, and kept. */
 static int exe_dir(char *out, size_t size)
 {
@@ -354,6 +414,7 @@ static int test_against_nvidia(void)
         {"none", "--selector none"},
         {"reddy", "--selector reddy --acuity-scale 0.5"},
         {"static", "--selector static --static-px 100000"},
+        {"refrun", "--selector static --static-px 100000 --reference 1"},
     };
     for (size_t k = 0; k < sizeof runs / sizeof runs[0]; ++k) {
         snprintf(cmd, sizeof cmd,
@@ -367,21 +428,24 @@ static int test_against_nvidia(void)
     snprintf(reddy1, sizeof reddy1, "%s/reddy/frame_000001.png", dir);
     snprintf(static0, sizeof static0, "%s/static/frame_000000.png", dir);
     snprintf(static1, sizeof static1, "%s/static/frame_000001.png", dir);
-    char none0[4200];
+    char none0[4200], reddy0[4200];
     snprintf(none0, sizeof none0, "%s/none/frame_000000.png", dir);
+    snprintf(reddy0, sizeof reddy0, "%s/reddy/frame_000000.png", dir);
 
-    /* The Vive's pixels per degree at this scale: a quarter of its 1080 px per eye over the horizontal
-     * field of view (hmd_eye_frustum's tangents). */
+    /* The Vive's pixels per degree at the centre of its eye image at render scale 1 (≈ 7.1: the
+     * filters reach a pixel or two; replay --reference uses the same formula at its own scale, ≈ 1.8
+     * here, where FLIP is nearly a per-pixel colour difference) and the tool's default, ≈ 67. */
     struct hl_error err = {""};
     struct hmd_profile vive;
     CHECK(hmd_profile_load("vive", &vive, &err) == 0);
     struct hmd_eye eye = hmd_eye_frustum(&vive, HMD_EYE_LEFT);
-    double fov_deg = (atan(eye.tan_left) + atan(eye.tan_right)) * HL_DEG_PER_RAD;
-    double vive_ppd = 0.25 * vive.eye_width_px / fov_deg;
+    double vive_ppd = vive.eye_width_px / (eye.tan_left + eye.tan_right) / HL_DEG_PER_RAD;
 
     compare_pair(tool, dir, "reddy/none frame 1", none1, reddy1, RND_FLIP_DEFAULT_PPD, 1e-4);
     compare_pair(tool, dir, "static/none frame 1", none1, static1, RND_FLIP_DEFAULT_PPD, 0.005);
     compare_pair(tool, dir, "static/none frame 0 (Vive)", none0, static0, vive_ppd, 0.005);
+    compare_pair(tool, dir, "reddy/none frame 0 (Vive)", none0, reddy0, vive_ppd, 1e-4);
+    check_replay_reference(tool, dir);
     printf("largest difference from NVIDIA's tool: %.2e (tolerance %.0e)\n", worst_difference, ORACLE_TOL);
 
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);

@@ -42,6 +42,48 @@ struct rnd_image_diff {
 int rnd_image_compare(const uint8_t *rgba_a, const uint8_t *rgba_b, int width_px, int height_px,
                       double threshold_de, int min_component_px, struct rnd_image_diff *out, struct hl_error *err);
 
+/* ---- the lost-contrast spectrum (docs/analysis.md, "Lost contrast") ----------------------------
+ * Peli's (1990) band-limited contrast of the difference between two renders of one view: Laplacian
+ * pyramids (Burt & Adelson 1983, 5-tap binomial [1 4 6 4 1]/16) of both images' relative luminance
+ * Y (sRGB EOTF, BT.709 weights, white = 1); in pyramid level j,
+ *     c_j(x) = |Lap_j(ref)(x) − Lap_j(test)(x)| / max(expand(G_{j+1}(ref))(x), RND_CONTRAST_FLOOR_Y) / g_j,
+ * where g_j is the level's gain for a sinusoid at its centre frequency (so a grating of Michelson
+ * contrast c at the centre reads c, the unit a CSF threshold is in). Level j is centred on
+ * 1/2^(j+2) cycles per pixel, i.e. diameter_px / 2^(j+2) cycles per object diameter; band b
+ * (f_b = 2^b c/diam) takes the level nearest in log frequency, j = round(log2(diameter_px) − 2 − b). */
+enum { RND_CONTRAST_MAX_BANDS = SCN_LODSET_MAX_BANDS };
+/* Local means below this relative luminance count as this: a difference on a black field would
+ * otherwise be an infinite contrast. 1e-3 of white (0.1 cd/m² on a 100 cd/m² display, about a
+ * panel's black level); the analysis renders' background (0.1, 0.1, 0.12) is Y ≈ 0.010, above it. */
+#define RND_CONTRAST_FLOOR_Y 1e-3
+
+struct rnd_contrast_params {
+    double diameter_px;        /* the object's diameter in the images, px, ≥ 4 (band 0 needs 4 px) */
+    double percentile;         /* of each band's object pixels, (0, 100]; 100 = the maximum */
+    uint8_t background_rgb[3]; /* a pixel with these bytes is background; object = not so in either image */
+    /* −1: every object pixel counts. k ≥ 0: drop silhouette pixels — in level j, those whose 2^j-px
+     * block holds or touches (8-neighbour) a background pixel of either image, dilated by k level-j
+     * pixels (the 5-tap kernel reaches 2). */
+    int silhouette_reach;
+};
+/* Defaults: the 99th percentile, the renderer's clear colour as background, silhouettes kept. */
+void rnd_contrast_params_defaults(struct rnd_contrast_params *p, double diameter_px);
+
+struct rnd_contrast_spectrum {
+    int band_count;                           /* bands 0 … band_count−1 resolved by the images */
+    double contrast[RND_CONTRAST_MAX_BANDS];  /* the percentile; NaN when the band has no pixel */
+    double max_contrast[RND_CONTRAST_MAX_BANDS]; /* the maximum over the same pixels (for comparison) */
+    double centre_cpdiam[RND_CONTRAST_MAX_BANDS]; /* the level's own centre, diameter_px / 2^(j+2) */
+    int level[RND_CONTRAST_MAX_BANDS];        /* pyramid level j of the band */
+    uint32_t pixels[RND_CONTRAST_MAX_BANDS];  /* level-j pixels the percentile was taken over */
+};
+/* Lost-contrast spectrum of test against ref (RGBA8, width × height, rows top to bottom, alpha
+ * ignored). Allocates its scratch (two pyramids in double, ~2.7 × 8 bytes a pixel) per call: it runs
+ * offline. Returns 0, or −1 with a message on bad arguments or no memory. */
+int rnd_contrast_spectrum(const uint8_t *rgba_ref, const uint8_t *rgba_test, int width_px, int height_px,
+                          const struct rnd_contrast_params *p, struct rnd_contrast_spectrum *out,
+                          struct hl_error *err);
+
 /* ---- analysing a chain ------------------------------------------------------------------------ */
 struct rnd_analyze_params {
     int views;               /* 6 (±X, ±Y, ±Z) or 18 (plus the 12 cube-edge midpoints) */

@@ -46,7 +46,7 @@ static void rnd_linear_to_luv(const double lin[3], double luv[3])
 static double rnd_srgb_lut[256];
 static int rnd_srgb_lut_ready;
 
-static const double *rnd_srgb_table(void)
+const double *rnd_srgb_decode_table(void)
 {
     if (!rnd_srgb_lut_ready) {
         for (int i = 0; i < 256; ++i)
@@ -58,7 +58,7 @@ static const double *rnd_srgb_table(void)
 
 void rnd_srgb8_to_luv(const uint8_t rgb[3], double luv_out[3])
 {
-    const double *t = rnd_srgb_table();
+    const double *t = rnd_srgb_decode_table();
     double lin[3] = {t[rgb[0]], t[rgb[1]], t[rgb[2]]};
     rnd_linear_to_luv(lin, luv_out);
 }

@@ -7,6 +7,9 @@
 #include "scene/mesh.h"
 
 enum { SCN_LODSET_MAX_LEVELS = 8 };
+/* Octave bands of the lost-contrast spectrum (render/analyze.h): band b is centred on 2^b cycles per
+ * object diameter, so 12 bands reach 2048 c/diam, beyond the 2048-px analysis limit's 512. */
+enum { SCN_LODSET_MAX_BANDS = 12 };
 
 /* Spatial-frequency table of one level: the highest frequency it loses against the next finer
  * level, in cycles per object diameter (Reddy 1998 §3.2). Level 0 loses nothing: +INFINITY.

@@ -11,8 +11,9 @@ static const char analyze_usage[] =
     "                      [--dump DIR]\n"
     "  Renders every level headless from the view sphere, compares successive levels in CIELUV\n"
     "  and stores each level's image-based frequencies (narrow and long readings, cycles per object\n"
-    "  diameter) in the file, which is rewritten atomically. Prints them beside the geometric\n"
-    "  estimate. docs/analysis.md describes the method.\n"
+    "  diameter) and its lost-contrast spectrum against level 0 in the file, which is rewritten\n"
+    "  atomically (as format version 2). Prints them beside the geometric estimate.\n"
+    "  docs/analysis.md describes the method.\n"
     "  --views N        6 (+-X, +-Y, +-Z) or 18 (plus the cube-edge midpoints; default 18)\n"
     "  --size PX        pixels across the bounding diameter, 16..2048 (default 256)\n"
     "  --threshold DE   CIE 1976 Delta E*uv above which a pixel differs, (0, 100] (default 2.3)\n"
@@ -58,6 +59,19 @@ static void print_table(const char *path, const struct scn_lodset *set, const st
             printf("  %llu px, %u regions (+%u noise), %.1f / %.1f px (views %d / %d)%s\n",
                    (unsigned long long)L->differing_px, L->components, L->noise_components, L->narrow_extent_px,
                    L->long_extent_px, L->narrow_view, L->long_view, L->clamped ? "; clamped below the finer level" : "");
+    }
+    if (set->contrast_band_count < 1)
+        return;
+    printf("lost contrast against level 0 (band-limited, Peli 1990; %g-th percentile of each view's object pixels, "
+           "the largest over views), band centres in c/diam:\n%5s", set->contrast_percentile, "level");
+    for (int b = 0; b < set->contrast_band_count; ++b)
+        printf(" %7g", ldexp(1.0, b));
+    printf("\n");
+    for (int l = 1; l < set->level_count; ++l) {
+        printf("%5d", l);
+        for (int b = 0; b < set->contrast_band_count; ++b)
+            printf(" %7.4f", set->lost_contrast[l][b]);
+        printf("\n");
     }
 }
 
@@ -149,8 +163,9 @@ int cmd_analyze(int argc, char **argv)
         return 1;
     }
     print_table(path, &set, &p, &rep);
-    printf("time: %.3f s analysis (%u renders %.3f s, comparisons %.3f s) + %.3f s EGL context = %.3f s; wrote %s\n",
-           rep.total_s, rep.renders, rep.render_s, rep.compare_s, t_egl, rep.total_s + t_egl, path);
+    printf("time: %.3f s analysis (%u renders %.3f s, comparisons %.3f s of which contrast spectra %.3f s) + %.3f s "
+           "EGL context = %.3f s; wrote %s\n",
+           rep.total_s, rep.renders, rep.render_s, rep.compare_s, rep.contrast_s, t_egl, rep.total_s + t_egl, path);
     scn_lodset_free(&set);
     return 0;
 }

@@ -19,6 +19,7 @@ void rnd_analyze_params_defaults(struct rnd_analyze_params *p)
     p->size_px = 256;
     p->threshold_de = 2.3;
     p->min_component_px = 3;
+    p->contrast_percentile = 99.0;
 }
 
 int rnd_analyze_params_check(const struct rnd_analyze_params *p, struct hl_error *err)
@@ -33,6 +34,8 @@ int rnd_analyze_params_check(const struct rnd_analyze_params *p, struct hl_error
         return hl_fail(err, "analyze: threshold: ΔE %g outside (0, 100]", p->threshold_de);
     if (p->min_component_px < 1 || p->min_component_px > 1000)
         return hl_fail(err, "analyze: min component: %d px outside [1, 1000]", p->min_component_px);
+    if (!(p->contrast_percentile > 0.0) || !(p->contrast_percentile <= 100.0))
+        return hl_fail(err, "analyze: contrast percentile: %g outside (0, 100]", p->contrast_percentile);
     return 0;
 }
 
@@ -260,8 +263,9 @@ int rnd_analyze_lodset(struct rnd_renderer *r, struct scn_lodset *set, const str
     int rc = -1;
     if (rnd_analyze_scene(set, &scene, err) != 0)
         goto done_noscene;
-    /* Two images (the previous level's and this one's), allocated once for every view. */
-    img = malloc(2 * (size_t)size * (size_t)size * 4);
+    /* Three images (the previous level's, this one's and level 0's, which every level's spectrum is
+     * taken against), allocated once for every view. */
+    img = malloc(3 * (size_t)size * (size_t)size * 4);
     if (!img || rnd_diff_work_init(&work, size, size) != 0) {
         hl_fail(err, "analyze: out of memory for %d×%d images", size, size);
         goto done;
@@ -280,8 +284,16 @@ int rnd_analyze_lodset(struct rnd_renderer *r, struct scn_lodset *set, const str
     int views = rnd_analyze_view_dirs(p->views, dirs);
     const int rect[4] = {0, 0, size, size};
     uint32_t total = (uint32_t)(views * set->level_count);
-    for (int l = 1; l < set->level_count; ++l)
-        rep.levels[l].narrow_view = rep.levels[l].long_view = -1;
+    uint8_t *img0 = img + 2 * (size_t)size * size * 4;
+    struct rnd_contrast_params cp;
+    rnd_contrast_params_defaults(&cp, size);
+    cp.percentile = p->contrast_percentile;
+    for (int l = 0; l < set->level_count; ++l) {
+        struct rnd_analyze_level *L = &rep.levels[l];
+        L->narrow_view = L->long_view = l ? -1 : 0;
+        for (int b = 0; b < RND_CONTRAST_MAX_BANDS; ++b) /* level 0 loses nothing; NaN: no view yet */
+            L->lost_contrast[b] = l ? NAN : 0.0, L->lost_contrast_view[b] = -1;
+    }
     for (int v = 0; v < views; ++v) {
         /* The object turns, not the camera, so the renderer's light stays fixed in the view. */
         struct scn_instance *in = &scene.instances[0];
@@ -300,7 +312,23 @@ int rnd_analyze_lodset(struct rnd_renderer *r, struct scn_lodset *set, const str
             double t1 = hl_clock_now_s();
             rep.render_s += t1 - t0;
             rep.renders++;
+            if (l == 0) {
+                memcpy(img0, cur, (size_t)size * size * 4);
+                /* The background: a corner, outside the inscribed bounding circle in every view. */
+                memcpy(cp.background_rgb, cur, 3);
+            }
             if (l > 0) {
+                struct rnd_contrast_spectrum cs;
+                if (rnd_contrast_spectrum(img0, cur, size, size, &cp, &cs, err) != 0)
+                    goto done;
+                struct rnd_analyze_level *C = &rep.levels[l];
+                C->band_count = cs.band_count;
+                /* The most visible loss over views governs, band by band (as the extents do). */
+                for (int b = 0; b < cs.band_count; ++b)
+                    if (!isnan(cs.contrast[b]) && !(cs.contrast[b] <= C->lost_contrast[b]))
+                        C->lost_contrast[b] = cs.contrast[b], C->lost_contrast_view[b] = v;
+                double t2 = hl_clock_now_s();
+                rep.contrast_s += t2 - t1;
                 struct rnd_image_diff d;
                 rnd_diff_images(&work, prev, cur, p->threshold_de, p->min_component_px, &d);
                 struct rnd_analyze_level *L = &rep.levels[l];
@@ -332,6 +360,13 @@ int rnd_analyze_lodset(struct rnd_renderer *r, struct scn_lodset *set, const str
     }
     set->analysis_views = p->views;
     set->analysis_size_px = size;
+    /* The spectrum (every level l ≥ 1 has the same band count: it depends on size_px only). */
+    rep.levels[0].band_count = set->level_count > 1 ? rep.levels[1].band_count : 0;
+    set->contrast_band_count = rep.levels[0].band_count;
+    set->contrast_percentile = set->contrast_band_count ? p->contrast_percentile : 0.0;
+    for (int l = 0; l < set->level_count; ++l)
+        for (int b = 0; b < SCN_LODSET_MAX_BANDS; ++b)
+            set->lost_contrast[l][b] = b < set->contrast_band_count ? rep.levels[l].lost_contrast[b] : 0.0;
     rc = 0;
 done:
     scn_scene_free(&scene);

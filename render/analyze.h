@@ -93,8 +93,10 @@ struct rnd_analyze_params {
     void (*progress)(void *user, double fraction); /* optional, called after each render */
     void *progress_user;
     const char *dump_dir; /* optional, an existing folder: every render and difference mask as PNG */
+    double contrast_percentile; /* of each view's object pixels for the lost-contrast spectrum, (0, 100] */
 };
-void rnd_analyze_params_defaults(struct rnd_analyze_params *p); /* 18 views, 256 px, 2.3, 3 px */
+/* 18 views, 256 px, ΔE 2.3, 3 px, the 99th percentile. */
+void rnd_analyze_params_defaults(struct rnd_analyze_params *p);
 /* Checks a parameter set; −1 with a message naming the parameter otherwise. */
 int rnd_analyze_params_check(const struct rnd_analyze_params *p, struct hl_error *err);
 
@@ -109,12 +111,19 @@ struct rnd_analyze_level {
     int narrow_view, long_view;             /* the view they were seen from; −1 if none */
     int invisible;      /* no kept component from any view: nothing visible is lost at this size */
     int clamped;        /* a reading was lowered to keep the table strictly decreasing */
+    /* The lost-contrast spectrum against level 0 (not l−1: skipping levels cannot hide a loss):
+     * per band, the maximum over views of rnd_contrast_spectrum's percentile; NaN if no view had an
+     * object pixel in the band. The view that gave each maximum (−1 if none). Level 0: all 0. */
+    int band_count;
+    double lost_contrast[RND_CONTRAST_MAX_BANDS];
+    int lost_contrast_view[RND_CONTRAST_MAX_BANDS];
 };
 struct rnd_analyze_report {
     int level_count;
     struct rnd_analyze_level levels[SCN_LODSET_MAX_LEVELS];
     uint32_t renders;
     double render_s, compare_s, total_s; /* GPU draw + read-back, comparisons, whole call */
+    double contrast_s;                   /* of compare_s, the lost-contrast spectra */
 };
 
 /* The view directions (unit, from the centre towards the camera) for 6 or 18 views; returns the
@@ -124,7 +133,9 @@ int rnd_analyze_view_dirs(int views, double dirs_out[18][3]);
 /* Renders every level of `set` from the params' views with an orthographic camera (the bounding
  * diameter spans size_px), compares successive levels and fills set->freq[l].narrow_cpdiam and
  * .long_cpdiam (l ≥ 1; level 0 gets +INFINITY) = size_px / (2 · the level's largest narrow or long
- * extent), cycles per object diameter, set->analysis_views and set->analysis_size_px.
+ * extent), cycles per object diameter, set->analysis_views and set->analysis_size_px; compares
+ * every level with level 0 and fills the lost-contrast spectrum (set->lost_contrast,
+ * contrast_band_count, contrast_percentile).
  * The tables come out strictly decreasing; a level that loses nothing visible gets the largest value
  * below the previous level's, so the selector always takes it when it takes the previous one.
  * r: a renderer whose eyes are at least size_px square, whose uploaded scene this replaces; NULL

@@ -34,6 +34,14 @@ struct scn_lodset {
     uint64_t source_hash;                    /* FNV-1a 64 of the source mesh's welded arrays */
     char simplifier[16];                     /* "openmesh", "meshopt", "procedural", "impostor" */
     int analysis_views, analysis_size_px;    /* 0 until analysed */
+    /* The lost-contrast spectrum (render/analyze.h, docs/analysis.md): lost_contrast[l][b] is the
+     * band-limited contrast of level l's difference from level 0 in octave band b (2^b cycles per
+     * diameter), the contrast_percentile-th percentile of each view's object pixels, maximum over
+     * views; level 0 is 0 in every band. contrast_band_count 0: not measured (a version 1 .lod, or
+     * lodgen before analyze), the rest then unused. */
+    int contrast_band_count;
+    double contrast_percentile;
+    double lost_contrast[SCN_LODSET_MAX_LEVELS][SCN_LODSET_MAX_BANDS];
 };
 void scn_lodset_free(struct scn_lodset *set);
 

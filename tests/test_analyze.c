@@ -360,6 +360,18 @@ static void test_fin(struct rnd_renderer *r)
     CHECK(!rep.levels[1].invisible && rep.levels[1].components > 0 && !rep.levels[1].clamped);
     CHECK(set.analysis_views == 6 && set.analysis_size_px == 256);
     CHECK(rep.renders == 12);
+    /* The fin lost: 256 px resolve bands 1 … 64 c/diam; the fin (6.4 px thick, 20 c/diam as a
+     * half-cycle) is lost with contrast against the box and the background in the bands about it. */
+    CHECK(set.contrast_band_count == 7 && rep.levels[1].band_count == 7);
+    printf("fin, 6 views: lost contrast");
+    double fin_peak = 0;
+    for (int b = 0; b < set.contrast_band_count; ++b) {
+        printf(" %g:%.3f (view %d)", ldexp(1.0, b), set.lost_contrast[1][b], rep.levels[1].lost_contrast_view[b]);
+        CHECK(set.lost_contrast[1][b] >= 0 && set.lost_contrast[0][b] == 0.0);
+        fin_peak = set.lost_contrast[1][b] > fin_peak ? set.lost_contrast[1][b] : fin_peak;
+    }
+    printf("; contrast spectra %.3f s of %.3f s\n", rep.contrast_s, rep.total_s);
+    CHECK(fin_peak > 0.1);
 
     /* 18 views include the 6, so each reading can only fall (the largest extent over more views):
      * seen across a diagonal of its square section the rod is w·√2 wide, the most any view shows. */
@@ -394,6 +406,10 @@ static void test_fin(struct rnd_renderer *r)
     CHECK(rnd_analyze_lodset(r, &set, &p, &rep, &err) == 0);
     CHECK(rep.levels[1].differing_px == 0 && rep.levels[1].components == 0 && rep.levels[1].invisible);
     CHECK(set.freq[1].narrow_cpdiam == DBL_MAX && set.freq[1].long_cpdiam == DBL_MAX);
+    /* … and no contrast is lost in any band (the renders are byte-identical). */
+    CHECK(set.contrast_band_count == 7 && set.contrast_percentile == 99.0);
+    for (int b = 0; b < set.contrast_band_count; ++b)
+        CHECK(set.lost_contrast[1][b] == 0.0 && set.lost_contrast[0][b] == 0.0);
     scn_lodset_free(&set);
 }
 
@@ -490,6 +506,8 @@ static void test_field(struct rnd_renderer *r)
         struct rnd_analyze_report rep;
         CHECK(rnd_analyze_lodset(r, &set, &p, &rep, &err) == 0);
         CHECK(rep.renders == (uint32_t)(4 * views));
+        printf("field, %d views: %.3f s (renders %.3f s, comparisons %.3f s of which contrast spectra %.3f s)\n", views,
+               rep.total_s, rep.render_s, rep.compare_s, rep.contrast_s);
         CHECK(isinf(set.freq[0].narrow_cpdiam) && isinf(set.freq[0].long_cpdiam));
         for (int l = 1; l < 4; ++l) {
             const struct rnd_analyze_level *L = &rep.levels[l], *F = &rep.levels[l - 1];
@@ -506,6 +524,17 @@ static void test_field(struct rnd_renderer *r)
             /* Coarser levels lose more and larger: more pixels differ and the largest region grows. */
             if (l > 1)
                 CHECK(L->differing_px > F->differing_px && L->long_extent_px > F->long_extent_px);
+            printf("field, %d views, level %d: lost contrast against level 0:", views, l);
+            for (int b = 0; b < set.contrast_band_count; ++b)
+                printf(" %.3f", set.lost_contrast[l][b]);
+            printf("\n");
+            CHECK(L->band_count == 7 && set.contrast_band_count == 7);
+            /* Against level 0, so a coarser level's loss contains the finer one's: in the sum over
+             * bands it does not fall. */
+            double sum = 0, sum_f = 0;
+            for (int b = 0; b < 7; ++b)
+                sum += set.lost_contrast[l][b], sum_f += set.lost_contrast[l - 1][b];
+            CHECK(sum >= sum_f);
         }
     }
     /* The key check that the tables measure the model, not the pixel grid: the same analysis at

@@ -62,7 +62,7 @@ static void print_table(const char *path, const struct scn_lodset *set, const st
     }
     if (set->contrast_band_count < 1)
         return;
-    printf("lost contrast against level 0 (band-limited, Peli 1990; %g-th percentile of each view's object pixels, "
+    printf("lost contrast against level 0 (band-limited, Peli 1990; percentile %g of each view's object pixels, "
            "the largest over views), band centres in c/diam:\n%5s", set->contrast_percentile, "level");
     for (int b = 0; b < set->contrast_band_count; ++b)
         printf(" %7g", ldexp(1.0, b));

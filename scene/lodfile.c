@@ -18,12 +18,20 @@
 
 static const unsigned char scn_lod_magic[8] = {'H', 'M', 'D', 'L', 'O', 'D', 0, 1};
 
+/* Version 1: the chain and its frequency tables. Version 2 adds the lost-contrast spectrum: a
+ * 16-byte header tail (band count, reserved, percentile) and 12 f64 bands per level record. The
+ * writer writes version 1 when the set has no spectrum (contrast_band_count 0), so a file is only
+ * as new as what it holds; the reader reads both. */
 enum {
-    SCN_LOD_VERSION = 1,
-    SCN_LOD_HEADER_SIZE = 144,
+    SCN_LOD_VERSION = 2,
+    SCN_LOD_HEADER_SIZE = 144, /* version 1 */
     SCN_LOD_RECORD_SIZE = 72,
+    SCN_LOD_HEADER_SIZE_V2 = 160,
+    SCN_LOD_RECORD_SIZE_V2 = SCN_LOD_RECORD_SIZE + 8 * SCN_LODSET_MAX_BANDS, /* 168 */
     SCN_LOD_ALIGN = 16,
 };
+static uint32_t scn_lod_header_size(uint32_t version) { return version >= 2 ? SCN_LOD_HEADER_SIZE_V2 : SCN_LOD_HEADER_SIZE; }
+static uint32_t scn_lod_record_size(uint32_t version) { return version >= 2 ? SCN_LOD_RECORD_SIZE_V2 : SCN_LOD_RECORD_SIZE; }
 /* A .lod is read whole into memory; 2 GiB is far beyond any LOD chain this project draws (the
  * bunny's full chain is ~4 MB) and keeps every offset below 2^31. */
 #define SCN_LOD_MAX_BYTES ((uint64_t)1 << 31)
@@ -97,9 +105,10 @@ struct scn_lod_layout {
     uint64_t positions[SCN_LODSET_MAX_LEVELS], normals[SCN_LODSET_MAX_LEVELS], indices[SCN_LODSET_MAX_LEVELS];
     uint64_t crc_offset, file_size;
 };
-static void scn_lod_layout(int levels, const uint32_t *tris, const uint32_t *verts, struct scn_lod_layout *out)
+static void scn_lod_layout(uint32_t version, int levels, const uint32_t *tris, const uint32_t *verts,
+                           struct scn_lod_layout *out)
 {
-    uint64_t at = align_up(SCN_LOD_HEADER_SIZE + (uint64_t)SCN_LOD_RECORD_SIZE * (uint64_t)levels);
+    uint64_t at = align_up(scn_lod_header_size(version) + (uint64_t)scn_lod_record_size(version) * (uint64_t)levels);
     for (int l = 0; l < levels; ++l) {
         out->positions[l] = at;
         at = align_up(at + 12 * (uint64_t)verts[l]);
@@ -148,6 +157,9 @@ static int scn_lod_need(const char *label, uint64_t size, uint64_t off, uint64_t
                         (unsigned long long)size, SCN_LOD_HEADER_SIZE);
 }
 
+/* A lost-contrast reading: NaN (no object pixel in that band from any view) or finite and ≥ 0. */
+static int scn_lod_contrast_ok(double c) { return isnan(c) || (isfinite(c) && c >= 0); }
+
 /* Checks the bytes b[0 … size) and, when out is not NULL, decodes them into *out (which the
  * caller has zeroed and frees on failure). */
 static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *label, struct scn_lodset *out,
@@ -166,9 +178,9 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
         return SCN_LOD_FAIL(8, "format version 0 is not valid (this reads %d)", SCN_LOD_VERSION);
     if (scn_lod_need(label, size, 12, 4, "flags", err) || scn_lod_need(label, size, 16, 4, "header size", err))
         return -1;
-    uint32_t header_size = get_u32(b + 16);
-    if (header_size != SCN_LOD_HEADER_SIZE)
-        return SCN_LOD_FAIL(16, "header size %u, version 1 has %d", header_size, SCN_LOD_HEADER_SIZE);
+    uint32_t header_size = get_u32(b + 16), hsize = scn_lod_header_size(version), rsize = scn_lod_record_size(version);
+    if (header_size != hsize)
+        return SCN_LOD_FAIL(16, "header size %u, version %u has %u", header_size, version, hsize);
     if (scn_lod_need(label, size, 20, 4, "level count", err) || scn_lod_need(label, size, 24, 8, "file size", err))
         return -1;
     uint64_t declared = get_u64(b + 24);
@@ -176,9 +188,9 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
         return SCN_LOD_FAIL(24, "the header declares %llu bytes but the file has %llu (%s)",
                             (unsigned long long)declared, (unsigned long long)size,
                             size < declared ? "truncated" : "bytes appended or size corrupt");
-    if (size < SCN_LOD_HEADER_SIZE + 4)
-        return SCN_LOD_FAIL(24, "declared size %llu is too small for the %d-byte header and the CRC",
-                            (unsigned long long)size, SCN_LOD_HEADER_SIZE);
+    if (size < hsize + 4)
+        return SCN_LOD_FAIL(24, "declared size %llu is too small for the %u-byte header and the CRC",
+                            (unsigned long long)size, hsize);
     /* The checksum next: past it, a wrong field is a wrong writer, not a damaged file. */
     uint32_t stored = get_u32(b + size - 4), computed = scn_crc32(b, (size_t)(size - 4));
     if (stored != computed)
@@ -187,11 +199,11 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
 
     uint32_t flags = get_u32(b + 12);
     if (flags != 0)
-        return SCN_LOD_FAIL(12, "unknown flags 0x%08x (version 1 defines none)", flags);
+        return SCN_LOD_FAIL(12, "unknown flags 0x%08x (version %u defines none)", flags, version);
     uint32_t levels = get_u32(b + 20);
     if (levels < 1 || levels > SCN_LODSET_MAX_LEVELS)
         return SCN_LOD_FAIL(20, "%u levels (1…%d)", levels, SCN_LODSET_MAX_LEVELS);
-    if (SCN_LOD_HEADER_SIZE + (uint64_t)SCN_LOD_RECORD_SIZE * levels + 4 > size)
+    if (hsize + (uint64_t)rsize * levels + 4 > size)
         return SCN_LOD_FAIL(20, "%u level records do not fit in the %llu-byte file", levels, (unsigned long long)size);
 
     const unsigned char *name = b + 32;
@@ -218,11 +230,24 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
         return SCN_LOD_FAIL(136, "analysis view count %u too large", views);
     if (view_px > INT_MAX)
         return SCN_LOD_FAIL(140, "analysis size %u px too large", view_px);
+    uint32_t bands = 0;
+    double percentile = 0.0;
+    if (version >= 2) { /* the spectrum's header tail */
+        bands = get_u32(b + 144);
+        if (bands > SCN_LODSET_MAX_BANDS)
+            return SCN_LOD_FAIL(144, "%u contrast bands (0…%d)", bands, SCN_LODSET_MAX_BANDS);
+        if (get_u32(b + 148) != 0)
+            return SCN_LOD_FAIL(148, "reserved field 0x%08x is not 0", get_u32(b + 148));
+        percentile = get_f64(b + 152);
+        if (bands ? !(percentile > 0 && percentile <= 100) : percentile != 0)
+            return SCN_LOD_FAIL(152, "contrast percentile %g (%s)", percentile,
+                                bands ? "in (0, 100] with bands" : "0 without bands");
+    }
 
     uint32_t tris[SCN_LODSET_MAX_LEVELS], verts[SCN_LODSET_MAX_LEVELS];
     for (uint32_t l = 0; l < levels; ++l) {
-        const unsigned char *r = b + SCN_LOD_HEADER_SIZE + SCN_LOD_RECORD_SIZE * l;
-        uint64_t ro = SCN_LOD_HEADER_SIZE + SCN_LOD_RECORD_SIZE * (uint64_t)l;
+        const unsigned char *r = b + hsize + rsize * l;
+        uint64_t ro = hsize + rsize * (uint64_t)l;
         tris[l] = get_u32(r);
         verts[l] = get_u32(r + 4);
         if (tris[l] < 1 || tris[l] > UINT32_MAX / 3)
@@ -234,9 +259,9 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
             return SCN_LOD_FAIL(ro + 4, "level %u: %u vertices (at least 3)", l, verts[l]);
     }
     struct scn_lod_layout lay;
-    scn_lod_layout((int)levels, tris, verts, &lay);
+    scn_lod_layout(version, (int)levels, tris, verts, &lay);
     for (uint32_t l = 0; l < levels; ++l) {
-        uint64_t ro = SCN_LOD_HEADER_SIZE + SCN_LOD_RECORD_SIZE * (uint64_t)l;
+        uint64_t ro = hsize + rsize * (uint64_t)l;
         const unsigned char *r = b + ro;
         uint64_t want[3] = {lay.positions[l], lay.normals[l], lay.indices[l]};
         static const char *const what[3] = {"positions", "normals", "indices"};
@@ -261,6 +286,18 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
             if (!scn_lod_freq_ok(e[k], (int)l))
                 return SCN_LOD_FAIL(ro + 8 * (4 + k), "level %u: frequency %g c/diam (NaN, or > 0 and finite%s)", l,
                                     e[k], l == 0 ? ", or +inf" : "; +inf only at level 0");
+        for (uint32_t k = 0; version >= 2 && k < SCN_LODSET_MAX_BANDS; ++k) {
+            uint64_t oc = ro + SCN_LOD_RECORD_SIZE + 8 * (uint64_t)k;
+            double c = get_f64(b + oc);
+            if (k >= bands && c != 0) /* zero bits too: -0.0 is not padding */
+                return SCN_LOD_FAIL(oc, "level %u: contrast band %u: %g beyond the %u bands (must be 0)", l, k, c, bands);
+            if (k < bands && l == 0 && c != 0)
+                return SCN_LOD_FAIL(oc, "level 0: contrast band %u: %g (level 0 loses nothing: 0)", k, c);
+            if (k < bands && !scn_lod_contrast_ok(c))
+                return SCN_LOD_FAIL(oc, "level %u: contrast band %u: %g (NaN, or finite and ≥ 0)", l, k, c);
+            if (k >= bands && get_u64(b + oc) != 0)
+                return SCN_LOD_FAIL(oc, "level %u: contrast band %u: not zero bytes beyond the %u bands", l, k, bands);
+        }
     }
     if (lay.file_size != size)
         return SCN_LOD_FAIL(24, "file size %llu, the level counts give %llu", (unsigned long long)size,
@@ -306,7 +343,9 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
     }
     if (out) {
         for (uint32_t l = 0; l < levels; ++l) {
-            const unsigned char *r = b + SCN_LOD_HEADER_SIZE + SCN_LOD_RECORD_SIZE * l;
+            const unsigned char *r = b + hsize + rsize * l;
+            for (uint32_t k = 0; k < bands; ++k)
+                out->lost_contrast[l][k] = get_f64(r + SCN_LOD_RECORD_SIZE + 8 * k);
             out->error_m[l] = get_f64(r + 32);
             out->error_rel[l] = get_f64(r + 40);
             out->freq[l] = (struct scn_level_freq){get_f64(r + 48), get_f64(r + 56), get_f64(r + 64)};
@@ -321,6 +360,8 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
         out->radius_m = bounds[3];
         out->analysis_views = (int)views;
         out->analysis_size_px = (int)view_px;
+        out->contrast_band_count = (int)bands;
+        out->contrast_percentile = percentile;
     }
     return 0;
 }
@@ -364,8 +405,12 @@ static int scn_lod_encode(const char *path, const struct scn_lodset *set, unsign
         tris[l] = m->index_count / 3;
         verts[l] = m->vertex_count;
     }
+    if (set->contrast_band_count < 0 || set->contrast_band_count > SCN_LODSET_MAX_BANDS)
+        return hl_fail(err, "%s: %d contrast bands (0…%d)", path, set->contrast_band_count, SCN_LODSET_MAX_BANDS);
+    uint32_t version = set->contrast_band_count > 0 ? 2 : 1; /* the oldest version that holds the set */
+    uint32_t hsize = scn_lod_header_size(version), rsize = scn_lod_record_size(version);
     struct scn_lod_layout lay;
-    scn_lod_layout(set->level_count, tris, verts, &lay);
+    scn_lod_layout(version, set->level_count, tris, verts, &lay);
     if (lay.file_size > SCN_LOD_MAX_BYTES)
         return hl_fail(err, "%s: %llu bytes, more than the 2 GiB a .lod file may hold", path,
                        (unsigned long long)lay.file_size);
@@ -373,9 +418,9 @@ static int scn_lod_encode(const char *path, const struct scn_lodset *set, unsign
     if (!b)
         return hl_fail(err, "%s: out of memory for %llu bytes", path, (unsigned long long)lay.file_size);
     memcpy(b, scn_lod_magic, 8);
-    put_u32(b + 8, SCN_LOD_VERSION);
+    put_u32(b + 8, version);
     put_u32(b + 12, 0);
-    put_u32(b + 16, SCN_LOD_HEADER_SIZE);
+    put_u32(b + 16, hsize);
     put_u32(b + 20, (uint32_t)set->level_count);
     put_u64(b + 24, lay.file_size);
     memcpy(b + 32, set->simplifier, strnlen(set->simplifier, 15)); /* at most 15 + NUL */
@@ -388,9 +433,15 @@ static int scn_lod_encode(const char *path, const struct scn_lodset *set, unsign
     put_f64(b + 80, set->radius_m);
     put_u32(b + 136, set->analysis_views < 0 ? UINT32_MAX : (uint32_t)set->analysis_views);
     put_u32(b + 140, set->analysis_size_px < 0 ? UINT32_MAX : (uint32_t)set->analysis_size_px);
+    if (version >= 2) { /* reserved u32 at 148 stays 0 */
+        put_u32(b + 144, (uint32_t)set->contrast_band_count);
+        put_f64(b + 152, set->contrast_percentile);
+    }
     for (int l = 0; l < set->level_count; ++l) {
         const struct scn_mesh *m = &set->levels[l];
-        unsigned char *r = b + SCN_LOD_HEADER_SIZE + SCN_LOD_RECORD_SIZE * l;
+        unsigned char *r = b + hsize + rsize * l;
+        for (int k = 0; version >= 2 && k < set->contrast_band_count; ++k)
+            put_f64(r + SCN_LOD_RECORD_SIZE + 8 * k, set->lost_contrast[l][k]);
         put_u32(r, tris[l]);
         put_u32(r + 4, verts[l]);
         put_u64(r + 8, lay.positions[l]);

@@ -673,6 +673,10 @@ static void test_cli(void)
     struct hl_error err = {{0}};
     CHECK(scn_scene_build("field", NULL, &sc, &err) == 0 && frm_lodset_from_chain(&sc, 0, &set, &err) == 0);
     CHECK(scn_lodfile_write(lod, &set, &err) == 0);
+    size_t v1_len = 0;
+    char *v1 = tu_read_file(lod, &v1_len);
+    CHECK(v1 && v1_len > 12 && v1[8] == 1); /* no spectrum yet: written as version 1 */
+    free(v1);
     /* Under a sanitizer build the child runs with LeakSanitizer on: hmdlod pins Mesa's driver
      * itself (render/gl_driver_pin.c), so a leak it reports is ours. */
     snprintf(cmd, sizeof cmd, "\"%s\" analyze \"%s\" --views 6 --size 128 > %s/out.txt 2>&1", bin, lod, dir);
@@ -682,10 +686,18 @@ static void test_cli(void)
     CHECK(isinf(back.freq[0].long_cpdiam) && back.freq[3].long_cpdiam > 0 &&
           back.freq[3].long_cpdiam < back.freq[2].long_cpdiam);
     CHECK(back.freq[1].geometric_cpdiam == set.freq[1].geometric_cpdiam); /* untouched */
+    /* analyze added the spectrum to the version 1 file, which is now version 2: 128 px resolve
+     * 1 … 32 c/diam, 6 bands. */
+    CHECK(back.contrast_band_count == 6 && back.contrast_percentile == 99.0);
+    CHECK(back.lost_contrast[0][0] == 0.0 && back.lost_contrast[3][0] > 0 && back.lost_contrast[3][5] > 0);
+    size_t v2_len = 0;
+    char *v2 = tu_read_file(lod, &v2_len);
+    CHECK(v2 && v2_len > 12 && v2[8] == 2);
+    free(v2);
     snprintf(cmd, sizeof cmd, "%s/out.txt", dir);
     size_t out_len = 0;
     char *out = tu_read_file(cmd, &out_len);
-    CHECK(out && strstr(out, "narrow c/diam") && strstr(out, "EGL context"));
+    CHECK(out && strstr(out, "narrow c/diam") && strstr(out, "EGL context") && strstr(out, "lost contrast"));
     free(out);
     snprintf(cmd, sizeof cmd, "\"%s\" analyze \"%s\" --views 7 2>/dev/null", bin, lod);
     CHECK(WEXITSTATUS(system(cmd)) == 1);

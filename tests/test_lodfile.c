@@ -224,8 +224,11 @@ static void test_damage(void)
     CHECK(refused(p, "byte 24: "));
     free(longer);
     /* A newer version, version 0, bad magic, unknown flags (CRC resealed). */
+    memcpy(b, good, n), wr32(b + 8, 3), reseal(b, n), write_bytes(p, b, n);
+    CHECK(refused(p, "byte 8: written by a newer hmdlod: version 3, this reads 2"));
+    /* Version 2 with version 1's header size: refused at the header size, not read as either. */
     memcpy(b, good, n), wr32(b + 8, 2), reseal(b, n), write_bytes(p, b, n);
-    CHECK(refused(p, "byte 8: written by a newer hmdlod: version 2, this reads 1"));
+    CHECK(refused(p, "byte 16: header size 144, version 2 has 160"));
     memcpy(b, good, n), wr32(b + 8, 0), reseal(b, n), write_bytes(p, b, n);
     CHECK(refused(p, "byte 8: "));
     memcpy(b, good, n), memcpy(b, "HMDLOE", 6), write_bytes(p, b, n);
@@ -317,6 +320,102 @@ static void test_nonsense(void)
     unlink(p);
 }
 
+/* Version 2: the lost-contrast spectrum. Written only when the set has one (a.lod, without, stays
+ * version 1 and reads back with none); read back bit for bit; every prefix and single-byte
+ * corruption refused; nonsense in the new fields refused at their byte. */
+static void test_v2(void)
+{
+    struct scn_lodset set, back;
+    struct hl_error err = {""};
+    CHECK(scn_lodfile_read(tmp_path("a.lod"), &back, &err) == 0);
+    CHECK(back.contrast_band_count == 0 && back.contrast_percentile == 0);
+    scn_lodset_free(&back);
+    make_set(&set);
+    set.contrast_band_count = 7;
+    set.contrast_percentile = 99;
+    for (int l = 1; l < 3; ++l)
+        for (int b = 0; b < 7; ++b)
+            set.lost_contrast[l][b] = 0.01 * (b + 1) * l;
+    set.lost_contrast[2][3] = NAN; /* no object pixel in that band */
+    const char *p = tmp_path("v2.lod");
+    CHECK(scn_lodfile_write(p, &set, &err) == 0);
+    CHECK(scn_lodfile_read(p, &back, &err) == 0);
+    CHECK(back.contrast_band_count == 7 && back.contrast_percentile == 99);
+    CHECK(same_bits(set.lost_contrast, back.lost_contrast, sizeof set.lost_contrast));
+    CHECK(same_bits(set.freq, back.freq, sizeof set.freq) && back.analysis_views == 26);
+    for (int l = 0; l < 3; ++l)
+        CHECK(scn_mesh_hash(&back.levels[l]) == scn_mesh_hash(&set.levels[l]));
+    scn_lodset_free(&back);
+    size_t n = 0;
+    unsigned char *good = (unsigned char *)tu_read_file(p, &n);
+    CHECK(good && rd32(good + 8) == 2 && rd32(good + 16) == 160 && rd32(good + 144) == 7 && rd32(good + 148) == 0);
+    if (!good) {
+        scn_lodset_free(&set);
+        return;
+    }
+    for (int l = 0; l < 3; ++l)
+        for (int k = 0; k < 3; ++k)
+            CHECK(rd64(good + 160 + 168 * l + 8 + 8 * k) % 16 == 0);
+    printf("  3-level version 2 file: %zu bytes\n", n);
+    unsigned char *b = malloc(n);
+    const char *q = tmp_path("v2-damaged.lod");
+    int bad = 0;
+    for (size_t len = 0; len < n; ++len) {
+        CHECK(write_bytes(q, good, len) == 0);
+        bad += !refused(q, "byte ");
+    }
+    static const unsigned char patterns[] = {0x01, 0x80, 0xFF, 0x5A};
+    for (size_t i = 0; i < n; ++i)
+        for (size_t k = 0; k < sizeof patterns; ++k) {
+            memcpy(b, good, n);
+            b[i] ^= patterns[k];
+            CHECK(write_bytes(q, b, n) == 0);
+            bad += !refused(q, "byte ");
+        }
+    CHECK(bad == 0);
+    char want[160];
+    const size_t rec0 = 160, rec1 = 160 + 168, band0 = 72;
+    memcpy(b, good, n), wr32(b + 144, 13), reseal(b, n), write_bytes(q, b, n);
+    CHECK(refused(q, "byte 144: 13 contrast bands"));
+    memcpy(b, good, n), wr32(b + 148, 1), reseal(b, n), write_bytes(q, b, n);
+    CHECK(refused(q, "byte 148: reserved"));
+    double v = 0;
+    uint64_t bits;
+    memcpy(&bits, &v, 8);
+    memcpy(b, good, n), wr64(b + 152, bits), reseal(b, n), write_bytes(q, b, n);
+    CHECK(refused(q, "byte 152: contrast percentile 0"));
+    v = 0.5, memcpy(&bits, &v, 8);
+    memcpy(b, good, n), wr64(b + rec0 + band0 + 8, bits), reseal(b, n), write_bytes(q, b, n);
+    snprintf(want, sizeof want, "byte %zu: level 0: contrast band 1", rec0 + band0 + 8);
+    CHECK(refused(q, want));
+    v = -0.25, memcpy(&bits, &v, 8);
+    memcpy(b, good, n), wr64(b + rec1 + band0 + 16, bits), reseal(b, n), write_bytes(q, b, n);
+    snprintf(want, sizeof want, "byte %zu: level 1: contrast band 2", rec1 + band0 + 16);
+    CHECK(refused(q, want));
+    v = INFINITY, memcpy(&bits, &v, 8);
+    memcpy(b, good, n), wr64(b + rec1 + band0, bits), reseal(b, n), write_bytes(q, b, n);
+    CHECK(refused(q, "level 1: contrast band 0: inf"));
+    v = -0.0, memcpy(&bits, &v, 8); /* band 7 of 7: beyond the count, must be zero bytes */
+    memcpy(b, good, n), wr64(b + rec1 + band0 + 8 * 7, bits), reseal(b, n), write_bytes(q, b, n);
+    snprintf(want, sizeof want, "byte %zu: level 1: contrast band 7", rec1 + band0 + 56);
+    CHECK(refused(q, want));
+    /* No bands but a percentile: refused; no bands and 0: a valid version 2 file without a spectrum. */
+    memcpy(b, good, n), wr32(b + 144, 0), reseal(b, n), write_bytes(q, b, n);
+    CHECK(refused(q, "byte 152: contrast percentile 99 (0 without bands)"));
+    /* The writer refuses what the reader would. */
+    set.lost_contrast[0][2] = 0.1;
+    err.msg[0] = 0;
+    CHECK(scn_lodfile_write(q, &set, &err) < 0 && strstr(err.msg, "refusing to write") && strstr(err.msg, "level 0"));
+    set.lost_contrast[0][2] = 0;
+    set.contrast_band_count = 13;
+    CHECK(scn_lodfile_write(q, &set, &err) < 0 && strstr(err.msg, "13 contrast bands"));
+    free(b);
+    free(good);
+    unlink(q);
+    unlink(p);
+    scn_lodset_free(&set);
+}
+
 static void on_alarm(int sig) { (void)sig; _exit(3); }
 
 static void test_not_files(void)
@@ -389,6 +488,7 @@ int main(void)
     test_round_trip();
     test_damage();
     test_nonsense();
+    test_v2();
     test_not_files();
     unlink(tmp_path("a.lod"));
     rmdir(dir);

@@ -21,17 +21,19 @@ static void put_le(unsigned char *p, uint64_t v, size_t n)
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
 #ifdef FUZZ_LODFILE_REPAIR
-    /* the header's magic, version 1, header size 144 and file size, and the trailing CRC-32 made
-     * right (docs/lod-format.md); everything else is the input's */
-    enum { HEADER = 144 };
-    size_t n = size < HEADER + 4 ? HEADER + 4 : size;
+    /* the header's magic, version (2 when the input says 2, else 1), its header size (160 or 144)
+     * and file size, and the trailing CRC-32 made right (docs/lod-format.md); everything else is
+     * the input's */
+    int v2 = size > 8 && data[8] == 2;
+    size_t header = v2 ? 160 : 144;
+    size_t n = size < header + 4 ? header + 4 : size;
     unsigned char *b = calloc(n, 1);
     if (!b)
         return 0;
     memcpy(b, data, size);
     memcpy(b, "HMDLOD\0\1", 8);
-    put_le(b + 8, 1, 4);
-    put_le(b + 16, HEADER, 4);
+    put_le(b + 8, v2 ? 2 : 1, 4);
+    put_le(b + 16, header, 4);
     put_le(b + 24, n, 8);
     put_le(b + n - 4, scn_crc32(b, n - 4), 4);
     const char *path = fuzz_write_file("fuzz.lod", b, n);

@@ -8,9 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Grey near the brightest of the field palette's luminances: a light object makes shading and
- * silhouette changes largest in ΔE, so the analysis errs towards seeing a difference. */
-static const float rnd_analyze_grey[3] = {0.8f, 0.8f, 0.8f};
+/* The default albedo: grey near the brightest of the field palette's luminances: a light object
+ * makes shading and silhouette changes largest in ΔE, so the analysis errs towards seeing a
+ * difference. (The lost contrast does not depend on it away from silhouettes: test_analyze.) */
+static const double rnd_analyze_grey = 0.8;
 
 void rnd_analyze_params_defaults(struct rnd_analyze_params *p)
 {
@@ -20,6 +21,8 @@ void rnd_analyze_params_defaults(struct rnd_analyze_params *p)
     p->threshold_de = 2.3;
     p->min_component_px = 3;
     p->contrast_percentile = 99.0;
+    p->contrast_silhouette_reach = -1;
+    p->albedo_rgb[0] = p->albedo_rgb[1] = p->albedo_rgb[2] = rnd_analyze_grey;
 }
 
 int rnd_analyze_params_check(const struct rnd_analyze_params *p, struct hl_error *err)
@@ -36,6 +39,11 @@ int rnd_analyze_params_check(const struct rnd_analyze_params *p, struct hl_error
         return hl_fail(err, "analyze: min component: %d px outside [1, 1000]", p->min_component_px);
     if (!(p->contrast_percentile > 0.0) || !(p->contrast_percentile <= 100.0))
         return hl_fail(err, "analyze: contrast percentile: %g outside (0, 100]", p->contrast_percentile);
+    if (p->contrast_silhouette_reach < -1 || p->contrast_silhouette_reach > 64)
+        return hl_fail(err, "analyze: contrast silhouette reach: %d outside −1…64", p->contrast_silhouette_reach);
+    for (int k = 0; k < 3; ++k)
+        if (!(p->albedo_rgb[k] >= 0.0) || !(p->albedo_rgb[k] <= 1.0))
+            return hl_fail(err, "analyze: albedo: channel %d is %g, outside [0, 1]", k, p->albedo_rgb[k]);
     return 0;
 }
 
@@ -88,7 +96,8 @@ static void rnd_ortho(double r, double near_m, double far_m, double m[16])
 }
 
 /* One chain (the set's levels), one instance: the smallest scene the stereo pass can draw. */
-static int rnd_analyze_scene(const struct scn_lodset *set, struct scn_scene *s, struct hl_error *err)
+static int rnd_analyze_scene(const struct scn_lodset *set, const double albedo_rgb[3], struct scn_scene *s,
+                             struct hl_error *err)
 {
     memset(s, 0, sizeof *s);
     uint64_t nv = 0, ni = 0;
@@ -124,7 +133,8 @@ static int rnd_analyze_scene(const struct scn_lodset *set, struct scn_scene *s, 
     s->instance_count = 1;
     s->instances[0].rotation = hl_q_identity();
     s->instances[0].scale = 1.0;
-    memcpy(s->instances[0].color, rnd_analyze_grey, sizeof rnd_analyze_grey);
+    for (int k = 0; k < 3; ++k)
+        s->instances[0].color[k] = (float)albedo_rgb[k];
     return 0;
 }
 
@@ -261,7 +271,7 @@ int rnd_analyze_lodset(struct rnd_renderer *r, struct scn_lodset *set, const str
     memset(&work, 0, sizeof work);
     uint8_t *img = NULL;
     int rc = -1;
-    if (rnd_analyze_scene(set, &scene, err) != 0)
+    if (rnd_analyze_scene(set, p->albedo_rgb, &scene, err) != 0)
         goto done_noscene;
     /* Three images (the previous level's, this one's and level 0's, which every level's spectrum is
      * taken against), allocated once for every view. */
@@ -288,6 +298,7 @@ int rnd_analyze_lodset(struct rnd_renderer *r, struct scn_lodset *set, const str
     struct rnd_contrast_params cp;
     rnd_contrast_params_defaults(&cp, size);
     cp.percentile = p->contrast_percentile;
+    cp.silhouette_reach = p->contrast_silhouette_reach;
     for (int l = 0; l < set->level_count; ++l) {
         struct rnd_analyze_level *L = &rep.levels[l];
         L->narrow_view = L->long_view = l ? -1 : 0;

@@ -94,8 +94,10 @@ struct rnd_analyze_params {
     void *progress_user;
     const char *dump_dir; /* optional, an existing folder: every render and difference mask as PNG */
     double contrast_percentile; /* of each view's object pixels for the lost-contrast spectrum, (0, 100] */
+    int contrast_silhouette_reach; /* rnd_contrast_params.silhouette_reach: −1 keeps silhouette pixels */
+    double albedo_rgb[3]; /* the object's colour, each in [0, 1] (what the shader multiplies by the shading) */
 };
-/* 18 views, 256 px, ΔE 2.3, 3 px, the 99th percentile. */
+/* 18 views, 256 px, ΔE 2.3, 3 px, the 99th percentile with silhouettes, grey 0.8. */
 void rnd_analyze_params_defaults(struct rnd_analyze_params *p);
 /* Checks a parameter set; −1 with a message naming the parameter otherwise. */
 int rnd_analyze_params_check(const struct rnd_analyze_params *p, struct hl_error *err);

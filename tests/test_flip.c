@@ -306,22 +306,8 @@ static void compare_pair(const char *tool, const char *dir, const char *label, c
 /* The value of column `name` in frame `frame`'s row of a frames.csv, found by the header; NAN if absent. */
 static double csv_value(const char *csv, long frame, const char *name)
 {
-    char key[80];
-    snprintf(key, sizeof key, ",%s,", name);
-    const char *at = strstr(csv, key), *eol = strchr(csv, '\n');
-    if (!at || !eol || at > eol)
-        return NAN;
-    int column = 0; /* commas before the value */
-    for (const char *c = csv; c <= at; ++c)
-        column += *c == ',';
-    const char *line = csv;
-    for (long k = -1; k < frame && line; ++k)
-        line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL;
-    for (int commas = 0; line && *line && *line != '\n' && commas < column; ++line)
-        commas += *line == ',';
-    if (!line || *line == ',' || *line == '\n')
-        return NAN;
-    return strtod(line, NULL);
+    const char *cell = tu_csv_cell(csv, frame, name);
+    return cell && *cell != ',' && *cell != '\n' ? strtod(cell, NULL) : NAN;
 }
 
 /* `hmdlod replay --reference 1`: frames.csv's FLIP columns are rnd_flip_compute of the capture against

@@ -96,19 +96,8 @@ static int run_reference(const char *selector, double static_px, const char *dir
  * before it): 1 when it holds a value, 0 when empty. */
 static int row_has_psnr(const char *csv, long frame)
 {
-    const char *at = strstr(csv, ",psnr_db,");
-    const char *eol = strchr(csv, '\n');
-    if (!at || !eol || at > eol)
-        return 0;
-    int column = 0; /* commas before psnr_db */
-    for (const char *c = csv; c <= at; ++c)
-        column += *c == ',';
-    const char *line = csv;
-    for (long k = -1; k < frame && line; ++k)
-        line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL;
-    for (int commas = 0; line && *line && *line != '\n' && commas < column; ++line)
-        commas += *line == ',';
-    return line && *line != ',' && *line != '\n';
+    const char *cell = tu_csv_cell(csv, frame, "psnr_db");
+    return cell && *cell != ',' && *cell != '\n';
 }
 
 /* --reference: selector none compared with its own full-detail frame is identical every time (the

@@ -77,3 +77,21 @@ int tu_finish(const char *suite)
     printf("%s: %d checks, %d failed\n", suite, tu_checks, tu_failures);
     return tu_failures ? 1 : 0;
 }
+
+const char *tu_csv_cell(const char *csv, long row, const char *name)
+{
+    char key[96];
+    snprintf(key, sizeof key, ",%s,", name);
+    const char *at = strstr(csv, key), *eol = strchr(csv, '\n');
+    if (!at || !eol || at > eol)
+        return NULL;
+    int column = 0; /* commas before the cell */
+    for (const char *c = csv; c <= at; ++c)
+        column += *c == ',';
+    const char *line = csv;
+    for (long k = -1; k < row && line; ++k)
+        line = strchr(line, '\n') ? strchr(line, '\n') + 1 : NULL;
+    for (int commas = 0; line && *line && *line != '\n' && commas < column; ++line)
+        commas += *line == ',';
+    return line && *line ? line : NULL;
+}

@@ -41,5 +41,9 @@ double tu_time_scale(void);
 
 /* Prints the summary and returns the process exit code (0 pass, 1 fail). */
 int tu_finish(const char *suite);
+/* The cell of column `name` (found by the header line, not first or last) in data row `row` (0-based)
+ * of a CSV text: a pointer to its first character (',' or '\n' when empty), NULL when the column or
+ * the row is absent. */
+const char *tu_csv_cell(const char *csv, long row, const char *name);
 
 #endif

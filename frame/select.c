@@ -249,7 +249,6 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
                 budget = lod_cost_correction_budget_ms(&s->correction, budget);
             budget = fmax(0.0, budget - s->cost.c0_ms);
         }
-        rec->optimizer_budget_ms = budget;
         struct lod_problem p = build_problem(s, scene, in, budget);
         rec->optimizer_budget_ms = p.budget_ms; /* raised to hold the kept objects, if they need it */
         struct lod_result r;

@@ -26,8 +26,4 @@ void rnd_diff_work_free(struct rnd_diff_work *w);
 void rnd_diff_images(struct rnd_diff_work *w, const uint8_t *rgba_a, const uint8_t *rgba_b, double threshold_de,
                      int min_component_px, struct rnd_image_diff *out);
 
-/* The 256 sRGB byte values decoded to linear (IEC 61966-2-1), shared by the CIELUV conversion
- * and the contrast spectrum's luminance (analyze_image.c). */
-const double *rnd_srgb_decode_table(void);
-
 #endif

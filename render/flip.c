@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "render/flip.h"
+#include "render/render_internal.h"
 
 #define FLIP_PI 3.14159265358979323846
 
@@ -354,11 +355,7 @@ int rnd_flip_compute(const uint8_t *test, const uint8_t *reference, int width_px
     }
     make_filters(&s, pixels_per_degree);
 
-    double srgb_to_linear[256];
-    for (int v = 0; v < 256; ++v) {
-        double c = v / 255.0;
-        srgb_to_linear[v] = c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
-    }
+    const double *srgb_to_linear = rnd_srgb_decode_table();
     static const double green[3] = {0, 1, 0}, blue[3] = {0, 0, 1};
     double lab_green[3], lab_blue[3];
     rgb_to_hunt_lab(green, lab_green);

@@ -5,6 +5,10 @@
 
 #include "render/render.h"
 
+/* The 256 sRGB byte values decoded to linear (IEC 61966-2-1), computed once (analyze_image.c):
+ * the analysis's CIELUV and contrast spectrum, and FLIP's colour pipeline (flip.c) read them. */
+const double *rnd_srgb_decode_table(void);
+
 /* ---- headless EGL (egl_context.c) --------------------------------------------------------------
  * Opaque handles (EGLDisplay, EGLContext) so that only egl_context.c needs the EGL headers. */
 struct rnd_egl {

@@ -131,10 +131,22 @@ static double csf_channel_s(const struct csf_channel *c, double s_max, double f_
 
 /* The model is separable (PAPERS.md §6): S = (R_sust(ω)·S_sust(ρ) + R_trans(ω)·S_trans(ρ)) · ecc(ρ, E).
  * The spatial part, ρ finite and ≥ 0: */
+static void csf_spatial_area(const struct csf_prepared *pr, double rho, double area, double *s_sust,
+                             double *s_trans)
+{
+    *s_sust = csf_channel_s(&pr->par->sust, pr->s_max[0], pr->f_max[0], rho, area);
+    *s_trans = csf_channel_s(&pr->par->trans, pr->s_max[1], pr->f_max[1], rho, area);
+}
+
 static void csf_spatial(const struct csf_prepared *pr, double rho, double *s_sust, double *s_trans)
 {
-    *s_sust = csf_channel_s(&pr->par->sust, pr->s_max[0], pr->f_max[0], rho, pr->area_deg2);
-    *s_trans = csf_channel_s(&pr->par->trans, pr->s_max[1], pr->f_max[1], rho, pr->area_deg2);
+    csf_spatial_area(pr, rho, pr->area_deg2, s_sust, s_trans);
+}
+
+double acu_csf_gabor_area_deg2(double rho_cpd, double cycles)
+{
+    double radius_deg = 0.5 * cycles / fabs(rho_cpd); /* +∞ at ρ = 0 */
+    return HL_PI * radius_deg * radius_deg;
 }
 
 /* The temporal responses, ω ≥ 0; at ω = +∞ both exponents are −∞ and the responses exactly 0. */
@@ -211,21 +223,25 @@ static double csf_omega_node_hz(int j)
     return pow(j * (ACU_CSF_TABLE_OMEGA_W_MAX / (ACU_CSF_TABLE_OMEGA_NODES - 1)), 1.0 / CSF_BETA_TRANS);
 }
 
-void acu_csf_table_fill(struct acu_csf_table *t, enum acu_csf_model model, double luminance_cdm2,
-                        double area_deg2)
+/* Shared by both fills: area_cycles > 0 makes the area follow ρ node by node. */
+static void csf_table_fill_any(struct acu_csf_table *t, enum acu_csf_model model, double luminance_cdm2,
+                               double area_deg2, double area_cycles)
 {
     struct csf_prepared pr;
     csf_prepare(&pr, model, luminance_cdm2, area_deg2);
     t->model = model;
     t->luminance_cdm2 = luminance_cdm2;
     t->area_deg2 = area_deg2;
+    t->area_cycles = area_cycles;
     t->ecc_a = pr.par->ecc_a;
     t->ecc_f = pr.par->ecc_f;
     /* Separable: one spatial evaluation per ρ node and one temporal per ω node, then a product per cell. */
     double s_sust[ACU_CSF_TABLE_RHO_NODES], s_trans[ACU_CSF_TABLE_RHO_NODES];
-    for (int i = 0; i < ACU_CSF_TABLE_RHO_NODES; ++i)
-        csf_spatial(&pr, exp2(ACU_CSF_TABLE_RHO_LOG2_MIN + i / ACU_CSF_TABLE_NODES_PER_OCTAVE), &s_sust[i],
-                    &s_trans[i]);
+    for (int i = 0; i < ACU_CSF_TABLE_RHO_NODES; ++i) {
+        double rho = exp2(ACU_CSF_TABLE_RHO_LOG2_MIN + i / ACU_CSF_TABLE_NODES_PER_OCTAVE);
+        double area = area_cycles > 0.0 ? acu_csf_gabor_area_deg2(rho, area_cycles) : pr.area_deg2;
+        csf_spatial_area(&pr, rho, area, &s_sust[i], &s_trans[i]);
+    }
     for (int j = 0; j < ACU_CSF_TABLE_OMEGA_NODES; ++j) {
         double r_sust, r_trans;
         csf_temporal(&pr, csf_omega_node_hz(j), &r_sust, &r_trans);
@@ -236,13 +252,27 @@ void acu_csf_table_fill(struct acu_csf_table *t, enum acu_csf_model model, doubl
     }
 }
 
+void acu_csf_table_fill(struct acu_csf_table *t, enum acu_csf_model model, double luminance_cdm2,
+                        double area_deg2)
+{
+    csf_table_fill_any(t, model, luminance_cdm2, area_deg2, 0.0);
+}
+
+void acu_csf_table_fill_cycles(struct acu_csf_table *t, enum acu_csf_model model, double luminance_cdm2,
+                               double cycles)
+{
+    csf_table_fill_any(t, model, luminance_cdm2, 0.0, cycles);
+}
+
 double acu_csf_table_lookup(const struct acu_csf_table *t, double rho_cpd, double omega_hz, double eccentricity_deg)
 {
     double rho = fabs(rho_cpd), omega = fabs(omega_hz);
     double x = (log2(rho) - ACU_CSF_TABLE_RHO_LOG2_MIN) * ACU_CSF_TABLE_NODES_PER_OCTAVE;
     double y = csf_omega_axis(omega);
-    if (!(x >= 0.0 && x <= ACU_CSF_TABLE_RHO_NODES - 1 && y <= ACU_CSF_TABLE_OMEGA_NODES - 1))
-        return acu_csf_sensitivity(t->model, rho, omega, t->luminance_cdm2, t->area_deg2, eccentricity_deg);
+    if (!(x >= 0.0 && x <= ACU_CSF_TABLE_RHO_NODES - 1 && y <= ACU_CSF_TABLE_OMEGA_NODES - 1)) {
+        double area = t->area_cycles > 0.0 ? acu_csf_gabor_area_deg2(rho, t->area_cycles) : t->area_deg2;
+        return acu_csf_sensitivity(t->model, rho, omega, t->luminance_cdm2, area, eccentricity_deg);
+    }
     int i = (int)x, j = (int)y;
     i = i < ACU_CSF_TABLE_RHO_NODES - 1 ? i : ACU_CSF_TABLE_RHO_NODES - 2;
     j = j < ACU_CSF_TABLE_OMEGA_NODES - 1 ? j : ACU_CSF_TABLE_OMEGA_NODES - 2;

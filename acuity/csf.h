@@ -67,6 +67,7 @@ int acu_csf_check_inputs(double rho_cpd, double omega_hz, double luminance_cdm2,
 struct acu_csf_table {
     enum acu_csf_model model;
     double luminance_cdm2, area_deg2; /* as given to the fill (clamped in the model, not here) */
+    double area_cycles;               /* > 0: the area follows ρ, π·(cycles/(2ρ))² (fill_cycles); 0: area_deg2 */
     double ecc_a, ecc_f;              /* the model's e_a and e_f (per deg, per cpd·deg) */
     double log10_s[ACU_CSF_TABLE_OMEGA_NODES][ACU_CSF_TABLE_RHO_NODES]; /* at E = 0, floored at −300 */
 };
@@ -74,6 +75,15 @@ struct acu_csf_table {
  * and ω, so 113 spatial and 129 temporal evaluations and a log10 per node (about 0.1–0.2 ms here). */
 void acu_csf_table_fill(struct acu_csf_table *t, enum acu_csf_model model, double luminance_cdm2,
                         double area_deg2);
+/* The same with the stimulus area following the frequency: a disc `cycles` periods across,
+ * A(ρ) = π·(cycles / (2ρ))² deg² (acu_csf_gabor_area_deg2). ACU_CSF_GABOR_CYCLES (1.5) is the
+ * convention the selectors use: a lost LOD detail is a few cycles wide, not a fixed patch (docs/csf.md
+ * "Stimulus area"). cycles > 0. */
+#define ACU_CSF_GABOR_CYCLES 1.5
+void acu_csf_table_fill_cycles(struct acu_csf_table *t, enum acu_csf_model model, double luminance_cdm2,
+                               double cycles);
+/* π·(cycles / (2ρ))², the area of a disc `cycles` periods of ρ cpd across; +∞ at ρ = 0. */
+double acu_csf_gabor_area_deg2(double rho_cpd, double cycles);
 /* S from the table, O(1), no allocation (about 50 ns, a quarter of the direct model). ρ and ω as the
  * model takes them (|·|); E clamped as the model does. Off the grid (ρ outside 2^−7 … 2^7 cpd, ω above
  * 511 Hz, NaN) it returns the direct model's value. */
@@ -85,6 +95,27 @@ double acu_csf_table_lookup(const struct acu_csf_table *t, double rho_cpd, doubl
  * (a Michelson contrast cannot exceed 1, a band contrast can); c < 0 counts as |c|; c = 0 is never
  * visible. NaN anywhere → visible: a bad number never drops detail. */
 int acu_csf_band_visible(double contrast, double sensitivity, double k_scale);
+/* ---- a lost band on an object, per frame (acuity/contrast.c) ---------------------------------
+ * What the contrast criterion needs beside the table (docs/visibility.md): the display's ξ, Reddy's
+ * global factor s and the safety factor k. A band at ρ cpd is judged as at ρ/s — under the acuity
+ * criterion s scales the limit (f > H·s ⇔ f/s > H), so under contrast it scales the frequency the
+ * same way: s < 1 discards more. */
+struct acu_contrast_limits {
+    const struct acu_csf_table *csf; /* the frame's table: adapting luminance, 1.5-cycle area */
+    double xi_cpd;                   /* above it nothing is displayed (Reddy eq. 4), > 0 */
+    double scale;                    /* s in (0, 1]; 1 = plain */
+    double k_scale;                  /* --csf-scale k > 0; 1 = threshold, > 1 keeps more */
+    int use_velocity, use_eccentricity; /* 0 → still / at the gaze, as acu_limits */
+};
+void acu_contrast_limits_init(struct acu_contrast_limits *lim, const struct acu_csf_table *csf, double xi_cpd,
+                              double scale, double k_scale);
+/* The sensitivity a lost band at rho_cpd meets on an object moving at retinal velocity v and seen at
+ * eccentricity E: 0 where ρ/s > ξ (not displayable, so never visible), else the table's
+ * S(ρ/s, ρ/s·v, E) (ω = ρ·v: the pattern's temporal frequency on the retina). Feed it with the band's
+ * contrast to acu_csf_band_visible(c, S, lim->k_scale). Inputs not NaN (checked at the boundary). */
+double acu_contrast_band_sensitivity(const struct acu_contrast_limits *lim, double rho_cpd, double velocity_degps,
+                                     double eccentricity_deg);
+
 /* Boundary check for a contrast and k given by the user or a file: NaN, negative or infinite c,
  * and k not finite and > 0 → −1 with the input named in err. */
 int acu_csf_check_contrast(double contrast, double k_scale, struct hl_error *err);

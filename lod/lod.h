@@ -14,10 +14,16 @@
  * visible detail present in LOD k−1 and lost in LOD k, in cycles per object diameter (Reddy §3.2;
  * measured from renders, docs/analysis.md); it falls strictly as k rises. At run time
  * f[c/deg] = f[cycles/diameter] / angular diameter[deg]. Level 0 holds +INFINITY. */
-enum { LOD_MAX_LEVELS = 8 };
+enum { LOD_MAX_LEVELS = 8, LOD_MAX_BANDS = 12 };
 struct lod_chain {
     int lod_count;
     double unique_freq_cpdiam[LOD_MAX_LEVELS];
+    /* The lost-contrast spectrum (docs/analysis.md), for lod_select_contrast: lost_contrast[l][b] is the
+     * band contrast (Peli 1990) level l loses against level 0 in octave band b, centred on 2^b cycles
+     * per diameter; ≥ 0, NaN = not measured in that band (counts as visible). band_count 0: no
+     * spectrum, the chain is judged by unique_freq_cpdiam alone. Zero-initialise what you do not fill. */
+    int band_count; /* 0 … LOD_MAX_BANDS */
+    double lost_contrast[LOD_MAX_LEVELS][LOD_MAX_BANDS];
 };
 
 struct lod_select_stats {
@@ -36,6 +42,19 @@ void lod_select_reddy(const struct acu_limits *lim, const struct lod_chain *chai
                       const double *eccentricity_deg, const double *retinal_velocity_degps,
                       const double *angular_diameter_deg, uint8_t *lod_out, double *ceiling_cpd_out,
                       struct lod_select_stats *stats);
+
+/* The contrast criterion (docs/visibility.md): per object the coarsest LOD whose every lost band is
+ * invisible — band b lies at ρ_b = 2^b / angular diameter cpd and is invisible when ρ_b/s > ξ or
+ * C_b·S(ρ_b, ρ_b·v, E)·k < 1 (acu_contrast_band_sensitivity, acu_csf_band_visible). Where the chain
+ * has no spectrum, or the object is so large that frequencies above its measured bands
+ * (2^band_count / diameter) are displayable, the measured spectrum cannot speak for all it loses:
+ * the object gets the finer of this ceiling and Reddy's (lim, unique_freq_cpdiam). Arrays as
+ * lod_select_reddy; stats count CSF lookups (model_evaluations) and objects that needed none.
+ * O(count · (levels · bands)) comparisons, at most band_count lookups per object, no allocation. */
+void lod_select_contrast(const struct acu_contrast_limits *vis, const struct acu_limits *lim,
+                         const struct lod_chain *chains, const uint32_t *chain_of_object, const uint32_t *index,
+                         size_t count, const double *eccentricity_deg, const double *retinal_velocity_degps,
+                         const double *angular_diameter_deg, uint8_t *lod_out, struct lod_select_stats *stats);
 
 /* The `none` baseline: finest LOD for every listed object. */
 void lod_select_finest(size_t count, uint8_t *lod_out);

@@ -1,6 +1,7 @@
 /* LOD selectors that need no cost model: `none` (finest) and Reddy's perceptual selector. */
 #include "lod/lod.h"
 
+#include <math.h>
 #include <string.h>
 
 void lod_select_finest(size_t count, uint8_t *lod_out) { memset(lod_out, 0, count); }
@@ -9,6 +10,18 @@ void lod_select_finest(size_t count, uint8_t *lod_out) { memset(lod_out, 0, coun
  * below the limit of vision". Level k drops the detail of frequencies f_1 … f_k (f falls with k),
  * so level k is safe while its lowest dropped frequency f_k (in c/deg at the object's current
  * angular size) is still above the acuity limit. */
+static int reddy_level(const struct lod_chain *chain, double limit_cpd, double diameter_deg)
+{
+    if (!(diameter_deg > 0.0))
+        return chain->lod_count - 1; /* a point: nothing of it is resolvable */
+    /* f[c/deg] > limit  ⇔  f[cycles/diameter] > limit · diameter[deg]: no division per level. */
+    double limit_cpdiam = limit_cpd * diameter_deg;
+    int lod = 0;
+    while (lod + 1 < chain->lod_count && chain->unique_freq_cpdiam[lod + 1] > limit_cpdiam)
+        ++lod;
+    return lod;
+}
+
 void lod_select_reddy(const struct acu_limits *lim, const struct lod_chain *chains,
                       const uint32_t *chain_of_object, const uint32_t *index, size_t count,
                       const double *eccentricity_deg, const double *retinal_velocity_degps,
@@ -19,23 +32,80 @@ void lod_select_reddy(const struct acu_limits *lim, const struct lod_chain *chai
     for (size_t k = 0; k < count; ++k) {
         const struct lod_chain *chain = &chains[chain_of_object[index[k]]];
         double limit_cpd = acu_limit_cpd(lim, retinal_velocity_degps[k], eccentricity_deg[k], &evaluations);
-        double diameter_deg = angular_diameter_deg[k];
-        int lod = 0;
-        if (diameter_deg > 0.0) {
-            /* f[c/deg] > limit  ⇔  f[cycles/diameter] > limit · diameter[deg]: no division per level. */
-            double limit_cpdiam = limit_cpd * diameter_deg;
-            while (lod + 1 < chain->lod_count && chain->unique_freq_cpdiam[lod + 1] > limit_cpdiam)
-                ++lod;
-        } else {
-            lod = chain->lod_count - 1; /* a point: nothing of it is resolvable */
-        }
-        lod_out[k] = (uint8_t)lod;
+        lod_out[k] = (uint8_t)reddy_level(chain, limit_cpd, angular_diameter_deg[k]);
         if (ceiling_cpd_out)
             ceiling_cpd_out[k] = limit_cpd;
     }
     if (stats) {
         stats->model_evaluations += evaluations;
         stats->model_skips += count - evaluations;
+    }
+}
+
+/* The contrast criterion for one object with a spectrum: the coarsest level whose every lost band is
+ * invisible. Levels are judged against level 0, each on its own (a coarser level that passes is
+ * taken even if a finer one measured worse). A band's sensitivity is the same for every level, so it
+ * is looked up once, when a level first needs it. */
+static int contrast_level(const struct acu_contrast_limits *vis, const struct lod_chain *chain, double velocity_degps,
+                          double eccentricity_deg, double diameter_deg, uint64_t *lookups)
+{
+    double sensitivity[LOD_MAX_BANDS];
+    int bands = chain->band_count < LOD_MAX_BANDS ? chain->band_count : LOD_MAX_BANDS;
+    for (int b = 0; b < bands; ++b)
+        sensitivity[b] = -1.0; /* not looked up yet */
+    for (int l = chain->lod_count - 1; l > 0; --l) {
+        int visible = 0;
+        for (int b = 0; b < bands && !visible; ++b) {
+            double c = chain->lost_contrast[l][b];
+            if (c == 0.0)
+                continue; /* nothing lost in this band */
+            if (sensitivity[b] < 0.0) {
+                sensitivity[b] = acu_contrast_band_sensitivity(vis, exp2(b) / diameter_deg, velocity_degps,
+                                                               eccentricity_deg);
+                ++*lookups;
+            }
+            /* Not displayable: invisible whatever the contrast, also an unmeasured (NaN) one. */
+            visible = sensitivity[b] > 0.0 && acu_csf_band_visible(c, sensitivity[b], vis->k_scale);
+        }
+        if (!visible)
+            return l;
+    }
+    return 0;
+}
+
+void lod_select_contrast(const struct acu_contrast_limits *vis, const struct acu_limits *lim,
+                         const struct lod_chain *chains, const uint32_t *chain_of_object, const uint32_t *index,
+                         size_t count, const double *eccentricity_deg, const double *retinal_velocity_degps,
+                         const double *angular_diameter_deg, uint8_t *lod_out, struct lod_select_stats *stats)
+{
+    uint64_t lookups = 0, evaluations = 0, without = 0;
+    double xi_cpdiam_per_deg = vis->xi_cpd * vis->scale; /* a band at f c/diam is displayable iff f/D ≤ ξ·s */
+    for (size_t k = 0; k < count; ++k) {
+        const struct lod_chain *chain = &chains[chain_of_object[index[k]]];
+        double diameter_deg = angular_diameter_deg[k];
+        uint64_t before = lookups;
+        int lod;
+        if (!(diameter_deg > 0.0)) {
+            lod = chain->lod_count - 1; /* a point: nothing of it is resolvable (as Reddy's) */
+        } else {
+            int bands = chain->band_count;
+            lod = bands > 0 ? contrast_level(vis, chain, retinal_velocity_degps[k], eccentricity_deg[k], diameter_deg,
+                                             &lookups)
+                            : 0;
+            /* What the spectrum did not measure, above its last band, may be displayable: then it
+             * cannot vouch for the object alone, and Reddy's reading holds it at least as fine. */
+            if (bands == 0 || exp2(bands) <= xi_cpdiam_per_deg * diameter_deg) {
+                double limit_cpd = acu_limit_cpd(lim, retinal_velocity_degps[k], eccentricity_deg[k], &evaluations);
+                int reddy = reddy_level(chain, limit_cpd, diameter_deg);
+                lod = bands > 0 && lod < reddy ? lod : reddy;
+            }
+        }
+        without += lookups == before;
+        lod_out[k] = (uint8_t)lod;
+    }
+    if (stats) {
+        stats->model_evaluations += lookups + evaluations;
+        stats->model_skips += without;
     }
 }
 

@@ -44,6 +44,124 @@ static void test_select_reddy(void)
 /* The online cost correction (lod.h): a model that under-predicts by 30 % tightens the budget to
  * about budget / 1.3 within a few dozen frames; jitter adds its margin; over-prediction never
  * loosens it; non-finite or non-positive frames are ignored; one wild frame is clamped. */
+/* The contrast criterion against the CSF evaluated directly (not the table), on a chain whose bands
+ * carry hand-set lost contrasts: the coarsest level whose every displayable band has c·S·k < 1. */
+static int expected_contrast_level(const struct lod_chain *ch, double xi, double k, double v, double e, double diam)
+{
+    for (int l = ch->lod_count - 1; l > 0; --l) {
+        int visible = 0;
+        for (int b = 0; b < ch->band_count; ++b) {
+            double rho = exp2(b) / diam, c = ch->lost_contrast[l][b];
+            if (rho > xi || c == 0.0)
+                continue;
+            double sens = acu_csf_sensitivity(ACU_CSF_CASTLE, rho, rho * v, 100.0,
+                                              acu_csf_gabor_area_deg2(rho, ACU_CSF_GABOR_CYCLES), e);
+            visible |= !(c * sens * k < 1.0);
+        }
+        if (!visible)
+            return l;
+    }
+    return 0;
+}
+
+static void test_select_contrast(void)
+{
+    static struct acu_csf_table table; /* 116 KB */
+    acu_csf_table_fill_cycles(&table, ACU_CSF_CASTLE, 100.0, ACU_CSF_GABOR_CYCLES);
+    /* Bands 1, 2, 4 … 32 cycles per diameter; coarser levels lose more, mostly in the high bands. */
+    struct lod_chain chain = {.lod_count = 4, .unique_freq_cpdiam = {INFINITY, 40.0, 12.0, 4.0}, .band_count = 6};
+    const double lost[4][6] = {{0, 0, 0, 0, 0, 0},
+                               {0, 0, 0, 0.002, 0.01, 0.03},
+                               {0, 0.001, 0.01, 0.03, 0.08, 0.15},
+                               {0.02, 0.05, 0.1, 0.2, 0.3, 0.4}};
+    memcpy(chain.lost_contrast, lost, sizeof lost);
+    struct acu_limits lim;
+    acu_limits_init(&lim, 10.0, 1.0);
+    struct acu_contrast_limits vis;
+    acu_contrast_limits_init(&vis, &table, 10.0, 1.0, 1.0);
+    /* Hand cases. A 0.5° object: even band 0 (2 cpd) is displayable, band 5 (64 cpd) is not. A 0.05°
+     * object: every band is above ξ = 10 cpd (20 cpd and up), nothing displayable is lost → coarsest,
+     * whatever the contrast. */
+    const uint32_t chain_of[] = {0}, one[] = {0};
+    double ecc = 0.0, vel = 0.0, diam = 0.05;
+    uint8_t lod = 99;
+    struct lod_select_stats stats = {0};
+    lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &diam, &lod, &stats);
+    CHECK(lod == 3);
+    CHECK(stats.model_evaluations == 0); /* no band displayable: no CSF lookup at all */
+    /* Random objects against the direct model, away from the threshold's table error (0.01 in log10 S). */
+    uint64_t seed = 7;
+    int compared = 0, coarser = 0;
+    for (int t = 0; t < 4000; ++t) {
+        seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+        double u1 = (double)(seed >> 11) / 9007199254740992.0;
+        seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+        double u2 = (double)(seed >> 11) / 9007199254740992.0;
+        seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+        double u3 = (double)(seed >> 11) / 9007199254740992.0;
+        double d = exp2(-4.0 + 8.0 * u1); /* 0.06 … 16° */
+        double e = 40.0 * u2, v = u3 < 0.3 ? 0.0 : 30.0 * u3;
+        uint8_t got = 99;
+        lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &e, &v, &d, &got, NULL);
+        /* 2^6 = 64 c/diam ≤ ξ·D: the unmeasured part is displayable → also at most Reddy's level. */
+        int want = expected_contrast_level(&chain, 10.0, 1.0, v, e, d);
+        if (exp2(chain.band_count) <= 10.0 * d) {
+            uint8_t reddy = 99;
+            lod_select_reddy(&lim, &chain, chain_of, one, 1, &e, &v, &d, &reddy, NULL, NULL);
+            want = want < reddy ? want : reddy;
+        }
+        int near_threshold = expected_contrast_level(&chain, 10.0, 1.0 / 1.03, v, e, d) !=
+                             expected_contrast_level(&chain, 10.0, 1.03, v, e, d);
+        if (!near_threshold) {
+            CHECK(got == want);
+            ++compared;
+        }
+        coarser += got > 0;
+    }
+    CHECK(compared > 3500 && coarser > 1000); /* both outcomes exercised */
+    /* k: a larger safety factor never chooses a coarser level. */
+    for (double d = 0.1; d < 20.0; d *= 1.3) {
+        uint8_t a = 0, b = 0;
+        struct acu_contrast_limits safe = vis;
+        safe.k_scale = 4.0;
+        lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &d, &a, NULL);
+        lod_select_contrast(&safe, &lim, &chain, chain_of, one, 1, &ecc, &vel, &d, &b, NULL);
+        CHECK(b <= a);
+    }
+    /* An unmeasured band (NaN) that is displayable counts as visible; beyond ξ it does not matter. */
+    struct lod_chain nan_chain = chain;
+    for (int l = 1; l < 4; ++l)
+        nan_chain.lost_contrast[l][0] = NAN;
+    diam = 0.5; /* band 0 at 2 cpd: displayable */
+    lod_select_contrast(&vis, &lim, &nan_chain, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
+    CHECK(lod == 0);
+    diam = 0.05; /* band 0 at 20 cpd > ξ */
+    lod_select_contrast(&vis, &lim, &nan_chain, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
+    CHECK(lod == 3);
+    /* No spectrum: exactly Reddy's selector. A point (diameter 0): the coarsest, as Reddy's. */
+    struct lod_chain bare = {.lod_count = 4, .unique_freq_cpdiam = {INFINITY, 40.0, 12.0, 4.0}};
+    for (double d = 0.05; d < 30.0; d *= 1.2)
+        for (double e = 0.0; e < 50.0; e += 7.0) {
+            uint8_t a = 99, b = 98;
+            double v2 = 3.0;
+            lod_select_contrast(&vis, &lim, &bare, chain_of, one, 1, &e, &v2, &d, &a, NULL);
+            lod_select_reddy(&lim, &bare, chain_of, one, 1, &e, &v2, &d, &b, NULL, NULL);
+            CHECK(a == b);
+        }
+    diam = 0.0;
+    lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
+    CHECK(lod == 3);
+    /* s < 1 judges every band at ρ/s: never finer than s = 1. */
+    struct acu_contrast_limits scaled = vis;
+    scaled.scale = 0.5;
+    for (double d = 0.1; d < 20.0; d *= 1.3) {
+        uint8_t a = 0, b = 0;
+        lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &d, &a, NULL);
+        lod_select_contrast(&scaled, &lim, &chain, chain_of, one, 1, &ecc, &vel, &d, &b, NULL);
+        CHECK(b >= a);
+    }
+}
+
 static void test_cost_correction(void)
 {
     struct lod_cost_correction c;
@@ -372,6 +490,7 @@ static void test_keep(void)
 int main(void)
 {
     test_select_reddy();
+    test_select_contrast();
     test_cost_correction();
     test_cost_correction_no_spiral();
     test_feedback();

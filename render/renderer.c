@@ -8,6 +8,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The down-blit target of rnd_renderer_mean_luminance: 32×32 per eye, both eyes side by side, so
+ * each destination pixel stands for an equal share of either eye (smaller framebuffers use their
+ * own size and the copy is exact). */
+enum { RND_LUM_W = 64, RND_LUM_H = 32 };
+
 struct rnd_renderer {
     struct rnd_egl egl;
     struct rnd_window *window; /* set: drawing in that window's context instead of a headless one */
@@ -18,6 +23,11 @@ struct rnd_renderer {
     uint32_t scene_vertices, scene_indices; /* what is uploaded, to catch a mismatched scene */
     int has_scene;
     char name[128];
+    /* rnd_renderer_mean_luminance's down-blit target, made on first use; the read-back buffer lives
+     * here so that a per-frame call allocates nothing. */
+    GLuint lum_fbo, lum_rb;
+    int lum_w, lum_h;
+    uint8_t lum_rgba[RND_LUM_W * RND_LUM_H * 4];
 };
 
 static const char rnd_vs[] =
@@ -161,6 +171,8 @@ void rnd_renderer_destroy(struct rnd_renderer *r)
         glDeleteFramebuffers(1, &r->fbo);
         glDeleteTextures(1, &r->color_tex);
         glDeleteRenderbuffers(1, &r->depth_rb);
+        glDeleteFramebuffers(1, &r->lum_fbo);
+        glDeleteRenderbuffers(1, &r->lum_rb);
     }
     rnd_egl_destroy(&r->egl);
     free(r);
@@ -374,4 +386,69 @@ int rnd_renderer_read_rgba(struct rnd_renderer *r, uint8_t *rgba, struct hl_erro
         return hl_fail(err, "renderer: no renderer or buffer");
     const int rect[4] = {0, 0, 2 * r->eye_w, r->eye_h};
     return rnd_renderer_read_rect(r, rect, rgba, err);
+}
+
+/* The small RGBA8 target of the luminance down-blit, made once. */
+static int rnd_lum_target(struct rnd_renderer *r, struct hl_error *err)
+{
+    if (r->lum_fbo)
+        return 0;
+    r->lum_w = 2 * r->eye_w < RND_LUM_W ? 2 * r->eye_w : RND_LUM_W; /* both even: eyes stay halves */
+    r->lum_h = r->eye_h < RND_LUM_H ? r->eye_h : RND_LUM_H;
+    glGenFramebuffers(1, &r->lum_fbo);
+    glGenRenderbuffers(1, &r->lum_rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, r->lum_rb);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, r->lum_w, r->lum_h);
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->lum_fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, r->lum_rb);
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    GLenum e = glGetError();
+    if (status != GL_FRAMEBUFFER_COMPLETE || e != GL_NO_ERROR) {
+        glDeleteFramebuffers(1, &r->lum_fbo);
+        glDeleteRenderbuffers(1, &r->lum_rb);
+        r->lum_fbo = r->lum_rb = 0; /* the next call tries again rather than reading a broken target */
+        return hl_fail(err, "renderer: luminance target %d×%d incomplete (status 0x%x, GL error 0x%x)", r->lum_w,
+                       r->lum_h, (unsigned)status, (unsigned)e);
+    }
+    return 0;
+}
+
+int rnd_renderer_mean_luminance(struct rnd_renderer *r, double *mean_relative_out, struct hl_error *err)
+{
+    if (!r || !mean_relative_out)
+        return hl_fail(err, "renderer: no renderer or output");
+    if (rnd_renderer_current(r) != 0)
+        return hl_fail(err, "renderer: cannot make the context current");
+    while (glGetError() != GL_NO_ERROR) { /* an earlier call's error is not this one's */
+    }
+    if (rnd_lum_target(r, err) != 0)
+        return -1;
+    /* The blit honours the scissor test; the whole framebuffer is wanted. */
+    GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, r->fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, r->lum_fbo);
+    glBlitFramebuffer(0, 0, 2 * r->eye_w, r->eye_h, 0, 0, r->lum_w, r->lum_h, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, r->lum_fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, r->lum_w, r->lum_h, GL_RGBA, GL_UNSIGNED_BYTE, r->lum_rgba);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo); /* as the draws leave it */
+    if (scissor)
+        glEnable(GL_SCISSOR_TEST);
+    GLenum e = glGetError();
+    if (e != GL_NO_ERROR)
+        return hl_fail(err, "renderer: luminance down-blit or read-back failed: GL error 0x%x", (unsigned)e);
+    /* Rec. 709 / sRGB primaries: Y of linear R, G, B. */
+    const double *lin = rnd_srgb_decode_table();
+    double sum = 0.0;
+    size_t n = (size_t)r->lum_w * (size_t)r->lum_h;
+    for (size_t i = 0; i < n; ++i) {
+        const uint8_t *p = r->lum_rgba + 4 * i;
+        sum += 0.2126 * lin[p[0]] + 0.7152 * lin[p[1]] + 0.0722 * lin[p[2]];
+    }
+    *mean_relative_out = sum / (double)n;
+    return 0;
 }

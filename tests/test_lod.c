@@ -162,6 +162,64 @@ static void test_select_contrast(void)
     }
 }
 
+/* docs/HARD_CASES.md "Visibility": the contrast criterion at the extremes of its inputs. */
+static void test_select_contrast_hard_cases(void)
+{
+    static struct acu_csf_table table;
+    struct lod_chain chain = {.lod_count = 3, .unique_freq_cpdiam = {INFINITY, 40.0, 12.0}, .band_count = 7};
+    for (int b = 0; b < 7; ++b)
+        chain.lost_contrast[1][b] = 0.05, chain.lost_contrast[2][b] = 0.5;
+    struct acu_limits lim;
+    acu_limits_init(&lim, 10.0, 1.0);
+    struct acu_contrast_limits vis;
+    acu_contrast_limits_init(&vis, &table, 10.0, 1.0, 1.0);
+    const uint32_t chain_of[] = {0}, one[] = {0};
+    uint8_t lod = 99;
+    double ecc = 0.0, vel = 0.0, diam = 4.0; /* bands at 0.25 … 16 cpd: most displayable */
+    /* L → 0: the table at the model's floor (0.02 cd/m²) is finite and the choice defined. */
+    acu_csf_table_fill_cycles(&table, ACU_CSF_CASTLE, 0.0, ACU_CSF_GABOR_CYCLES);
+    lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
+    CHECK(lod <= 2);
+    acu_csf_table_fill_cycles(&table, ACU_CSF_CASTLE, 100.0, ACU_CSF_GABOR_CYCLES);
+    /* v = 0: still; a 50 % loss at 0.25–8 cpd in the fovea is seen, a 5 % one at 4 cpd too (S ≈ 100). */
+    lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
+    CHECK(lod == 0);
+    /* v ≥ 1000 deg/s: ω in the kHz, S → 0, nothing lost is visible → coarsest (Reddy's G is 0 there too). */
+    vel = 1000.0;
+    lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
+    CHECK(lod == 2);
+    vel = 1e12;
+    lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
+    CHECK(lod == 2);
+    /* E > 60: held at 60° (acuity/csf.h), the same choice at 90 and 180. */
+    vel = 0.0;
+    uint8_t at60 = 99, at90 = 98, at180 = 97;
+    ecc = 60.0;
+    lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &diam, &at60, NULL);
+    ecc = 90.0;
+    lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &diam, &at90, NULL);
+    ecc = 180.0;
+    lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &diam, &at180, NULL);
+    CHECK(at60 == at90 && at90 == at180);
+    /* ρ → 0 (a huge object: band 0 at 1/180 cpd, off the table's grid) and ρ ≫ 60 (a speck). */
+    ecc = 0.0;
+    diam = 180.0;
+    lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
+    CHECK(lod == 0); /* 2^7/180 < ξ: Reddy's level holds it, which is 0 at the fovea */
+    diam = 1e-3;
+    lod_select_contrast(&vis, &lim, &chain, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
+    CHECK(lod == 2);
+    /* contrast 0 everywhere: nothing is lost → coarsest; contrast > 1 (band contrast) is simply visible. */
+    struct lod_chain flat = chain;
+    memset(flat.lost_contrast, 0, sizeof flat.lost_contrast);
+    diam = 4.0;
+    lod_select_contrast(&vis, &lim, &flat, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
+    CHECK(lod == 2);
+    flat.lost_contrast[2][3] = 3.0; /* 2 cpd */
+    lod_select_contrast(&vis, &lim, &flat, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
+    CHECK(lod == 1);
+}
+
 static void test_cost_correction(void)
 {
     struct lod_cost_correction c;
@@ -491,6 +549,7 @@ int main(void)
 {
     test_select_reddy();
     test_select_contrast();
+    test_select_contrast_hard_cases();
     test_cost_correction();
     test_cost_correction_no_spiral();
     test_feedback();

@@ -77,6 +77,7 @@ static int cmd_show(const char *what)
     else
         printf(ROW "none\n", "distortion k (a b c d)");
     printf(ROW "%.4g %.4g %.4g\n", "aberration (r g b scale)", p.aberration[0], p.aberration[1], p.aberration[2]);
+    printf(ROW "%.4g\n", "peak luminance (cd/m2)", p.peak_luminance_cdm2);
 
     printf("\nhighest displayable frequency xi (Reddy eq. 4: px / (2 FOV))\n");
     printf(ROW "%.2f\n", "xi horizontal (c/deg)", xi.horizontal_cpd);

@@ -23,6 +23,7 @@ struct hmd_profile {
     /* The cyclopean eye's offset from the neck's rotation centre, head frame: metres forward and up
      * (Oculus SDK neck model by default, HMD_NECK_TO_EYE_*). |offset| < 0.3 m; 0, 0 = eyes at the pivot. */
     double neck_to_eye_m[2];
+    double peak_luminance_cdm2; /* display white, cd/m²; 100 by default (DEVICES.md §1d) */
 };
 /* Oculus SDK OVR_CAPI_Keys.h OVR_DEFAULT_NECK_TO_EYE_HORIZONTAL / _VERTICAL (ANSUR-88 averages). */
 #define HMD_NECK_TO_EYE_FORWARD_M 0.0805
@@ -42,6 +43,14 @@ struct hmd_profile {
 #define HMD_ABERRATION_MAX 2.0
 #define HMD_XI_MIN_CPD 0.1           /* override of ξ, when given */
 #define HMD_XI_MAX_CPD 1000.0
+/* Peak (white) luminance: headsets run at 50–200 cd/m² (Krajancich et al. 2021, DEVICES.md §1d).
+ * 1 cd/m² is below any display a contrast sensitivity function would be asked about, and 10000
+ * cd/m² is the top of HDR mastering (SMPTE ST 2084); outside them a value is a typo or a wrong unit
+ * (nits are cd/m²; a foot-lambert is 3.43 of them). Few headsets publish theirs, so 100 is the
+ * documented default (FovVideoVDP's generic HMD). */
+#define HMD_PEAK_LUMINANCE_MIN_CDM2 1.0
+#define HMD_PEAK_LUMINANCE_MAX_CDM2 10000.0
+#define HMD_PEAK_LUMINANCE_DEFAULT_CDM2 100.0
 
 /* Reddy's highest displayable frequency, eq. 4: one pixel is half a cycle. */
 struct hmd_xi {
@@ -86,7 +95,8 @@ void hmd_eye_projection(const struct hmd_eye *eye, double near_m, double far_m, 
 enum { HMD_PROFILE_MAX_BYTES = 1 << 20 };
 
 /* Resets *p to an empty profile with the defaults a JSON file may omit: IPD 0.063 m, no distortion
- * (k all 0), no aberration (1, 1, 1), no ξ override, the default neck-to-eye offset. Name, pixels, FOV and refresh are zero. */
+ * (k all 0), no aberration (1, 1, 1), no ξ override, the default neck-to-eye offset, a peak luminance
+ * of 100 cd/m². Name, pixels, FOV and refresh are zero. */
 void hmd_profile_defaults(struct hmd_profile *p);
 
 /* Sets a symmetric FOV of h_deg × v_deg (full angles, degrees): every tangent is tan(angle/2).

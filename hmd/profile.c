@@ -14,6 +14,7 @@ void hmd_profile_defaults(struct hmd_profile *p)
     p->aberration[0] = p->aberration[1] = p->aberration[2] = 1.0;
     p->neck_to_eye_m[0] = HMD_NECK_TO_EYE_FORWARD_M;
     p->neck_to_eye_m[1] = HMD_NECK_TO_EYE_UP_M;
+    p->peak_luminance_cdm2 = HMD_PEAK_LUMINANCE_DEFAULT_CDM2;
 }
 
 hl_vec3d hmd_neck_to_eye_head(const struct hmd_profile *p)
@@ -93,6 +94,10 @@ int hmd_profile_validate(const struct hmd_profile *p, const char *where, struct 
     if (!(p->xi_override_cpd == 0 || (p->xi_override_cpd >= HMD_XI_MIN_CPD && p->xi_override_cpd <= HMD_XI_MAX_CPD)))
         return hl_fail(err, "%s: field 'xi_cpd': expected cycles/degree in [%g, %g], or 0 for none (got %g)", where,
                        HMD_XI_MIN_CPD, HMD_XI_MAX_CPD, p->xi_override_cpd);
+    if (!(p->peak_luminance_cdm2 >= HMD_PEAK_LUMINANCE_MIN_CDM2 &&
+          p->peak_luminance_cdm2 <= HMD_PEAK_LUMINANCE_MAX_CDM2))
+        return hl_fail(err, "%s: field 'peak_luminance_cdm2': expected cd/m² in [%g, %g] (got %g)", where,
+                       HMD_PEAK_LUMINANCE_MIN_CDM2, HMD_PEAK_LUMINANCE_MAX_CDM2, p->peak_luminance_cdm2);
     return 0;
 }
 

@@ -14,7 +14,7 @@
 
 enum field_id {
     F_FORMAT, F_NAME, F_DESCRIPTION, F_EYE_PIXELS, F_FOV_DEG, F_FOV_TANGENTS, F_REFRESH, F_IPD,
-    F_DISTORTION, F_ABERRATION, F_XI, F_NECK, F_COUNT
+    F_DISTORTION, F_ABERRATION, F_XI, F_NECK, F_PEAK_LUMINANCE, F_COUNT
 };
 /* cJSON allocates through base's counting hooks, so a parse that fails for want of memory is told from
  * bad text (base.h, "allocation in libraries"). */
@@ -26,7 +26,7 @@ __attribute__((constructor)) static void profile_json_hooks(void)
 
 static const char *const g_keys[F_COUNT] = {
     "format", "name", "description", "eye_pixels", "fov_deg", "fov_tangents", "refresh_hz", "ipd_m",
-    "distortion_k", "aberration", "xi_cpd", "neck_to_eye_m",
+    "distortion_k", "aberration", "xi_cpd", "neck_to_eye_m", "peak_luminance_cdm2",
 };
 
 /* Reads the whole file (at most HMD_PROFILE_MAX_BYTES) into a NUL-terminated buffer; base/file.c
@@ -123,7 +123,7 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
             return hl_fail(err,
                            "%s: field '%.40s': unknown key (known: format, name, description, eye_pixels, "
                            "fov_deg, fov_tangents, refresh_hz, ipd_m, distortion_k, aberration, xi_cpd, "
-                           "neck_to_eye_m)",
+                           "neck_to_eye_m, peak_luminance_cdm2)",
                            path, c->string ? c->string : "");
         if (field[k])
             return hl_fail(err, "%s: field '%s': duplicate key", path, g_keys[k]);
@@ -188,6 +188,12 @@ static int parse_profile(const cJSON *root, const char *path, struct hmd_profile
                           !(hypot(p->neck_to_eye_m[0], p->neck_to_eye_m[1]) < HMD_NECK_TO_EYE_MAX_M)))
         return hl_fail(err, "%s: field 'neck_to_eye_m': expected [forward, up] metres, length below %g", path,
                        HMD_NECK_TO_EYE_MAX_M);
+    if (field[F_PEAK_LUMINANCE] &&
+        (!get_finite(field[F_PEAK_LUMINANCE], &p->peak_luminance_cdm2) ||
+         !(p->peak_luminance_cdm2 >= HMD_PEAK_LUMINANCE_MIN_CDM2 &&
+           p->peak_luminance_cdm2 <= HMD_PEAK_LUMINANCE_MAX_CDM2)))
+        return hl_fail(err, "%s: field 'peak_luminance_cdm2': expected a finite number of cd/m² in [%g, %g]", path,
+                       HMD_PEAK_LUMINANCE_MIN_CDM2, HMD_PEAK_LUMINANCE_MAX_CDM2);
 
     /* The ranges of every field (the tangent form can still reach 180° per axis, or fall below 1°). */
     return hmd_profile_validate(p, path, err);

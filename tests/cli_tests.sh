@@ -449,6 +449,14 @@ expect_ok "replay --gaze vor flags" "gain 0.8, latency 20 ms" -- "$bin" replay -
 grep -Eq '"model":[[:space:]]*"vor"' "$tmp/gz-vor/summary.json" && grep -Eq '"fixation_m":[[:space:]]*3,' "$tmp/gz-vor/summary.json" \
   || fail "summary.json does not name the gaze model and fixation"
 expect_ok "display shows the neck offset" "eyes from the neck pivot \(mm\) +80.5 forward, 75.0 up" -- "$bin" display show vive
+# Peak luminance (docs/display-profile.md): the default of 100 cd/m², a file's own value, a bad one refused.
+expect_ok "display shows the peak luminance" "peak luminance \(cd/m2\) +100$" -- "$bin" display show vive
+printf '{"name": "n", "eye_pixels": [100, 100], "fov_deg": [90, 90], "refresh_hz": 60, "peak_luminance_cdm2": 133.3}\n' \
+  >"$tmp/lum.json"
+expect_ok "display shows a file's peak luminance" "peak luminance \(cd/m2\) +133.3$" -- "$bin" display show "$tmp/lum.json"
+printf '{"name": "n", "eye_pixels": [100, 100], "fov_deg": [90, 90], "refresh_hz": 60, "peak_luminance_cdm2": "bright"}\n' \
+  >"$tmp/lum-bad.json"
+expect_error "display peak luminance not a number" "lum-bad.json: field 'peak_luminance_cdm2'" -- "$bin" display show "$tmp/lum-bad.json"
 # Saccades (frame/saccade_step.c): the onset flag is checked; the EDVAM log loads as it is and the
 # summary reports its saccades.
 expect_error "replay bad --saccade-onset-degps" "--saccade-onset-degps: -5 is not a speed" -- "$bin" replay \

@@ -285,6 +285,10 @@ static const struct bad_case g_bad[] = {
     {"invalid_aberration_huge.json", "'aberration'"},
     {"invalid_xi_huge.json", "'xi_cpd'"},
     {"invalid_ipd_negative.json", "'ipd_m'"},
+    {"invalid_peak_luminance_string.json", "'peak_luminance_cdm2'"},
+    {"invalid_peak_luminance_huge.json", "'peak_luminance_cdm2'"},
+    {"invalid_peak_luminance_tiny.json", "'peak_luminance_cdm2'"},
+    {"invalid_peak_luminance_infinite.json", "'peak_luminance_cdm2'"},
 };
 
 static void test_json_invalid(void)
@@ -337,6 +341,39 @@ static void test_neck_to_eye(void)
     CHECK(hmd_profile_validate(&p, "t", &err) != 0 && strstr(err.msg, "'neck_to_eye_m'"));
     p.neck_to_eye_m[0] = -0.29;
     CHECK(hmd_profile_validate(&p, "t", &err) == 0);
+}
+
+/* Peak luminance (DEVICES.md §1d): 100 cd/m² wherever a profile gives none — every built-in, since
+ * the one device §1d measures (Vive Pro) has no row — a file may set it, and validation refuses NaN
+ * and values outside [1, 10000] cd/m². */
+static void test_peak_luminance(void)
+{
+    for (int i = 0; i < hmd_builtin_count(); ++i)
+        CHECK_NEAR(hmd_builtin_at(i)->peak_luminance_cdm2, 100.0, 0);
+    struct hmd_profile p;
+    struct hl_error err = {{0}};
+    hmd_profile_defaults(&p);
+    CHECK_NEAR(p.peak_luminance_cdm2, 100.0, 0);
+    CHECK(hmd_profile_load_json(fixture("valid_tangents.json"), &p, &err) == 0);
+    CHECK_NEAR(p.peak_luminance_cdm2, 100.0, 0);
+    CHECK(hmd_profile_load_json(fixture("valid_peak_luminance.json"), &p, &err) == 0);
+    CHECK_NEAR(p.peak_luminance_cdm2, 133.3, 0);
+    char want[4500];
+    hmd_profile_load_json(fixture("invalid_peak_luminance_string.json"), &p, &err);
+    snprintf(want, sizeof want, "%s: field 'peak_luminance_cdm2': expected a finite number of cd/m² in [1, 10000]",
+             fixture("invalid_peak_luminance_string.json"));
+    CHECK(strcmp(err.msg, want) == 0);
+    CHECK(hmd_profile_load("vive", &p, &err) == 0);
+    static const double bad[] = {NAN, INFINITY, 0.0, 0.999, 10000.5, -100.0};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        p.peak_luminance_cdm2 = bad[i];
+        CHECK(hmd_profile_validate(&p, "t", &err) != 0 && strstr(err.msg, "t: field 'peak_luminance_cdm2'"));
+    }
+    static const double good[] = {1.0, 50.0, 200.0, 10000.0};
+    for (size_t i = 0; i < sizeof good / sizeof good[0]; ++i) {
+        p.peak_luminance_cdm2 = good[i];
+        CHECK(hmd_profile_validate(&p, "t", &err) == 0);
+    }
 }
 
 /* Every prefix of a valid profile fails cleanly or parses; a file over the size limit is refused. */
@@ -407,5 +444,6 @@ int main(void)
     test_json_invalid();
     test_json_truncation_and_size();
     test_neck_to_eye();
+    test_peak_luminance();
     return tu_finish("test_hmd");
 }

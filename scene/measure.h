@@ -27,7 +27,8 @@ int scn_mesh_hausdorff(const struct scn_mesh *a, const struct scn_mesh *b, uint6
 /* FNV-1a 64 over the little-endian bytes of vertex_count (u32), index_count (u32), the positions
  * (f32 bit patterns) and the indices (u32); normals are not hashed. Same value on every host. */
 uint64_t scn_mesh_hash(const struct scn_mesh *m);
-/* Packs a lodset as one more chain of the scene (shared buffers; errors and frequency table copied).
+/* Packs a lodset as one more chain of the scene (shared buffers; errors, frequency table and
+ * lost-contrast spectrum copied; more than SCN_LODSET_MAX_BANDS bands is refused).
  * The chain's sphere is centred on set->center_m (scn_chain.bound_center_m) and grown to hold every
  * level's vertices; unique_freq_cpdiam = the geometric reading (R/ε where it is NaN), kept strictly
  * decreasing. The set stays the caller's. */

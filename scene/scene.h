@@ -18,6 +18,7 @@ struct scn_lod {
     double geometric_error_m;  /* max distance from the finest level's vertices to this level's surface */
     double unique_freq_cpdiam; /* the reading the selectors use (see acuity.h, docs/scenes.md) */
     struct scn_level_freq freq; /* every reading known for this level (lodset.h) */
+    double lost_contrast[SCN_LODSET_MAX_BANDS]; /* lodset.h: band b (2^b cycles per diameter) contrast lost against level 0 */
 };
 
 struct scn_chain {
@@ -30,6 +31,12 @@ struct scn_chain {
                                         * (projected coverage of large objects, frame/select.c) */
     int null_impostor; /* 1: drawing nothing (lod 255) is a legal choice for its instances (Mason & Blake §8) */
     int analysis_views, analysis_size_px; /* of the image-based tables its asset (.lod) came with; 0: none */
+    /* The lost-contrast spectrum (lodset.h, docs/analysis.md): lods[l].lost_contrast[0 …
+     * contrast_band_count − 1], from the asset (a version 2 .lod) or from frm_assets_prepare (the
+     * cache or an analysis). Level 0 is 0 in every band; a band may be NaN (no view had an object
+     * pixel in it); bands from contrast_band_count on are unused (0). */
+    int contrast_band_count;     /* 0: not measured */
+    double contrast_percentile;  /* of each view's object pixels behind each value, (0, 100]; 0 when not measured */
 };
 
 struct scn_instance {

@@ -1,6 +1,6 @@
 /* A lodset (an asset: lodgen's output, a .lod file) becomes one chain of a scene: its levels go
- * into the shared vertex and index arrays like the built-in chains, and its measured errors and
- * frequency table are copied rather than recomputed. */
+ * into the shared vertex and index arrays like the built-in chains, and its measured errors,
+ * frequency table and lost-contrast spectrum are copied rather than recomputed. */
 #include "scene/scene_internal.h"
 
 #include <math.h>
@@ -26,6 +26,9 @@ int scn_scene_add_lodset(struct scn_scene *s, const char *name, const struct scn
     if (!isfinite(set->center_m[0]) || !isfinite(set->center_m[1]) || !isfinite(set->center_m[2]) ||
         !(set->radius_m >= 0) || !isfinite(set->radius_m))
         return hl_fail(err, "scene: lodset %s: bounding sphere is not finite", name);
+    if (set->contrast_band_count < 0 || set->contrast_band_count > SCN_LODSET_MAX_BANDS)
+        return hl_fail(err, "scene: lodset %s: %d contrast bands (0…%d)", name, set->contrast_band_count,
+                       SCN_LODSET_MAX_BANDS);
     if (scn_scene_pack_chain(s, name, set->levels, set->level_count, err) != 0)
         return -1;
     struct scn_chain *c = &s->chains[s->chain_count - 1];
@@ -47,10 +50,16 @@ int scn_scene_add_lodset(struct scn_scene *s, const char *name, const struct scn
     c->bound_radius_m = r;
     c->analysis_views = set->analysis_views;
     c->analysis_size_px = set->analysis_size_px;
+    /* The spectrum travels as measured (NaN bands included); unused bands stay 0 so that a chain
+     * never shows a value its asset did not hold. */
+    c->contrast_band_count = set->contrast_band_count;
+    c->contrast_percentile = set->contrast_band_count ? set->contrast_percentile : 0.0;
     for (int l = 0; l < set->level_count; ++l) {
         struct scn_lod *lod = &c->lods[l];
         lod->geometric_error_m = set->error_m[l];
         lod->freq = set->freq[l];
+        for (int b = 0; b < SCN_LODSET_MAX_BANDS; ++b)
+            lod->lost_contrast[b] = b < set->contrast_band_count ? set->lost_contrast[l][b] : 0.0;
         /* The geometric reading for now (`hmdlod analyze` chooses among the readings later); a
          * lodset that lacks it gets R/ε like the built-in chains, and the same strict decrease. */
         double f = set->freq[l].geometric_cpdiam;

@@ -1,7 +1,8 @@
 /* Scene files' mesh entries through replay's caching resolver (frame/asset_resolver.c): the first
  * load makes the chain and keeps it as a .lod in the cache, a later load reads that file (proved by
  * planting a marked copy), a corrupt or foreign cache file is rebuilt, an unwritable cache is not an
- * error, a .lod entry passes straight through, and a .lod's own measured tables are used as they are. */
+ * error, a .lod entry passes straight through, a lodset's lost-contrast spectrum reaches its chain, and
+ * a .lod's own measured tables are used as they are. */
 #include <dirent.h>
 #include <math.h>
 #include <stdio.h>
@@ -111,19 +112,44 @@ int main(void)
     CHECK(resolve("/tmp/hmdlod-no-such-mesh.obj", &second, &err) != 0);
     CHECK(strstr(err.msg, "hmdlod-no-such-mesh.obj") != NULL);
 
-    /* A chain whose .lod already holds measured tables keeps them: nothing is analysed again. */
+    /* A chain whose .lod already holds measured tables — readings and spectrum, a version 2 file —
+     * keeps them: nothing is analysed again. (A version 1 file, readings only, is analysed for its
+     * spectrum: test_analyze, which may render.) */
     for (int l = 1; l < first.level_count; ++l)
         first.freq[l].narrow_cpdiam = 40.0 / l, first.freq[l].long_cpdiam = 20.0 / l;
     first.freq[0].narrow_cpdiam = first.freq[0].long_cpdiam = INFINITY;
     first.analysis_views = 18, first.analysis_size_px = 256; /* as `hmdlod analyze` leaves it */
+    first.contrast_band_count = 7, first.contrast_percentile = 99;
+    for (int l = 1; l < first.level_count; ++l)
+        for (int b = 0; b < first.contrast_band_count; ++b)
+            first.lost_contrast[l][b] = 0.001 * (b + 1) * l + 1e-17 * b; /* bits a rounding would lose */
+    first.lost_contrast[1][6] = NAN; /* no view had an object pixel in that band */
+    first.lost_contrast[2][9] = 5.0; /* beyond the band count: unused, must not reach the chain */
     struct scn_scene scene = {0};
     CHECK(scn_scene_add_lodset(&scene, "measured", &first, &err) == 0);
+    /* The lodset's spectrum is the chain's, bit for bit, unused bands 0. */
+    const struct scn_chain *ch = &scene.chains[0];
+    CHECK(ch->contrast_band_count == 7 && ch->contrast_percentile == 99);
+    for (int l = 0; l < first.level_count; ++l)
+        for (int b = 0; b < SCN_LODSET_MAX_BANDS; ++b) {
+            double want = b < 7 ? first.lost_contrast[l][b] : 0.0;
+            CHECK(memcmp(&ch->lods[l].lost_contrast[b], &want, sizeof want) == 0);
+        }
+    CHECK(isnan(ch->lods[1].lost_contrast[6]) && ch->lods[2].lost_contrast[9] == 0.0);
+    /* More bands than a chain holds is refused before anything is packed. */
+    struct scn_scene refused = {0};
+    first.contrast_band_count = SCN_LODSET_MAX_BANDS + 1;
+    CHECK(scn_scene_add_lodset(&refused, "too-many-bands", &first, &err) != 0 && strstr(err.msg, "contrast bands"));
+    CHECK(refused.chain_count == 0);
+    scn_scene_free(&refused);
+    first.contrast_band_count = 7;
     struct rnd_analyze_params ap;
     frm_assets_params(&ap);
     struct frm_assets_report rep;
     CHECK(frm_assets_prepare(&scene, &ap, FRM_READING_NARROW, &rep, &err) == 0);
     CHECK(rep.chains_from_file == 1 && rep.chains_analysed == 0 && rep.chains_cached == 0);
     CHECK(scene.chains[0].lods[2].unique_freq_cpdiam == 20.0);
+    CHECK(scene.chains[0].contrast_band_count == 7 && scene.chains[0].lods[3].lost_contrast[2] == first.lost_contrast[3][2]);
     scn_scene_free(&scene);
 
     scn_lodset_free(&first);

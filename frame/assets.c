@@ -1,6 +1,6 @@
-/* The built-in chains' measured frequency tables: Reddy's offline analysis (render/analyze.c) run
- * once per chain and cached in small text files keyed by the meshes and the parameters, and the
- * reading the selectors use. docs/analysis.md describes the cache and the choice of reading. */
+/* The built-in chains' measured frequency tables and lost-contrast spectra: Reddy's offline
+ * analysis (render/analyze.c) run once per chain and cached in small text files keyed by the meshes
+ * and the parameters, and the reading the selectors use. docs/analysis.md describes the cache and the choice of reading. */
 #include <errno.h>
 #include <ctype.h>
 #include <math.h>
@@ -183,7 +183,8 @@ static int frm_append(char *buf, size_t size, size_t *n, const char *fmt, ...)
 static int frm_cache_format(char *buf, size_t size, uint64_t key, const struct scn_lodset *set)
 {
     size_t n = 0;
-    if (frm_append(buf, size, &n, "hmdlod-freq 2\nkey %016llx\nviews %d size_px %d levels %d\nbands %d percentile %.17g\n",
+    if (frm_append(buf, size, &n,
+                   "hmdlod-freq 2\nkey %016llx\nviews %d size_px %d levels %d\nbands %d percentile %.17g\n",
                    (unsigned long long)key, set->analysis_views, set->analysis_size_px, set->level_count,
                    set->contrast_band_count, set->contrast_percentile) != 0)
         return -1;

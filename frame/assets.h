@@ -35,7 +35,7 @@ int frm_cache_file(char *out, size_t size, const char *dir, const char *label, u
 const struct scn_asset_resolver *frm_cached_resolver(void);
 
 /* Copies chain `chain` of a scene back into a lodset (each level's vertices and local indices, the
- * chain's bounding sphere, errors and frequency tables). *out is zeroed first; free it with
+ * chain's bounding sphere, errors, frequency tables and lost-contrast spectrum). *out is zeroed first; free it with
  * scn_lodset_free. */
 int frm_lodset_from_chain(const struct scn_scene *s, uint32_t chain, struct scn_lodset *out, struct hl_error *err);
 
@@ -46,8 +46,11 @@ struct frm_assets_report {
     int cache_unwritable;                    /* results could not be stored: analysed every run */
 };
 
-/* Gives every chain of `scene` with two or more levels its image-based tables: a chain that already
- * has them (a .lod written by `hmdlod analyze`) keeps its own; others come from the cache when
+/* Gives every chain of `scene` with two or more levels its image-based tables — the narrow and long
+ * readings and the lost-contrast spectrum (scn_chain.contrast_band_count, contrast_percentile,
+ * scn_lod.lost_contrast): a chain that already has both (a version 2 .lod written by `hmdlod
+ * analyze`) keeps its own; a chain with readings but no spectrum (a version 1 .lod) keeps its
+ * readings and takes the spectrum from the cache or an analysis; others come from the cache when
  * a file with the same key exists (key = the levels' scn_mesh_hash and the analysis parameters, so
  * a changed mesh or parameter never reads a stale table), else by analysis, then stored. A corrupt
  * cache file is analysed again, with a note on stderr; a cache that cannot be written is noted once
@@ -55,7 +58,8 @@ struct frm_assets_report {
 int frm_assets_prepare(struct scn_scene *scene, const struct rnd_analyze_params *p, enum frm_freq_reading reading,
                        struct frm_assets_report *report, struct hl_error *err);
 /* The same for one lodset (e.g. what a scene file's asset resolver loaded): fills set->freq[*]
- * .narrow_cpdiam and .long_cpdiam (and analysis_views/size_px) from the cache or by analysis. name
+ * .narrow_cpdiam and .long_cpdiam, the spectrum (contrast_band_count, contrast_percentile,
+ * lost_contrast) and analysis_views/size_px from the cache or by analysis. name
  * labels the cache file (NULL: "lodset"). A lodset of one level is left as it is. report may be NULL. */
 int frm_assets_measure(struct scn_lodset *set, const char *name, const struct rnd_analyze_params *p,
                        struct frm_assets_report *report, struct hl_error *err);

@@ -18,7 +18,8 @@ struct scn_lod {
     double geometric_error_m;  /* max distance from the finest level's vertices to this level's surface */
     double unique_freq_cpdiam; /* the reading the selectors use (see acuity.h, docs/scenes.md) */
     struct scn_level_freq freq; /* every reading known for this level (lodset.h) */
-    double lost_contrast[SCN_LODSET_MAX_BANDS]; /* lodset.h: band b (2^b cycles per diameter) contrast lost against level 0 */
+    /* lodset.h: band b (2^b cycles per diameter) contrast lost against level 0 */
+    double lost_contrast[SCN_LODSET_MAX_BANDS];
 };
 
 struct scn_chain {

@@ -640,9 +640,54 @@ static void test_albedo(struct rnd_renderer *r)
 
 static int file_exists(const char *path) { return access(path, F_OK) == 0; }
 
-/* The cache of the built-in chains: written on the first run, read on the second (same tables, no
- * analysis), a corrupt file re-analysed, other parameters another file, an unwritable folder no
- * error; and the reading chosen lands in unique_freq_cpdiam. */
+/* Every band of every level the same bits (NaN included), bands past the count 0 in both. */
+static int same_spectrum(const struct scn_chain *a, const struct scn_chain *b)
+{
+    if (a->contrast_band_count != b->contrast_band_count || a->contrast_percentile != b->contrast_percentile ||
+        a->lod_count != b->lod_count)
+        return 0;
+    for (int l = 0; l < a->lod_count; ++l)
+        if (memcmp(a->lods[l].lost_contrast, b->lods[l].lost_contrast, sizeof a->lods[l].lost_contrast) != 0)
+            return 0;
+    return 1;
+}
+
+/* Writes `text` to `path` with its check line recomputed (FNV-1a 64 of every byte before it, as
+ * frame/assets.c does), so that the reader gets past the checksum to the content under test. */
+static void write_checked(const char *path, const char *text)
+{
+    const char *check = strstr(text, "check ");
+    CHECK(check != NULL);
+    if (!check)
+        return;
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (const char *c = text; c < check; ++c)
+        h = (h ^ (unsigned char)*c) * 0x100000001b3ull;
+    FILE *f = fopen(path, "wb");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fwrite(text, 1, (size_t)(check - text), f);
+    fprintf(f, "check %016llx\n", (unsigned long long)h);
+    fclose(f);
+}
+
+/* `text` with its first `from` after `after` replaced by `to` (at most 4095 bytes), or NULL. */
+static char *replace_after(const char *text, const char *after, const char *from, const char *to)
+{
+    const char *a = strstr(text, after);
+    const char *at = a ? strstr(a + strlen(after), from) : NULL;
+    static char out[4096];
+    if (!at || strlen(text) - strlen(from) + strlen(to) >= sizeof out)
+        return NULL;
+    snprintf(out, sizeof out, "%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
+    return out;
+}
+
+/* The cache of the built-in chains: written on the first run, read on the second (same tables and
+ * spectrum, no analysis), a corrupt file — a changed digit, a bad contrast value, the old format —
+ * re-analysed, a version 1 .lod's chain given its spectrum, other parameters another file, an
+ * unwritable folder no error; and the reading chosen lands in unique_freq_cpdiam. */
 static void test_cache(void)
 {
     char dir[] = "/tmp/hmdlod-analyze-XXXXXX";
@@ -663,13 +708,26 @@ static void test_cache(void)
         CHECK(a.chains[0].lods[l].freq.narrow_cpdiam == b.chains[0].lods[l].freq.narrow_cpdiam);
         CHECK(a.chains[0].lods[l].unique_freq_cpdiam == a.chains[0].lods[l].freq.long_cpdiam);
     }
+    /* The spectrum reaches the chain (7 bands at 256 px, level 0 nothing lost, the coarsest level
+     * something) and survives the cache bit for bit. */
+    const struct scn_chain *ca = &a.chains[0];
+    CHECK(ca->contrast_band_count == 7 && ca->contrast_percentile == p.contrast_percentile);
+    for (int bnd = 0; bnd < 7; ++bnd)
+        CHECK(ca->lods[0].lost_contrast[bnd] == 0.0 && !(ca->lods[3].lost_contrast[bnd] < 0));
+    CHECK(ca->lods[3].lost_contrast[3] > 0);
+    CHECK(same_spectrum(ca, &b.chains[0]));
     /* A lodset of the same meshes (what a scene file's resolver would hand over) hits the same file. */
     struct scn_lodset set;
     CHECK(frm_lodset_from_chain(&a, 0, &set, &err) == 0);
     for (int l = 0; l < 4; ++l)
         set.freq[l].narrow_cpdiam = set.freq[l].long_cpdiam = NAN;
+    set.contrast_band_count = 0;
+    memset(set.lost_contrast, 0, sizeof set.lost_contrast);
     CHECK(frm_assets_measure(&set, "bumpy_sphere", &p, &rep, &err) == 0 && rep.chains_cached == 1);
     CHECK(set.freq[2].long_cpdiam == a.chains[0].lods[2].freq.long_cpdiam && set.analysis_views == 18);
+    CHECK(set.contrast_band_count == 7 && set.contrast_percentile == p.contrast_percentile);
+    for (int l = 0; l < 4; ++l)
+        CHECK(memcmp(set.lost_contrast[l], ca->lods[l].lost_contrast, sizeof set.lost_contrast[l]) == 0);
     scn_lodset_free(&set);
     /* The readings: narrow and geometric tables land in unique_freq_cpdiam, still falling. */
     frm_assets_apply_reading(&b, FRM_READING_NARROW);
@@ -710,6 +768,64 @@ static void test_cache(void)
     scn_scene_free(&b);
     CHECK(scn_scene_build("field", NULL, &b, &err) == 0);
     CHECK(frm_assets_prepare(&b, &p, FRM_READING_LONG, &rep, &err) == 0 && rep.chains_cached == 1);
+
+    /* The spectrum's values under a valid checksum: a band read as "nan" (no view saw it) is kept;
+     * a negative, infinite or missing value, or a version 1 file under the current name, is corrupt
+     * and analysed again (the spectrum back as measured), then rewritten. */
+    char *good = tu_read_file(path, &len);
+    CHECK(good && strstr(good, "hmdlod-freq 2\n") && strstr(good, "\nbands 7 percentile 99\n") &&
+          strstr(good, "\ncontrast 0 0 0 0 0 0 0 0\n") && strstr(good, "\ncontrast 3 "));
+    char c2_band0[64];
+    snprintf(c2_band0, sizeof c2_band0, "contrast 2 %.17g ", ca->lods[2].lost_contrast[0]);
+    const char *nan_text = good ? replace_after(good, "\nlevel 2 ", c2_band0, "contrast 2 nan ") : NULL;
+    CHECK(nan_text != NULL);
+    if (nan_text) {
+        write_checked(path, nan_text);
+        scn_scene_free(&b);
+        CHECK(scn_scene_build("field", NULL, &b, &err) == 0);
+        CHECK(frm_assets_prepare(&b, &p, FRM_READING_LONG, &rep, &err) == 0 && rep.chains_cached == 1);
+        CHECK(isnan(b.chains[0].lods[2].lost_contrast[0]) &&
+              b.chains[0].lods[2].lost_contrast[1] == ca->lods[2].lost_contrast[1]);
+    }
+    const char *bad_values[] = {"contrast 2 -1 ", "contrast 2 inf ", "contrast 2 ", "contrast 2  "};
+    for (int i = 0; good && i < 5; ++i) {
+        const char *bad = i < 4 ? replace_after(good, "\nlevel 2 ", c2_band0, bad_values[i])
+                                : replace_after(good, "", "hmdlod-freq 2\n", "hmdlod-freq 1\n");
+        CHECK(bad != NULL);
+        if (!bad)
+            continue;
+        write_checked(path, bad);
+        scn_scene_free(&b);
+        CHECK(scn_scene_build("field", NULL, &b, &err) == 0);
+        CHECK(frm_assets_prepare(&b, &p, FRM_READING_LONG, &rep, &err) == 0);
+        CHECK(rep.chains_analysed == 1 && rep.chains_cached == 0);
+        CHECK(same_spectrum(ca, &b.chains[0]));
+    }
+    size_t again_len = 0;
+    char *again = tu_read_file(path, &again_len);
+    CHECK(good && again && again_len == len && !memcmp(good, again, len)); /* rewritten as it was */
+    free(again);
+    free(good);
+
+    /* A version 1 .lod's chain (readings, no spectrum) is not measured yet: it keeps its own
+     * readings and gains the spectrum (here from the cache: same meshes, same name); with it, the
+     * next prepare counts it as the file's. */
+    struct scn_lodset v1;
+    CHECK(frm_lodset_from_chain(&a, 0, &v1, &err) == 0);
+    for (int l = 1; l < 4; ++l)
+        v1.freq[l].narrow_cpdiam = 40.0 / l, v1.freq[l].long_cpdiam = 20.0 / l;
+    v1.analysis_views = 6, v1.analysis_size_px = 128;
+    v1.contrast_band_count = 0, v1.contrast_percentile = 0;
+    memset(v1.lost_contrast, 0, sizeof v1.lost_contrast);
+    struct scn_scene sv = {0};
+    CHECK(scn_scene_add_lodset(&sv, "bumpy_sphere", &v1, &err) == 0 && sv.chains[0].contrast_band_count == 0);
+    CHECK(frm_assets_prepare(&sv, &p, FRM_READING_LONG, &rep, &err) == 0);
+    CHECK(rep.chains_from_file == 0 && rep.chains_cached == 1);
+    CHECK(sv.chains[0].lods[2].freq.long_cpdiam == 10.0 && sv.chains[0].lods[2].unique_freq_cpdiam == 10.0);
+    CHECK(same_spectrum(ca, &sv.chains[0]));
+    CHECK(frm_assets_prepare(&sv, &p, FRM_READING_LONG, &rep, &err) == 0 && rep.chains_from_file == 1);
+    scn_scene_free(&sv);
+    scn_lodset_free(&v1);
 
     /* Other parameters: another key, another file; the first stays valid. */
     struct rnd_analyze_params q = p;

@@ -149,7 +149,8 @@ int main(void)
     CHECK(frm_assets_prepare(&scene, &ap, FRM_READING_NARROW, &rep, &err) == 0);
     CHECK(rep.chains_from_file == 1 && rep.chains_analysed == 0 && rep.chains_cached == 0);
     CHECK(scene.chains[0].lods[2].unique_freq_cpdiam == 20.0);
-    CHECK(scene.chains[0].contrast_band_count == 7 && scene.chains[0].lods[3].lost_contrast[2] == first.lost_contrast[3][2]);
+    CHECK(scene.chains[0].contrast_band_count == 7 &&
+          scene.chains[0].lods[3].lost_contrast[2] == first.lost_contrast[3][2]);
     scn_scene_free(&scene);
 
     scn_lodset_free(&first);

@@ -37,7 +37,16 @@ static const char replay_usage[] =
     "  --capture EVERY    write a stereo PNG every EVERY frames (default 0: none)\n"
     "  --objects N        objects in the field scene (default 100) or domes in domes (default 10)\n"
     "  --seed S           placement seed of the field and domes scenes (default 1)\n"
-    "  --acuity-scale S   Reddy's global acuity factor s in (0, 1] (default 1)\n"
+    "  --acuity-scale S   Reddy's global acuity factor s in (0, 1] (default 1); under contrast a band\n"
+    "                     at rho is judged as at rho/s\n"
+    "  --visibility C     what decides that lost detail is invisible (docs/visibility.md): contrast\n"
+    "                     (default: each lost band's measured contrast against the contrast\n"
+    "                     sensitivity function at the eye's adapting luminance) or acuity (Reddy's\n"
+    "                     H(v, E), every loss taken at full contrast)\n"
+    "  --csf MODEL        contrast sensitivity model: castle (castleCSF, default) or stela (stelaCSF)\n"
+    "  --csf-scale K      safety factor on the sensitivity, (0, 1000]: a band is visible when c*S*K >= 1\n"
+    "                     (default 2: castleCSF's periphery is less sensitive than foveated image\n"
+    "                     metrics'; docs/visibility.md); 1 = the model's threshold\n"
     "  --render-scale F   per-eye resolution factor in (0, 4] (default 1: the display's pixels)\n"
     "  --frequency-reading R  the lost-detail frequency the selector uses: narrow (default; the\n"
     "                     thickness of the thickest feature Reddy's image analysis sees lost), long\n"
@@ -101,6 +110,10 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, lo
             o->frame.selector = val;
         else if (!strcmp(opt, "--frequency-reading"))
             o->frame.frequency_reading = val;
+        else if (!strcmp(opt, "--visibility"))
+            o->frame.visibility = val;
+        else if (!strcmp(opt, "--csf"))
+            o->frame.csf = val;
         else if (!strcmp(opt, "--out"))
             o->out_dir = val;
         else if (repeats && !strcmp(opt, "--repeats")) {
@@ -128,6 +141,10 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, lo
             if (app_parse_double(opt, val, &d))
                 return 1;
             o->frame.acuity_scale = d;
+        } else if (!strcmp(opt, "--csf-scale")) {
+            if (app_parse_double(opt, val, &d))
+                return 1;
+            o->frame.csf_scale = d;
         } else if (!strcmp(opt, "--budget-ms")) {
             if (app_parse_double(opt, val, &d))
                 return 1;

@@ -144,8 +144,10 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     eye_views(s, &pose, views);
     struct acu_eye eyes[2];
     acuity_eyes(s, views, eyes);
+    const struct frm_visibility *vis = &s->visibility;
     struct frm_view_inputs in = {a->visible, n, a->eccentricity_deg, a->velocity_degps, a->diameter_deg,
-                                 &s->limits, s->chains, eyes};
+                                 &s->limits, s->chains, eyes, vis->table ? &vis->limits : NULL};
+    rec->adapting_luminance_cdm2 = vis->table ? vis->adapting_luminance_cdm2 : NAN;
     size_t extra = 0;
     frm_select_frame(&s->select, &s->scene, &in, a->lod, a->draw_index + n, a->draw_lod + n, &extra, &rec->sel);
     rec->acuity_evaluations = rec->sel.acuity_evaluations;
@@ -163,6 +165,14 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     if (rnd_renderer_draw_stereo(s->renderer, &s->scene, views, a->draw_index, a->draw_lod, n + extra, &draw) != 0)
         return hl_fail(err, "frame %ld: drawing failed", frame);
     int64_t t3 = hl_clock_now_ns();
+    if (s->visibility.table) { /* the eye adapts to what it saw: next frame's luminance (frame/visibility.c) */
+        double mean = NAN;
+        struct hl_error read_err;
+        if (rnd_renderer_mean_luminance(s->renderer, &mean, &read_err) != 0)
+            return hl_fail(err, "frame %ld: reading the mean luminance failed: %s", frame, read_err.msg);
+        frm_visibility_adapt(&s->visibility, mean);
+    }
+    int64_t t4 = hl_clock_now_ns();
     struct rusage usage1;
     getrusage(RUSAGE_SELF, &usage1);
     /* Fresh pages every frame are a cost the timings hide (docs/replay-output.md "minor_faults"). */
@@ -172,7 +182,8 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     rec->acuity_us = (double)(t1 - t0) * 1e-3;
     rec->select_us = (double)(t2 - t1) * 1e-3 - rec->sel.lp_us;
     rec->draw_ms = (double)(t3 - t2) * 1e-6;
-    rec->frame_ms = (double)(t3 - t0) * 1e-6 - rec->sel.lp_us * 1e-3;
+    rec->luminance_us = (double)(t4 - t3) * 1e-3;
+    rec->frame_ms = (double)(t4 - t0) * 1e-6 - rec->sel.lp_us * 1e-3;
     rec->deadline_met = rec->frame_ms <= s->select.budget_ms;
     frm_select_measured(&s->select, &rec->sel, rec->draw_ms, rec->frame_ms);
     rec->visible_error = frm_select_visible_error(&s->select, &s->scene, &in, a->lod); /* after the timing */

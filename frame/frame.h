@@ -36,6 +36,12 @@ struct frm_options {
     int object_count;        /* field: objects, domes: domes; 0 = the scene's default (100, 10) */
     uint64_t seed;
     double acuity_scale;     /* Reddy §6 s; 1 by default */
+    /* What decides visibility (docs/visibility.md): "contrast" (default) or "acuity" (Reddy's H(v, E)
+     * at full contrast, as before); the contrast sensitivity model "castle" (default) or "stela";
+     * k, the CSF's safety factor (> 0, default FRM_CSF_SCALE_DEFAULT: a band is visible when c·S·k ≥ 1). */
+    const char *visibility;
+    const char *csf;
+    double csf_scale;
     double render_scale;     /* per-eye resolution factor (1 = the display's pixels) */
     int quiet;               /* no note on stderr about the chains analysed (replay: no summary table either) */
     double budget_ms;        /* frame budget; 0 → the display's frame period */
@@ -64,6 +70,40 @@ int frm_options_check(const struct frm_options *o, enum frm_selector *selector, 
  * existing regular file; otherwise it is a built-in scene's name. */
 int frm_scene_is_file(const char *scene);
 
+/* The default k. castleCSF's sensitivity falls with eccentricity several times faster than the
+ * foveated metrics' (docs/csf.md: at 10° its full-contrast cutoff is 6.5 cpd, FovVideoVDP's 14.5);
+ * at k = 1 reddy on field (1000 objects, Corbillon user 1, Vive, vor) drew 0.50 of none's triangles
+ * but lost foveated SSIM 0.9943 and FLIP 0.0153 in the periphery, against the goals 0.995 and 0.01;
+ * at k = 2 it drew 0.69 at 0.9985 and 0.0038 (docs/visibility.md "The safety factor"). */
+#define FRM_CSF_SCALE_DEFAULT 2.0
+
+/* ---- visibility ----------------------------------------------------------------------------- */
+/* The criterion a session judges lost detail by (frame/visibility.c, docs/visibility.md). */
+enum frm_visibility_criterion { FRM_VISIBILITY_CONTRAST = 0, FRM_VISIBILITY_ACUITY = 1 };
+int frm_visibility_parse(const char *name, enum frm_visibility_criterion *out, struct hl_error *err);
+const char *frm_visibility_name(enum frm_visibility_criterion c);
+/* Under contrast: the CSF table at the adapting luminance, the display's peak luminance times the
+ * mean relative luminance of the previous frame (FRM_ADAPT_FIRST_FRAME on the first). The table is
+ * refilled only when that luminance moves by more than FRM_ADAPT_REFILL_RATIO (a fill is ~0.2 ms;
+ * 5 % of L moves log10 S by under 0.01 at 1–1000 cd/m²). */
+#define FRM_ADAPT_FIRST_FRAME 0.5
+#define FRM_ADAPT_REFILL_RATIO 1.05
+struct frm_visibility {
+    enum frm_visibility_criterion criterion;
+    enum acu_csf_model csf;
+    double peak_luminance_cdm2;     /* the display profile's */
+    double adapting_luminance_cdm2; /* the table's */
+    struct acu_csf_table *table;    /* 116 KB, heap; NULL under acuity */
+    struct acu_contrast_limits limits;
+    long refills;                   /* table fills after the first */
+};
+/* Parses the options and, under contrast, allocates and fills the table. 0, or −1 naming the option. */
+int frm_visibility_open(struct frm_visibility *v, const struct frm_options *o, const struct hmd_profile *display,
+                        const struct acu_limits *acuity, struct hl_error *err);
+void frm_visibility_close(struct frm_visibility *v);
+/* The previous frame's mean relative luminance (0…1) sets the next frame's adaptation. */
+void frm_visibility_adapt(struct frm_visibility *v, double mean_relative_luminance);
+
 /* ---- the session ---------------------------------------------------------------------------- */
 /* The visible-set test of a frame (DESIGN.md step 3): the union of both eyes' frusta of a display
  * as world-space planes for scn_cull (scene/cull.h). Init once per display; the planes per pose. */
@@ -91,6 +131,7 @@ struct frm_session {
     struct acu_limits limits;
     struct scn_scene scene;
     struct lod_chain *chains;
+    struct frm_visibility visibility;
     struct trk_pose_source *source;
     struct rnd_renderer *renderer;
     struct frm_frame_arrays arrays;
@@ -153,6 +194,8 @@ struct frm_frame_record {
     struct rnd_image_error image;
     struct rnd_flip_result flip; /* LDR-FLIP (render/flip.h) at flip_ppd, the eye images' centre */
     double flip_ppd;
+    double adapting_luminance_cdm2; /* the contrast criterion's this frame; NaN under acuity */
+    double luminance_us;            /* reading the frame's mean luminance back (contrast), in frame_ms */
 };
 
 /* Before the visible set: moves the scene to time t_s (scene/motion.h): instance poses, bounding-

@@ -200,6 +200,21 @@ static uint32_t remember_levels(struct frm_select *s, const struct frm_view_inpu
     return changes;
 }
 
+/* The perceptual ceilings of the visible objects under the frame's criterion (docs/visibility.md),
+ * lowered while a saccade suppresses vision; returns the model evaluations. */
+static uint64_t compute_ceilings(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in)
+{
+    struct lod_select_stats stats = {0};
+    if (in->contrast)
+        lod_select_contrast(in->contrast, in->limits, in->chains, scene->chain_of_instance, in->visible, in->count,
+                            in->eccentricity_deg, in->velocity_degps, in->diameter_deg, s->ceiling_level, &stats);
+    else
+        lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
+                         in->velocity_degps, in->diameter_deg, s->ceiling_level, NULL, &stats);
+    frm_saccade_lower_ceilings(s, scene, in); /* suppressed: nothing above the coarsest is seen */
+    return stats.model_evaluations;
+}
+
 static int uses_ceiling(enum frm_selector selector)
 {
     return selector == FRM_SELECT_REDDY || selector == FRM_SELECT_FS || selector == FRM_SELECT_MB;
@@ -214,13 +229,8 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
     rec->budget_ms = s->budget_ms;
     rec->lp_bound = NAN;
     frm_coverage_compute(scene, in->eyes, 2, in->visible, in->count, s->pixels_px);
-    if (uses_ceiling(s->selector)) {
-        struct lod_select_stats stats = {0};
-        lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
-                         in->velocity_degps, in->diameter_deg, s->ceiling_level, NULL, &stats);
-        rec->acuity_evaluations = stats.model_evaluations;
-        frm_saccade_lower_ceilings(s, scene, in); /* suppressed: nothing above the coarsest is seen */
-    }
+    if (uses_ceiling(s->selector))
+        rec->acuity_evaluations = compute_ceilings(s, scene, in);
 
     switch (s->selector) {
     case FRM_SELECT_NONE:
@@ -297,12 +307,8 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
 double frm_select_visible_error(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                                 const uint8_t *lod)
 {
-    if (!uses_ceiling(s->selector)) { /* the same ceilings reddy, fs and mb would have seen */
-        struct lod_select_stats stats = {0};
-        lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
-                         in->velocity_degps, in->diameter_deg, s->ceiling_level, NULL, &stats);
-        frm_saccade_lower_ceilings(s, scene, in);
-    }
+    if (!uses_ceiling(s->selector)) /* the same ceilings reddy, fs and mb would have seen */
+        (void)compute_ceilings(s, scene, in);
     double total_px = 0.0, coarse_px = 0.0;
     for (size_t k = 0; k < in->count; ++k) {
         uint8_t ceiling = s->ceiling_level[k];

@@ -102,7 +102,7 @@ struct frm_select_record {
     double predicted_ms;                   /* c0 + Σ predicted object costs of what is drawn */
     double benefit, lp_bound;              /* Σ benefit of the choice; the LP upper bound (fs, mb) */
     uint32_t iterations, dropped, lod_changes;
-    uint64_t acuity_evaluations;           /* objects whose H(v,E) was computed */
+    uint64_t acuity_evaluations;           /* H(v,E) evaluations, plus CSF lookups under contrast */
     int truncated, over_budget;
     int underused_drop;                    /* fs, mb: 1 when the choice costs under FRM_UNDERUSED_FRACTION of
                                             * optimizer_budget_ms while an object it dropped would have fit
@@ -138,6 +138,9 @@ struct frm_view_inputs {
     const struct acu_limits *limits;
     const struct lod_chain *chains;
     const struct acu_eye *eyes; /* two */
+    /* The contrast criterion (frame/visibility.c): NULL → the acuity criterion, Reddy's H(v, E) with
+     * unique_freq_cpdiam; else lod_select_contrast with these limits (docs/visibility.md). */
+    const struct acu_contrast_limits *contrast;
 };
 void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                       uint8_t *lod_out, uint32_t *extra_index, uint8_t *extra_level, size_t *extra_count,

@@ -18,6 +18,9 @@ void frm_options_defaults(struct frm_options *o)
     o->object_count = 0; /* each scene's own default: field 100 objects, domes 10 */
     o->seed = 1;
     o->acuity_scale = 1.0;
+    o->visibility = "contrast"; /* docs/visibility.md */
+    o->csf = "castle";
+    o->csf_scale = FRM_CSF_SCALE_DEFAULT;
     o->render_scale = 1.0;
     o->static_px_per_triangle = 64.0;
     o->cost_correction = FRM_CORRECTION_AFFINE;
@@ -48,6 +51,14 @@ int frm_options_check(const struct frm_options *o, enum frm_selector *selector, 
         return hl_fail(err, "--static-px: %g is not a positive number of pixels", o->static_px_per_triangle);
     if (!(o->acuity_scale > 0.0 && o->acuity_scale <= 1.0))
         return hl_fail(err, "--acuity-scale: %g is outside (0, 1]", o->acuity_scale);
+    enum frm_visibility_criterion criterion;
+    enum acu_csf_model csf;
+    if (frm_visibility_parse(o->visibility ? o->visibility : "contrast", &criterion, err) != 0)
+        return -1;
+    if (acu_csf_model_parse(o->csf ? o->csf : "castle", &csf) != 0)
+        return hl_fail(err, "--csf: unknown model '%s' (known: castle, stela)", o->csf);
+    if (!(o->csf_scale > 0.0 && o->csf_scale <= 1000.0))
+        return hl_fail(err, "--csf-scale: %g is outside (0, 1000]", o->csf_scale);
     if (!(o->render_scale > 0.0 && o->render_scale <= 4.0))
         return hl_fail(err, "--render-scale: %g is outside (0, 4]", o->render_scale);
     enum acu_gaze_model model;
@@ -135,6 +146,8 @@ int frm_session_open_display(struct frm_session *s, const struct frm_options *o,
     acu_limits_init(&s->limits, hmd_compute_xi(&s->display).used_cpd, o->acuity_scale);
     s->limits.use_velocity = !o->velocity_term_off; /* bench gaze: the velocity term's saving */
     s->limits.use_eccentricity = !o->eccentricity_term_off;
+    if (frm_visibility_open(&s->visibility, o, &s->display, &s->limits, err) != 0)
+        return -1;
     s->far_m = 2000.0;
     return 0;
 }
@@ -160,7 +173,8 @@ int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, s
         return -1;
     /* The measured tables (cached after the first run); selector none and the geometric reading
      * never read them. */
-    if (s->selector != FRM_SELECT_NONE && s->reading != FRM_READING_GEOMETRIC) {
+    if (s->selector != FRM_SELECT_NONE &&
+        (s->reading != FRM_READING_GEOMETRIC || s->visibility.criterion == FRM_VISIBILITY_CONTRAST)) {
         struct rnd_analyze_params ap;
         frm_assets_params(&ap);
         struct frm_assets_report ar;
@@ -188,6 +202,11 @@ int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, s
         s->chains[c].lod_count = chain->lod_count;
         for (int k = 0; k < chain->lod_count; ++k)
             s->chains[c].unique_freq_cpdiam[k] = chain->lods[k].unique_freq_cpdiam;
+        /* The lost-contrast spectrum, when the analysis measured one (frame/assets.c). */
+        s->chains[c].band_count = chain->contrast_band_count < LOD_MAX_BANDS ? chain->contrast_band_count : LOD_MAX_BANDS;
+        for (int k = 0; k < chain->lod_count && k < LOD_MAX_LEVELS; ++k)
+            for (int b = 0; b < s->chains[c].band_count; ++b)
+                s->chains[c].lost_contrast[k][b] = chain->lods[k].lost_contrast[b];
         if (chain->lod_count > s->max_lods)
             s->max_lods = chain->lod_count;
     }
@@ -228,6 +247,7 @@ void frm_session_close(struct frm_session *s)
     trk_source_destroy(s->source);
     scn_culler_free(&s->culler);
     scn_scene_free(&s->scene);
+    frm_visibility_close(&s->visibility);
     free(s->chains);
     free(s->arrays.visible);
     free(s->arrays.eccentricity_deg);

@@ -20,9 +20,9 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
     for (int k = 0; k < max_lods; ++k)
         fprintf(o->csv, ",lod%d", k);
     fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
-          "over_budget,underused_drop,dropped_px_share,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,visible_error,"
+          "over_budget,underused_drop,dropped_px_share,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,visible_error,adapting_luminance_cdm2,"
           "psnr_db,ssim,ssim_rgb,fssim,fssim_e0,fssim_e1,fssim_e2,fssim_e3,px_over_32,flip_mean,flip_median,flip_max,acuity_us,select_us,"
-          "optimizer_us,draw_ms,frame_ms,deadline_met,minor_faults\n", o->csv);
+          "optimizer_us,draw_ms,frame_ms,deadline_met,minor_faults,luminance_us\n", o->csv);
     return 0;
 }
 
@@ -76,11 +76,12 @@ void rpl_output_row(struct rpl_output *o, const struct frm_frame_record *r, int 
     fprintf(o->csv, ",%.3f,%d,%u,%d", q->gaze_speed_degps, q->saccade_phase, q->refine_pending,
             q->refine_miss); /* saccade_step.c */
     fprintf(o->csv, ",%.6f", r->visible_error);
+    write_optional(o->csv, ",%.3f", r->adapting_luminance_cdm2); /* empty under --visibility acuity */
     write_image_error(o->csv, r);
     /* The timings last: everything before them is deterministic (the optimizer's budget aside, which
      * follows the measured overhead and correction). */
-    fprintf(o->csv, ",%.2f,%.2f,%.2f,%.3f,%.3f,%d,%ld\n", r->acuity_us, r->select_us, q->optimizer_us, r->draw_ms,
-            r->frame_ms, r->deadline_met, r->minor_faults);
+    fprintf(o->csv, ",%.2f,%.2f,%.2f,%.3f,%.3f,%d,%ld,%.2f\n", r->acuity_us, r->select_us, q->optimizer_us, r->draw_ms,
+            r->frame_ms, r->deadline_met, r->minor_faults, r->luminance_us);
 }
 
 int rpl_output_close(struct rpl_output *o, struct hl_error *err)
@@ -242,6 +243,12 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct frm_frame_record *r)
     }
     a->visible_error_sum += r->visible_error;
     a->visible_error_max = fmax(a->visible_error_max, r->visible_error);
+    if (!isnan(r->adapting_luminance_cdm2)) {
+        a->adapting_sum += r->adapting_luminance_cdm2;
+        a->adapting_min = a->adapting_frames ? fmin(a->adapting_min, r->adapting_luminance_cdm2) : r->adapting_luminance_cdm2;
+        a->adapting_max = fmax(a->adapting_max, r->adapting_luminance_cdm2);
+        a->adapting_frames++;
+    }
     if (r->has_image_error)
         accumulate_image_error(a, r);
     a->gaze_frames += q->saccade_active; /* saccades (frame/saccade_step.c) */
@@ -331,6 +338,9 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     s->refine_missed_saccade_fraction = a->saccades ? (double)a->refine_missed_saccades / (double)a->saccades : 0.0;
     s->visible_error_mean = a->visible_error_sum / n;
     s->visible_error_max = a->visible_error_max;
+    s->adapting_luminance_cdm2_mean = a->adapting_frames ? a->adapting_sum / (double)a->adapting_frames : NAN;
+    s->adapting_luminance_cdm2_min = a->adapting_frames ? a->adapting_min : NAN;
+    s->adapting_luminance_cdm2_max = a->adapting_frames ? a->adapting_max : NAN;
     finish_image_error(a, s);
     for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
         s->band_frames[b] = a->band_frames[b];
@@ -398,6 +408,15 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddStringToObject(wall, "host", s->host);
     cJSON_AddNumberToObject(wall, "start_unix_s", s->wall_start_unix_s);
     cJSON_AddNumberToObject(wall, "end_unix_s", s->wall_end_unix_s);
+    cJSON *crit = cJSON_AddObjectToObject(root, "visibility"); /* docs/visibility.md */
+    cJSON_AddStringToObject(crit, "criterion", s->visibility);
+    cJSON_AddStringToObject(crit, "csf", s->csf);
+    cJSON_AddNumberToObject(crit, "csf_scale", s->csf_scale);
+    cJSON_AddNumberToObject(crit, "peak_luminance_cdm2", s->peak_luminance_cdm2);
+    add_number_or_null(crit, "adapting_luminance_cdm2_mean", s->adapting_luminance_cdm2_mean);
+    add_number_or_null(crit, "adapting_luminance_cdm2_min", s->adapting_luminance_cdm2_min);
+    add_number_or_null(crit, "adapting_luminance_cdm2_max", s->adapting_luminance_cdm2_max);
+    cJSON_AddNumberToObject(crit, "table_refills", (double)s->csf_table_refills);
     cJSON *gaze = cJSON_AddObjectToObject(root, "gaze");
     cJSON_AddStringToObject(gaze, "model", s->gaze);
     cJSON_AddNumberToObject(gaze, "fixation_m", s->fixation_m);
@@ -600,6 +619,12 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
         fprintf(f, "  %-34s %10ld frames, %ld saccades (%.1f %%)\n", "refinements missing 28 ms", s->refine_miss_frames,
                 s->refine_missed_saccades, 100.0 * s->refine_missed_saccade_fraction);
     }
+    if (!strcmp(s->visibility, "contrast"))
+        fprintf(f, "  %-34s %10s (%s CSF, k %g; adapting %.1f cd/m2 mean, %.1f … %.1f)\n", "visibility", "contrast",
+                s->csf, s->csf_scale, s->adapting_luminance_cdm2_mean, s->adapting_luminance_cdm2_min,
+                s->adapting_luminance_cdm2_max);
+    else
+        fprintf(f, "  %-34s %10s (Reddy's H(v, E) at full contrast)\n", "visibility", s->visibility);
     fprintf(f, "  %-34s %10.4f mean, %.4f max\n", "predicted visible error", s->visible_error_mean,
             s->visible_error_max);
     if (s->reference_frames > 0)

@@ -174,6 +174,13 @@ struct rpl_summary {
     /* Predicted visible error, every frame: the share of the visible objects' projected pixels whose
      * object is drawn coarser than its perceptual ceiling (or dropped, or left to a group impostor). */
     double visible_error_mean, visible_error_max;
+    /* The visibility criterion (docs/visibility.md): "contrast" or "acuity"; under contrast the CSF
+     * model, k, the display's peak luminance, the adapting luminance over the frames (NaN under
+     * acuity) and how often its table was refilled. */
+    char visibility[16], csf[16];
+    double csf_scale, peak_luminance_cdm2;
+    double adapting_luminance_cdm2_mean, adapting_luminance_cdm2_min, adapting_luminance_cdm2_max;
+    long csf_table_refills;
     /* Measured image error against the full-detail frame (--reference), over the compared frames;
      * all NaN when none were compared. PSNR over the RGB channels (+inf for an identical frame, which
      * the mean leaves out and identical_frames counts); SSIM on luminance (Wang et al. 2004, Gaussian

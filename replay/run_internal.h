@@ -49,6 +49,8 @@ struct rpl_accumulator {
     double *frame_ms, *draw_ms;
     long capacity;
     double visible_error_sum, visible_error_max;
+    double adapting_sum, adapting_min, adapting_max; /* the contrast criterion's adapting luminance */
+    long adapting_frames;
     /* --reference frames: PSNR, SSIM and foveated SSIM of each (for percentiles), and sums */
     double *ref_psnr_db, *ref_ssim, *ref_fssim;
     long ref_n, ref_capacity, ref_identical, ref_psnr_finite;

@@ -168,7 +168,7 @@ static int run_selection(enum frm_selector selector, double limit_after_saccade_
         eyes[e] = (struct acu_eye){.position_m = hl_v3(e ? 0.03 : -0.03, 0, 0), .orientation = hl_q_identity(),
                                    .tan_left = 1, .tan_right = 1, .tan_up = 1, .tan_down = 1,
                                    .width_px = 800, .height_px = 800};
-    struct frm_view_inputs in = {visible, n, ecc, vel, diam, &lim, chains, eyes};
+    struct frm_view_inputs in = {visible, n, ecc, vel, diam, &lim, chains, eyes, NULL}; /* the acuity criterion */
     int after_window = 0;
     for (long f = 0; f <= 90 && !rc && n > 0; ++f) {
         double t = f / 90.0;

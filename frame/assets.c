@@ -1,8 +1,9 @@
 /* The built-in chains' measured frequency tables and lost-contrast spectra: Reddy's offline
  * analysis (render/analyze.c) run once per chain and cached in small text files keyed by the meshes
- * and the parameters, and the reading the selectors use. docs/analysis.md describes the cache and the choice of reading. */
-#include <errno.h>
+ * and the parameters, and the reading the selectors use. docs/analysis.md describes the cache and
+ * the choice of reading. */
 #include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>

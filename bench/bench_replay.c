@@ -1,5 +1,6 @@
 /* hmdlod bench replay: the same head motion through both built-in scenes on the Vive with the
- * selectors none and reddy, in one run, so that their ratios are measured under the same load: per
+ * selectors none and reddy — reddy under both visibility criteria, contrast and acuity
+ * (docs/visibility.md) — in one run, so that their ratios are measured under the same load: per
  * trace and scene, none and reddy in alternated repeats (bench/alternate.c) after one warm-up session.
  * Everything measured comes from rpl_run's summary; this file only runs it and formats. */
 #define _XOPEN_SOURCE 700
@@ -15,8 +16,11 @@
 #define CORBILLON_DIR "data/traces/corbillon-mmsys18"
 
 static const char *const scenes[] = {"field", "auditorium"};
-static const char *const selectors[] = {"none", "reddy"}; /* none first: the ratios' numerator */
-enum { N_SCENES = 2, N_SELECTORS = 2, MAX_TRACES = 4 };
+/* The sessions compared: none first (the ratios' numerator), then reddy under each criterion. */
+static const char *const selectors[] = {"none", "reddy", "reddy"};
+static const char *const criteria[] = {"contrast", "contrast", "acuity"};
+static const char *const session_labels[] = {"none", "reddy contrast", "reddy acuity"};
+enum { N_SCENES = 2, N_SELECTORS = 3, MAX_TRACES = 4 };
 #define WHO "hmdlod bench replay"
 
 struct bench_trace {
@@ -66,6 +70,7 @@ static void trace_options(const struct replay_bench *b, int t, int sc, struct rp
         o->frame.scene = scenes[sc];
         o->frame.display = "vive";
         o->frame.selector = selectors[se];
+        o->frame.visibility = criteria[se];
         o->frames = b->traces[t].frames;
         o->frame.object_count = (int)b->o.objects;
         o->frame.render_scale = b->o.render_scale;
@@ -100,13 +105,13 @@ static int run_all(struct replay_bench *b)
 static double frame_median(const struct rpl_summary *s) { return s->frame_ms_median; }
 static double draw_median(const struct rpl_summary *s) { return s->draw_ms_median; }
 
-/* none's figure over reddy's, per repeat: their median and range. */
-static void ratio_over_repeats(const struct replay_bench *b, int t, int sc,
+/* none's figure over session se's, per repeat: their median and range. */
+static void ratio_over_repeats(const struct replay_bench *b, int t, int sc, int se,
                                double (*figure)(const struct rpl_summary *), struct bch_spread *out)
 {
     double ratio[BCH_MAX_REPEATS];
     for (int r = 0; r < b->repeats; ++r)
-        ratio[r] = figure(&b->sum[t][sc][r * N_SELECTORS + 0]) / figure(&b->sum[t][sc][r * N_SELECTORS + 1]);
+        ratio[r] = figure(&b->sum[t][sc][r * N_SELECTORS + 0]) / figure(&b->sum[t][sc][r * N_SELECTORS + se]);
     bch_spread_of(ratio, b->repeats, out);
 }
 
@@ -125,46 +130,51 @@ static void print_scene_table(const struct replay_bench *b, int sc)
         for (int se = 0; se < N_SELECTORS; ++se) {
             const struct rpl_summary *s = &b->sum[t][sc][se]; /* repeat 0 */
             bch_emit("| %s | %s | %ld | %.2f / %.2f / %.2f / %.2f | %.2f | %.0f | %.3f | %.1f / %.1f | %.1f %% |\n",
-                       b->traces[t].label, selectors[se], s->frames, s->frame_ms_median, s->frame_ms_p95,
+                       b->traces[t].label, session_labels[se], s->frames, s->frame_ms_median, s->frame_ms_p95,
                        s->frame_ms_p99, s->frame_ms_max, s->draw_ms_median, s->triangles_per_eye_mean,
                        s->triangles_relative_to_none, s->acuity_evaluations_mean, s->visible_mean,
                        100.0 * s->deadline_met_fraction);
         }
-        const struct rpl_summary *none = &b->sum[t][sc][0], *reddy = &b->sum[t][sc][1];
-        struct bch_spread frame, draw;
-        ratio_over_repeats(b, t, sc, frame_median, &frame);
-        ratio_over_repeats(b, t, sc, draw_median, &draw);
-        bch_emit("| %s | **none/reddy** | | **×%.2f** [%.2f–%.2f] | ×%.2f [%.2f–%.2f] | **×%.2f** | | | |\n",
-                 b->traces[t].label, frame.median, frame.min, frame.max, draw.median, draw.min, draw.max,
-                 none->triangles_per_eye_mean / reddy->triangles_per_eye_mean);
+        const struct rpl_summary *none = &b->sum[t][sc][0];
+        for (int se = 1; se < N_SELECTORS; ++se) {
+            const struct rpl_summary *reddy = &b->sum[t][sc][se];
+            struct bch_spread frame, draw;
+            ratio_over_repeats(b, t, sc, se, frame_median, &frame);
+            ratio_over_repeats(b, t, sc, se, draw_median, &draw);
+            bch_emit("| %s | **none/%s** | | **×%.2f** [%.2f–%.2f] | ×%.2f [%.2f–%.2f] | **×%.2f** | | | |\n",
+                     b->traces[t].label, session_labels[se], frame.median, frame.min, frame.max, draw.median,
+                     draw.min, draw.max, none->triangles_per_eye_mean / reddy->triangles_per_eye_mean);
+        }
     }
 }
 
 static void print_band_table(const struct replay_bench *b)
 {
-    bch_emit("\n### reddy: share of the finest-LOD triangles drawn, by head speed (frames)\n\n| scene | trace |");
+    bch_emit("\n### reddy: share of the finest-LOD triangles drawn, by head speed (frames)\n\n| scene | trace | "
+             "criterion |");
     for (int k = 0; k < RPL_SPEED_BAND_COUNT; ++k) {
         if (k + 1 < RPL_SPEED_BAND_COUNT)
             bch_emit(" %g–%g °/s |", rpl_speed_band_lower_degps[k], rpl_speed_band_lower_degps[k + 1]);
         else
             bch_emit(" ≥%g °/s |", rpl_speed_band_lower_degps[k]);
     }
-    bch_emit("\n|---|---|");
+    bch_emit("\n|---|---|---|");
     for (int k = 0; k < RPL_SPEED_BAND_COUNT; ++k)
         bch_emit("--:|");
     bch_emit("\n");
     for (int sc = 0; sc < N_SCENES; ++sc)
-        for (int t = 0; t < b->n_traces; ++t) {
-            const struct rpl_summary *s = &b->sum[t][sc][1]; /* reddy, repeat 0 (deterministic) */
-            bch_emit("| %s | %s |", scenes[sc], b->traces[t].label);
-            for (int k = 0; k < RPL_SPEED_BAND_COUNT; ++k) {
-                if (s->band_frames[k] > 0 && isfinite(s->band_triangle_share[k]))
-                    bch_emit(" %.1f %% (%ld) |", 100.0 * s->band_triangle_share[k], s->band_frames[k]);
-                else
-                    bch_emit(" – (%ld) |", s->band_frames[k]);
+        for (int t = 0; t < b->n_traces; ++t)
+            for (int se = 1; se < N_SELECTORS; ++se) {
+                const struct rpl_summary *s = &b->sum[t][sc][se]; /* reddy, repeat 0 (deterministic) */
+                bch_emit("| %s | %s | %s |", scenes[sc], b->traces[t].label, criteria[se]);
+                for (int k = 0; k < RPL_SPEED_BAND_COUNT; ++k) {
+                    if (s->band_frames[k] > 0 && isfinite(s->band_triangle_share[k]))
+                        bch_emit(" %.1f %% (%ld) |", 100.0 * s->band_triangle_share[k], s->band_frames[k]);
+                    else
+                        bch_emit(" – (%ld) |", s->band_frames[k]);
+                }
+                bch_emit("\n");
             }
-            bch_emit("\n");
-        }
 }
 
 static void print_notes(const struct replay_bench *b, double wall_s)
@@ -175,15 +185,17 @@ static void print_notes(const struct replay_bench *b, double wall_s)
                                                        : "the renderer above, on a machine shared with whatever "
                                                          "else runs";
     char order[64];
-    bch_alternate_order(N_SELECTORS, selectors, order, sizeof order);
+    bch_alternate_order(N_SELECTORS, session_labels, order, sizeof order);
     bch_emit("\nHow measured (replay/run.c, frame/frame.c, bench/alternate.c): %d runs in %.0f s: one warm-up "
-             "session (left out), then per trace and scene none and reddy in %d alternated repeats in one process, "
+             "session (left out), then per trace and scene none, reddy under the contrast criterion and reddy under "
+             "the acuity criterion (docs/visibility.md) in %d alternated repeats in one process, "
              "order %s, each session opened fresh. Each run replays its trace from "
              "the start on a virtual clock at the display's %.0f Hz (frame f at t0 + f / %.0f s, whatever the "
              "wall clock did), both eyes rendered headless at render scale %g of the %s profile's pixels; none always "
-             "draws the finest LOD, reddy picks each object's LOD from the acuity model and each level's "
-             "measured frequency table (the default reading, narrow: the thickest lost feature, "
-             "docs/analysis.md). Frame time = pose + "
+             "draws the finest LOD; reddy contrast picks the coarsest LOD whose every lost band (the measured "
+             "lost-contrast spectrum) is below castleCSF's threshold at the default k; reddy acuity picks it from "
+             "Reddy's H(v, E) and each level's measured frequency table (the default reading, narrow: the thickest "
+             "lost feature, docs/analysis.md). Frame time = pose + "
              "cull + geometry + select + draw, the draw waited with glFinish; draw = the GL part alone; "
              "percentiles are nearest rank. The selector rows are the first repeat's sessions. triangles vs none = "
              "triangles drawn / the finest-LOD triangles of the same frames; none/reddy = none's figure divided by "

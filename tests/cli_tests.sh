@@ -236,9 +236,13 @@ expect_error "replay --raw and --trace" "exclude each other" -- \
 expect_error "replay bad --raw" "short.raw: byte 10" -- "$bin" replay --raw "$tmp/short.raw" --out "$tmp/rawbad"
 [ ! -e "$tmp/rawbad/frames.csv" ] || fail "a failed replay --raw left frames.csv"
 
-# bench replay: a short run of both selectors prints the none/reddy ratio row; a bad count is refused.
-expect_ok "bench replay --quick" "\| \*\*none/reddy\*\* \| \| \*\*×[0-9.]+\*\*" -- \
-  "$bin" bench replay --quick --frames 20 --render-scale 0.25
+# bench replay: a short run of both selectors prints the none/reddy ratio rows, one per visibility
+# criterion side by side; a bad count is refused.
+out=$("$bin" bench replay --quick --frames 20 --render-scale 0.25 2>"$tmp/err") || fail "bench replay --quick: $(cat "$tmp/err")"
+for pattern in "\| \*\*none/reddy contrast\*\* \| \| \*\*×[0-9.]+\*\*" "\| \*\*none/reddy acuity\*\* \| \| \*\*×[0-9.]+\*\*" \
+  "\| field \| built-in clip \| contrast \|" "\| field \| built-in clip \| acuity \|"; do
+  grep -Eq -- "$pattern" <<<"$out" || fail "bench replay --quick: output does not match /$pattern/"
+done
 expect_error "bench replay bad --frames" "--frames: 'x' is not a whole number" -- "$bin" bench replay --frames x
 expect_error "bench replay --repeats 0" "--repeats: 0 is outside \[1, 100\]" -- "$bin" bench replay --repeats 0
 
@@ -514,7 +518,7 @@ if [ -r "$trace" ]; then
                          { if ($c == "") e++; else if ($c >= 0.02 && $c <= 100) ok++ } END { print ok + 0, e + 0 }' "$1"; }
   [ "$(lum_cells "$tmp/c-gaze-vor-contrast/frames.csv")" = "600 0" ] || fail "contrast: adapting_luminance_cdm2 missing or out of range"
   [ "$(lum_cells "$tmp/c-gaze-vor-acuity/frames.csv")" = "0 600" ] || fail "acuity: adapting_luminance_cdm2 should be empty"
-  grep -q '"criterion": *"contrast"' "$tmp/c-gaze-vor-contrast/summary.json" || fail "summary: visibility.criterion"
+  grep -q '"criterion":[[:space:]]*"contrast"' "$tmp/c-gaze-vor-contrast/summary.json" || fail "summary: visibility.criterion"
 fi
 
 # Millisecond logs repeat times (spread, loaded); a time that goes backwards is still file:line; the

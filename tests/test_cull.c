@@ -404,6 +404,7 @@ static void test_replay_unchanged(void)
         /* The goldens predate the measured tables: the geometric reading reproduces what the
          * selector saw then, so only the cull can make a difference here. */
         o.frame.frequency_reading = "geometric";
+        o.frame.visibility = "acuity"; /* and the acuity criterion (docs/visibility.md) */
         o.frames = 240;
         o.frame.render_scale = 0.1;
         o.out_dir = dir;

@@ -183,7 +183,10 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     rec->select_us = (double)(t2 - t1) * 1e-3 - rec->sel.lp_us;
     rec->draw_ms = (double)(t3 - t2) * 1e-6;
     rec->luminance_us = (double)(t4 - t3) * 1e-3;
-    rec->frame_ms = (double)(t4 - t0) * 1e-6 - rec->sel.lp_us * 1e-3;
+    /* The adaptation is part of the frame for the selectors it steers; for none, static and feedback
+     * it serves only the predicted visible error, a measurement taken outside the frame's time. */
+    int64_t frame_end = frm_selector_uses_ceiling(s->selector) ? t4 : t3;
+    rec->frame_ms = (double)(frame_end - t0) * 1e-6 - rec->sel.lp_us * 1e-3;
     rec->deadline_met = rec->frame_ms <= s->select.budget_ms;
     frm_select_measured(&s->select, &rec->sel, rec->draw_ms, rec->frame_ms);
     rec->visible_error = frm_select_visible_error(&s->select, &s->scene, &in, a->lod); /* after the timing */

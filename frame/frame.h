@@ -80,7 +80,11 @@ int frm_scene_is_file(const char *scene);
 /* ---- visibility ----------------------------------------------------------------------------- */
 /* The criterion a session judges lost detail by (frame/visibility.c, docs/visibility.md). */
 enum frm_visibility_criterion { FRM_VISIBILITY_CONTRAST = 0, FRM_VISIBILITY_ACUITY = 1 };
-int frm_visibility_parse(const char *name, enum frm_visibility_criterion *out, struct hl_error *err);
+/* The options --visibility, --csf and --csf-scale of o, parsed and range-checked (NULL names are
+ * the defaults); 0, or −1 with err naming the option. frm_options_check and frm_visibility_open
+ * both call it. */
+int frm_visibility_options(const struct frm_options *o, enum frm_visibility_criterion *criterion,
+                           enum acu_csf_model *csf, struct hl_error *err);
 const char *frm_visibility_name(enum frm_visibility_criterion c);
 /* Under contrast: the CSF table at the adapting luminance, the display's peak luminance times the
  * mean relative luminance of the previous frame (FRM_ADAPT_FIRST_FRAME on the first). The table is

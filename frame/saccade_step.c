@@ -23,11 +23,6 @@
 #include "frame/select.h"
 #include "tracking/tracking.h"
 
-static int uses_ceiling(enum frm_selector sel)
-{
-    return sel == FRM_SELECT_REDDY || sel == FRM_SELECT_FS || sel == FRM_SELECT_MB;
-}
-
 void frm_select_saccade(struct frm_select *s, const struct trk_pose *pose, double time_s)
 {
     struct frm_saccade *q = &s->saccade;
@@ -78,7 +73,7 @@ void frm_saccade_account(struct frm_select *s, const struct scn_scene *scene, co
     rec->saccade_started = q->started;
     rec->gaze_speed_degps = q->speed_degps;
     if (!q->active || q->state.phase != ACU_SACCADE_NONE || !isfinite(q->state.refine_due_s) ||
-        !uses_ceiling(s->selector))
+        !frm_selector_uses_ceiling(s->selector))
         return;
     double slack_ms = s->selector == FRM_SELECT_REDDY ? INFINITY
                                                       : rec->optimizer_budget_ms - (rec->predicted_ms - s->cost.c0_ms);

@@ -215,7 +215,7 @@ static uint64_t compute_ceilings(struct frm_select *s, const struct scn_scene *s
     return stats.model_evaluations;
 }
 
-static int uses_ceiling(enum frm_selector selector)
+int frm_selector_uses_ceiling(enum frm_selector selector)
 {
     return selector == FRM_SELECT_REDDY || selector == FRM_SELECT_FS || selector == FRM_SELECT_MB;
 }
@@ -229,7 +229,7 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
     rec->budget_ms = s->budget_ms;
     rec->lp_bound = NAN;
     frm_coverage_compute(scene, in->eyes, 2, in->visible, in->count, s->pixels_px);
-    if (uses_ceiling(s->selector))
+    if (frm_selector_uses_ceiling(s->selector))
         rec->acuity_evaluations = compute_ceilings(s, scene, in);
 
     switch (s->selector) {
@@ -307,7 +307,7 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
 double frm_select_visible_error(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                                 const uint8_t *lod)
 {
-    if (!uses_ceiling(s->selector)) /* the same ceilings reddy, fs and mb would have seen */
+    if (!frm_selector_uses_ceiling(s->selector)) /* the same ceilings reddy, fs and mb would have seen */
         (void)compute_ceilings(s, scene, in);
     double total_px = 0.0, coarse_px = 0.0;
     for (size_t k = 0; k < in->count; ++k) {

@@ -36,6 +36,9 @@ enum frm_selector {
 };
 /* "none" … "fs" → the enum; −1 with the known names in err for anything else. */
 int frm_selector_parse(const char *name, enum frm_selector *out, struct hl_error *err);
+/* 1 for the selectors whose choice follows the perceptual ceiling (reddy, fs, mb); the others
+ * (none, static, feedback) see it only in the predicted visible error, after the frame's timing. */
+int frm_selector_uses_ceiling(enum frm_selector selector);
 
 /* Saccade suppression and the 28 ms refinement rule (acuity/saccade.h; docs/gaze.md). Active only
  * when the frame's pose has a measured gaze and the gaze model is tracked (head and vor stand for a

@@ -53,12 +53,8 @@ int frm_options_check(const struct frm_options *o, enum frm_selector *selector, 
         return hl_fail(err, "--acuity-scale: %g is outside (0, 1]", o->acuity_scale);
     enum frm_visibility_criterion criterion;
     enum acu_csf_model csf;
-    if (frm_visibility_parse(o->visibility ? o->visibility : "contrast", &criterion, err) != 0)
+    if (frm_visibility_options(o, &criterion, &csf, err) != 0)
         return -1;
-    if (acu_csf_model_parse(o->csf ? o->csf : "castle", &csf) != 0)
-        return hl_fail(err, "--csf: unknown model '%s' (known: castle, stela)", o->csf);
-    if (!(o->csf_scale > 0.0 && o->csf_scale <= 1000.0))
-        return hl_fail(err, "--csf-scale: %g is outside (0, 1000]", o->csf_scale);
     if (!(o->render_scale > 0.0 && o->render_scale <= 4.0))
         return hl_fail(err, "--render-scale: %g is outside (0, 4]", o->render_scale);
     enum acu_gaze_model model;

@@ -9,14 +9,21 @@
 
 static const char *const criterion_names[] = {"contrast", "acuity"};
 
-int frm_visibility_parse(const char *name, enum frm_visibility_criterion *out, struct hl_error *err)
+int frm_visibility_options(const struct frm_options *o, enum frm_visibility_criterion *criterion,
+                           enum acu_csf_model *csf, struct hl_error *err)
 {
-    for (int k = 0; k < 2; ++k)
-        if (name && !strcmp(name, criterion_names[k])) {
-            *out = (enum frm_visibility_criterion)k;
-            return 0;
-        }
-    return hl_fail(err, "--visibility: unknown criterion '%s' (known: contrast, acuity)", name ? name : "");
+    const char *name = o->visibility ? o->visibility : "contrast";
+    int k = 0;
+    while (k < 2 && strcmp(name, criterion_names[k]) != 0)
+        ++k;
+    if (k == 2)
+        return hl_fail(err, "--visibility: unknown criterion '%s' (known: contrast, acuity)", name);
+    *criterion = (enum frm_visibility_criterion)k;
+    if (acu_csf_model_parse(o->csf ? o->csf : "castle", csf) != 0)
+        return hl_fail(err, "--csf: unknown model '%s' (known: castle, stela)", o->csf);
+    if (!(o->csf_scale > 0.0 && o->csf_scale <= 1000.0))
+        return hl_fail(err, "--csf-scale: %g is outside (0, 1000]", o->csf_scale);
+    return 0;
 }
 
 const char *frm_visibility_name(enum frm_visibility_criterion c)
@@ -34,12 +41,8 @@ int frm_visibility_open(struct frm_visibility *v, const struct frm_options *o, c
                         const struct acu_limits *acuity, struct hl_error *err)
 {
     memset(v, 0, sizeof *v);
-    if (frm_visibility_parse(o->visibility ? o->visibility : "contrast", &v->criterion, err) != 0)
+    if (frm_visibility_options(o, &v->criterion, &v->csf, err) != 0)
         return -1;
-    if (acu_csf_model_parse(o->csf ? o->csf : "castle", &v->csf) != 0)
-        return hl_fail(err, "--csf: unknown model '%s' (known: castle, stela)", o->csf);
-    if (!(o->csf_scale > 0.0 && isfinite(o->csf_scale)))
-        return hl_fail(err, "--csf-scale: %g is not a positive finite number", o->csf_scale);
     v->peak_luminance_cdm2 = display->peak_luminance_cdm2;
     v->adapting_luminance_cdm2 = NAN;
     if (v->criterion != FRM_VISIBILITY_CONTRAST)

@@ -227,6 +227,14 @@ int frm_frame_warm_up(struct frm_session *s, struct hl_error *err)
         hl_fail(err, "the renderer's warm-up draw failed");
         goto done;
     }
+    /* The contrast criterion's read-back makes its small framebuffer and blit path on first use
+     * (about 80 ms on llvmpipe): here, not in frame 0. The value is discarded. */
+    double mean = NAN;
+    struct hl_error read_err;
+    if (s->visibility.table && rnd_renderer_mean_luminance(s->renderer, &mean, &read_err) != 0) {
+        hl_fail(err, "the renderer's warm-up luminance read failed: %s", read_err.msg);
+        goto done;
+    }
     rc = 0;
 done:
     free(index);

@@ -2,6 +2,7 @@
  * and the per-frame table over (ρ, ω). Reproduces ../data/csf (castle.csv, stela.csv) (the authors' MATLAB code). */
 #include "acuity/acuity.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -281,6 +282,78 @@ double acu_csf_table_lookup(const struct acu_csf_table *t, double rho_cpd, doubl
     double l = (1.0 - fy) * ((1.0 - fx) * r0[i] + fx * r0[i + 1]) + fy * ((1.0 - fx) * r1[i] + fx * r1[i + 1]);
     /* PAPERS.md §6 eccentricity factor, exact: log10 S falls by (e_a + ρ·e_f) per degree. */
     return pow(10.0, l - (t->ecc_a + rho * t->ecc_f) * csf_clamp_eccentricity(eccentricity_deg));
+}
+
+/* ---- the selectors' per-object octave bands (csf.h "per object, band by band") ---------------- */
+
+/* 2^(0.1898·b): band b's ω^0.1898 over band 0's (tests/test_csf.c checks it against exp2). */
+static const double csf_octave_w_step[16] = {
+    1.0, 1.1406055833989166, 1.300981096880783, 1.4839063029986677, 1.6925518144411247, 1.930534049743514,
+    2.2019779160791737, 2.5115883056010166, 2.864731644567944, 3.267528908733757, 3.7269617172190923,
+    4.250993343774111, 4.848706742900381, 5.530461983216149, 6.308075816831785, 7.195026497182015};
+
+void acu_contrast_object_init(const struct acu_contrast_limits *lim, double diameter_deg, double velocity_degps,
+                              double eccentricity_deg, int band_count, struct acu_contrast_object *obj)
+{
+    double v = lim->use_velocity ? fabs(velocity_degps) : 0.0;
+    obj->rho0_cpd = 1.0 / diameter_deg / lim->scale;
+    obj->log2_rho0 = log2(obj->rho0_cpd);
+    obj->velocity_degps = v;
+    obj->w0 = v > 0.0 ? csf_omega_axis(obj->rho0_cpd * v) : 0.0;
+    obj->eccentricity_deg = lim->use_eccentricity ? eccentricity_deg : 0.0;
+    /* The same test as acu_contrast_band_sensitivity, band by band: ρ grows with b, so the
+     * displayable bands are a prefix. Doubling is exact, so ρ_b here is 2^b/D/s to the bit. */
+    int n = 0;
+    for (double rho = obj->rho0_cpd; n < band_count && n < 64 && !(rho > lim->xi_cpd); rho *= 2.0)
+        ++n;
+    obj->displayable_bands = n;
+}
+
+double acu_contrast_object_log10_s(const struct acu_contrast_limits *lim, const struct acu_contrast_object *obj, int band)
+{
+    const struct acu_csf_table *t = lim->csf;
+    double rho = obj->rho0_cpd * (double)(1ull << (band & 63)); /* exact, as ldexp, without the call */
+    /* log2 ρ_b = log2 ρ_0 + b and w_b = (ρ_b·v)^β = w_0·2^(β·b): no transcendental per band. */
+    double x = (obj->log2_rho0 + band - ACU_CSF_TABLE_RHO_LOG2_MIN) * ACU_CSF_TABLE_NODES_PER_OCTAVE;
+    double step = band < 16 ? csf_octave_w_step[band] : exp2(CSF_BETA_TRANS * band);
+    double y = obj->w0 > 0.0 ? obj->w0 * step : 0.0;
+    if (!(x >= 0.0 && x <= ACU_CSF_TABLE_RHO_NODES - 1))
+        return log10(acu_csf_table_lookup(t, rho, rho * obj->velocity_degps, obj->eccentricity_deg)); /* the model */
+    /* Beyond 511 Hz S only falls (both temporal responses decrease past ω0, which is under 20 Hz for
+     * any luminance up to 10^6 cd/m²), so the last row bounds it from above — and is itself below
+     * 10^−6 (tests/test_csf.c): no band there is visible unless its contrast exceeds 10^6/k. Fast
+     * objects under the head-locked gaze land here often; the direct model would cost 20× more. */
+    y = y < ACU_CSF_TABLE_OMEGA_NODES - 1 ? y : ACU_CSF_TABLE_OMEGA_NODES - 1;
+    int i = (int)x, j = (int)y;
+    i = i < ACU_CSF_TABLE_RHO_NODES - 1 ? i : ACU_CSF_TABLE_RHO_NODES - 2;
+    j = j < ACU_CSF_TABLE_OMEGA_NODES - 1 ? j : ACU_CSF_TABLE_OMEGA_NODES - 2;
+    double fx = x - i, fy = y - j;
+    const double *r0 = t->log10_s[j], *r1 = t->log10_s[j + 1];
+    double l = (1.0 - fy) * ((1.0 - fx) * r0[i] + fx * r0[i + 1]) + fy * ((1.0 - fx) * r1[i] + fx * r1[i + 1]);
+    return l - (t->ecc_a + rho * t->ecc_f) * csf_clamp_eccentricity(obj->eccentricity_deg);
+}
+
+int acu_csf_band_visible_log10(double contrast, double log10_s, double k_scale, double log10_k)
+{
+    double c = fabs(contrast);
+    if (isnan(c))
+        return 1;
+    if (!(log10_s > -INFINITY) || c == 0.0)
+        return 0;
+    /* Visible ⇔ log2 c ≥ t, t = −(log10 S + log10 k)·log2 10. With c = m·2^e, m ∈ [1, 2):
+     * m − 1 ≤ log2 m ≤ m − 1 + 0.0861 (log2 is concave and meets m − 1 at both ends; the gap peaks at
+     * m = 1/ln 2), so only c within 0.09 octave of the threshold needs the power. */
+    if (c >= DBL_MIN && c <= DBL_MAX) {
+        double t = -(log10_s + log10_k) * 3.321928094887362;
+        int e;
+        double m = 2.0 * frexp(c, &e); /* c = m·2^(e−1) */
+        double lo = (double)(e - 1) + (m - 1.0);
+        if (lo >= t + 1e-9)
+            return 1;
+        if (lo + 0.0861 <= t - 1e-9)
+            return 0;
+    }
+    return acu_csf_band_visible(c, pow(10.0, log10_s), k_scale);
 }
 
 int acu_csf_band_visible(double contrast, double sensitivity, double k_scale)

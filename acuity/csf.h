@@ -116,6 +116,27 @@ void acu_contrast_limits_init(struct acu_contrast_limits *lim, const struct acu_
 double acu_contrast_band_sensitivity(const struct acu_contrast_limits *lim, double rho_cpd, double velocity_degps,
                                      double eccentricity_deg);
 
+/* The same per object, band by band, for the selectors' hot loop: one object's octave bands
+ * ρ_b = ρ_0·2^b (ρ_0 = 1/(D·s) cpd for an object D degrees across), prepared once so that each band
+ * costs a table interpolation and no transcendental call (log2 ρ_b and ω_b^0.1898 follow from band 0
+ * by an addition and a product). displayable_bands: bands 0 … n−1 have ρ_b ≤ ξ (the test of
+ * acu_contrast_band_sensitivity); the others are never visible. */
+struct acu_contrast_object {
+    double rho0_cpd, log2_rho0, w0, eccentricity_deg, velocity_degps;
+    int displayable_bands;
+};
+/* Prepares the object for bands 0 … band_count−1 (≤ 64). diameter_deg > 0; v and E as above. */
+void acu_contrast_object_init(const struct acu_contrast_limits *lim, double diameter_deg, double velocity_degps,
+                              double eccentricity_deg, int band_count, struct acu_contrast_object *obj);
+/* log10 S of band b < obj->displayable_bands: log10 of acu_contrast_band_sensitivity(lim, 2^b / D, v, E)
+ * to within the table's interpolation (the same table; off its ρ range the direct model). Above the
+ * table's 511 Hz it returns the last row, an upper bound below 10^−6 (the lookup takes the model). */
+double acu_contrast_object_log10_s(const struct acu_contrast_limits *lim, const struct acu_contrast_object *obj, int band);
+/* acu_csf_band_visible(c, 10^log10_s, k) without the power where the exponents decide it: c·S·k ≥ 1
+ * is read off c's binary exponent unless it lies within one octave of the threshold. log10_k = log10 k.
+ * NaN c → visible; log10_s NaN or −∞ → not visible (as S = 0). */
+int acu_csf_band_visible_log10(double contrast, double log10_s, double k_scale, double log10_k);
+
 /* Boundary check for a contrast and k given by the user or a file: NaN, negative or infinite c,
  * and k not finite and > 0 → −1 with the input named in err. */
 int acu_csf_check_contrast(double contrast, double k_scale, struct hl_error *err);

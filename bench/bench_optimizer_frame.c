@@ -16,6 +16,19 @@ static const uint32_t chain_vertices[BCH_OPT_CHAINS][BCH_OPT_LEVELS] = {
 static const double chain_freq_cpdiam[BCH_OPT_CHAINS][BCH_OPT_LEVELS] = {
     {INFINITY, 40.0, 18.0, 7.0}, {INFINITY, 48.0, 20.0, 8.0}, {INFINITY, 30.0, 12.0, 5.0}, {INFINITY, 64.0, 28.0, 10.0}};
 
+/* Lost-contrast spectra of the synthetic chains (7 bands, 1 … 64 c/diam): the field object's and the
+ * chair's as `hmdlod analyze` measures them (docs/RESULTS.md, issue 31), rounded; chains 2 and 3
+ * reuse them. Level 0 loses nothing. */
+enum { BCH_OPT_BANDS = 7 };
+static const double chain_lost_contrast[2][BCH_OPT_LEVELS - 1][BCH_OPT_BANDS] = {
+    {{0.11, 0.26, 0.31, 0.30, 0.31, 0.42, 0.79}, {0.33, 0.68, 0.81, 0.76, 0.76, 0.75, 0.68},
+     {0.81, 1.46, 1.38, 1.25, 0.95, 0.78, 0.64}},
+    {{0.38, 0.48, 1.28, 1.38, 1.13, 1.44, 1.91}, {5.5, 6.4, 10.0, 18.5, 30.9, 20.8, 17.0},
+     {6.2, 7.3, 13.9, 16.6, 15.7, 16.1, 8.9}}};
+
+/* The CSF table of every view: 116 KB, so not in the struct the bench copies per variant. */
+static struct acu_csf_table bch_opt_csf;
+
 void bch_opt_view_init(struct bch_opt_view *v, const struct hmd_profile *display)
 {
     memset(v, 0, sizeof *v);
@@ -29,7 +42,14 @@ void bch_opt_view_init(struct bch_opt_view *v, const struct hmd_profile *display
         v->chains[c].lod_count = BCH_OPT_LEVELS;
         for (int l = 0; l < BCH_OPT_LEVELS; ++l)
             v->chains[c].unique_freq_cpdiam[l] = chain_freq_cpdiam[c][l];
+        v->chains[c].band_count = BCH_OPT_BANDS;
+        for (int l = 1; l < BCH_OPT_LEVELS; ++l)
+            for (int b = 0; b < BCH_OPT_BANDS; ++b)
+                v->chains[c].lost_contrast[l][b] = chain_lost_contrast[c & 1][l - 1][b];
     }
+    /* 20 cd/m²: a 100 cd/m² panel showing a scene of mean relative luminance 0.2. */
+    acu_csf_table_fill_cycles(&bch_opt_csf, ACU_CSF_CASTLE, 20.0, ACU_CSF_GABOR_CYCLES);
+    acu_contrast_limits_init(&v->contrast, &bch_opt_csf, hmd_compute_xi(display).used_cpd, 1.0, 2.0);
     /* The additive form with coefficients of the order llvmpipe shows on two cores (bench replay:
      * ~100k triangles per eye in ~10 ms): assumed, not calibrated; the optimizer's time does not
      * depend on their values, only on how many candidates the budget admits. */

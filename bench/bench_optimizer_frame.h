@@ -14,7 +14,8 @@
 enum { BCH_OPT_LEVELS = 4, BCH_OPT_CHAINS = 4 };
 
 /* What does not change during a run: both eyes of the display (head frame), Reddy's limits for its
- * ξ, the union frustum for the cull, the synthetic chains and the cost model. */
+ * ξ, the contrast criterion's limits (its CSF table is the file's own, filled once), the union
+ * frustum for the cull, the synthetic chains (with lost-contrast spectra) and the cost model. */
 struct bch_opt_view {
     struct hmd_eye eye[2];
     double width_px, height_px;
@@ -23,6 +24,7 @@ struct bch_opt_view {
     struct lod_chain chains[BCH_OPT_CHAINS];
     struct lod_cost_model cost;
     struct lod_benefit_params benefit;
+    struct acu_contrast_limits contrast; /* the contrast criterion: a castle table at 20 cd/m², k 2 */
     double far_m; /* > 0: a far plane for the cull (the scaling table's fixed view distance) */
 };
 void bch_opt_view_init(struct bch_opt_view *v, const struct hmd_profile *display);

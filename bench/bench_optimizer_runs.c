@@ -172,6 +172,31 @@ static void flat_tree_remember(struct flat_tree *t, const struct lod_problem *p)
     }
 }
 
+/* The perceptual ceiling of the built frame under both criteria, timed apart on the same arrays;
+ * contrast_first alternates the order between frames so neither always finds the caches warm. The
+ * frame's own ceiling (w->ceiling, Reddy's) is untouched: the optimizers below see the same problem
+ * either way. Counts the contrast criterion's CSF lookups and its objects coarser than Reddy's. */
+static void select_both(const struct bch_opt_view *v, struct bch_opt_work *w, int contrast_first, uint8_t *level,
+                        double *acuity_us, double *contrast_us, uint64_t *lookups, uint64_t *coarser)
+{
+    for (int pass = 0; pass < 2; ++pass) {
+        int64_t t0 = hl_clock_now_ns();
+        if ((pass == 0) == (contrast_first != 0)) {
+            struct lod_select_stats st = {0};
+            lod_select_contrast(&v->contrast, &v->limits, v->chains, w->chain_of_object, w->visible, w->n, w->ecc_deg,
+                                w->vel_degps, w->diam_deg, level, &st);
+            *contrast_us = us_since(t0);
+            *lookups += st.model_evaluations;
+            for (size_t k = 0; k < w->n; ++k)
+                *coarser += level[k] > w->ceiling[k];
+        } else {
+            lod_select_reddy(&v->limits, v->chains, w->chain_of_object, w->visible, w->n, w->ecc_deg, w->vel_degps,
+                             w->diam_deg, level, NULL, NULL);
+            *acuity_us = us_since(t0);
+        }
+    }
+}
+
 int bch_opt_run_trace(struct opt_case *c, const struct bch_opt_view *v, const struct opt_trace *tr, long frames,
                      double budget_ms, double limit_us, struct size_row *row, double *fs_us_out)
 {
@@ -181,13 +206,17 @@ int bch_opt_run_trace(struct opt_case *c, const struct bch_opt_view *v, const st
     double *iter = malloc((size_t)frames * sizeof(double)), *lp = malloc((size_t)frames * sizeof(double));
     double *mb_us = malloc((size_t)frames * sizeof(double)), *mb_lp = malloc((size_t)frames * sizeof(double));
     double *setup = malloc((size_t)frames * sizeof(double)), *after = malloc((size_t)frames * sizeof(double));
+    double *sel = malloc((size_t)frames * 3 * sizeof(double)); /* acuity µs, contrast µs, ratio */
+    uint8_t *sel_level = malloc(w->cap ? w->cap : 1);
     struct flat_tree ft;
-    if (!fs_us || !gr_us || !ratio || !build_us || !iter || !lp || !mb_us || !mb_lp || !setup || !after ||
-        flat_tree_alloc(&ft, c->scene.instance_count) != 0) {
+    if (!fs_us || !gr_us || !ratio || !build_us || !iter || !lp || !mb_us || !mb_lp || !setup || !after || !sel ||
+        !sel_level || flat_tree_alloc(&ft, c->scene.instance_count) != 0) {
         free(fs_us), free(gr_us), free(ratio), free(build_us), free(iter), free(lp), free(mb_us), free(mb_lp);
-        free(setup), free(after);
+        free(setup), free(after), free(sel), free(sel_level);
         return -1;
     }
+    double *sel_acuity = sel, *sel_contrast = sel + frames, *sel_ratio = sel + 2 * frames;
+    uint64_t sel_lookups = 0, sel_objects = 0, sel_coarser = 0;
     memset(row, 0, sizeof *row);
     row->target = c->target, row->scene_objects = c->scene.instance_count, row->budget_ms = budget_ms;
     bch_opt_work_forget(w);
@@ -198,6 +227,9 @@ int bch_opt_run_trace(struct opt_case *c, const struct bch_opt_view *v, const st
         int64_t t0 = hl_clock_now_ns();
         bch_opt_build(v, &c->scene, &pose, budget_ms, w);
         double b_us = us_since(t0);
+        double a_us = 0, k_us = 0;
+        select_both(v, w, f & 1, sel_level, &a_us, &k_us, &sel_lookups, &sel_coarser);
+        sel_objects += w->n;
         struct lod_result rf, rg;
         t0 = hl_clock_now_ns();
         lod_optimize_fs(&w->p, limit_us, w->scratch, w->choice, &rf);
@@ -228,6 +260,7 @@ int bch_opt_run_trace(struct opt_case *c, const struct bch_opt_view *v, const st
             lp[timed] = bound > 0 ? rf.benefit / bound : 1.0;
             mb_us[timed] = m_us;
             mb_lp[timed] = bound > 0 ? rm.benefit / bound : 1.0;
+            sel_acuity[timed] = a_us, sel_contrast[timed] = k_us, sel_ratio[timed] = k_us / fmax(a_us, 1e-3);
             if (fabs(rf.benefit - rg.benefit) <= 1e-9 * fmax(1.0, fabs(rg.benefit)))
                 ++equal;
             if (fs_us_out)
@@ -249,9 +282,16 @@ int bch_opt_run_trace(struct opt_case *c, const struct bch_opt_view *v, const st
     row->mb_lp_min = minimum(mb_lp, timed);
     row->setup_med = bch_opt_percentile(setup, timed, 0.5), row->setup_p999 = bch_opt_percentile(setup, timed, 0.999);
     row->after_p999 = bch_opt_percentile(after, timed, 0.999);
+    row->sel_acuity_med = bch_opt_percentile(sel_acuity, timed, 0.5);
+    row->sel_acuity_p99 = bch_opt_percentile(sel_acuity, timed, 0.99);
+    row->sel_contrast_med = bch_opt_percentile(sel_contrast, timed, 0.5);
+    row->sel_contrast_p99 = bch_opt_percentile(sel_contrast, timed, 0.99);
+    row->sel_ratio_med = bch_opt_percentile(sel_ratio, timed, 0.5);
+    row->sel_lookups_per_object = sel_objects ? (double)sel_lookups / (double)sel_objects : 0.0;
+    row->sel_coarser_share = sel_objects ? (double)sel_coarser / (double)sel_objects : 0.0;
     flat_tree_free(&ft);
     free(fs_us), free(gr_us), free(ratio), free(build_us), free(iter), free(lp), free(mb_us), free(mb_lp);
-    free(setup), free(after);
+    free(setup), free(after), free(sel), free(sel_level);
     return 0;
 }
 

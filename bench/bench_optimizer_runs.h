@@ -33,6 +33,11 @@ struct size_row {
     double p999; /* of the timed frames' fs µs */
     double setup_med, setup_p999, after_p999; /* fs's O(n) set-up; the rest of the call (the iterations) */
     double mb_med, mb_p99, mb_lp_min; /* Mason & Blake on the same frames, the objects as a flat tree */
+    /* The perceptual ceiling alone on the same frames: lod_select_reddy (acuity) and
+     * lod_select_contrast, alternated; µs medians, the median of the per-frame ratio, CSF lookups and
+     * the share of objects whose level differs, per object. */
+    double sel_acuity_med, sel_acuity_p99, sel_contrast_med, sel_contrast_p99, sel_ratio_med;
+    double sel_lookups_per_object, sel_coarser_share;
 };
 struct turn_row {
     double fs_med, fs_p99, fs_max, gr_med, iter_med, iter_p99, lp_min, visible_changed;

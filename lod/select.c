@@ -45,27 +45,28 @@ void lod_select_reddy(const struct acu_limits *lim, const struct lod_chain *chai
 /* The contrast criterion for one object with a spectrum: the coarsest level whose every lost band is
  * invisible. Levels are judged against level 0, each on its own (a coarser level that passes is
  * taken even if a finer one measured worse). A band's sensitivity is the same for every level, so it
- * is looked up once, when a level first needs it. */
-static int contrast_level(const struct acu_contrast_limits *vis, const struct lod_chain *chain, double velocity_degps,
-                          double eccentricity_deg, double diameter_deg, uint64_t *lookups)
+ * is looked up once, when a level first needs it; bands the display cannot show are never visible
+ * and never looked up. */
+static int contrast_level(const struct acu_contrast_limits *vis, double log10_k, const struct lod_chain *chain,
+                          double velocity_degps, double eccentricity_deg, double diameter_deg, uint64_t *lookups)
 {
-    double sensitivity[LOD_MAX_BANDS];
     int bands = chain->band_count < LOD_MAX_BANDS ? chain->band_count : LOD_MAX_BANDS;
-    for (int b = 0; b < bands; ++b)
-        sensitivity[b] = -1.0; /* not looked up yet */
+    struct acu_contrast_object obj;
+    acu_contrast_object_init(vis, diameter_deg, velocity_degps, eccentricity_deg, bands, &obj);
+    double log10_s[LOD_MAX_BANDS];
+    unsigned looked_up = 0; /* bit b: log10_s[b] is set */
     for (int l = chain->lod_count - 1; l > 0; --l) {
         int visible = 0;
-        for (int b = 0; b < bands && !visible; ++b) {
+        for (int b = 0; b < obj.displayable_bands && !visible; ++b) {
             double c = chain->lost_contrast[l][b];
             if (c == 0.0)
                 continue; /* nothing lost in this band */
-            if (sensitivity[b] < 0.0) {
-                sensitivity[b] = acu_contrast_band_sensitivity(vis, exp2(b) / diameter_deg, velocity_degps,
-                                                               eccentricity_deg);
+            if (!(looked_up & (1u << b))) {
+                log10_s[b] = acu_contrast_object_log10_s(vis, &obj, b);
+                looked_up |= 1u << b;
                 ++*lookups;
             }
-            /* Not displayable: invisible whatever the contrast, also an unmeasured (NaN) one. */
-            visible = sensitivity[b] > 0.0 && acu_csf_band_visible(c, sensitivity[b], vis->k_scale);
+            visible = acu_csf_band_visible_log10(c, log10_s[b], vis->k_scale, log10_k);
         }
         if (!visible)
             return l;
@@ -80,6 +81,7 @@ void lod_select_contrast(const struct acu_contrast_limits *vis, const struct acu
 {
     uint64_t lookups = 0, evaluations = 0, without = 0;
     double xi_cpdiam_per_deg = vis->xi_cpd * vis->scale; /* a band at f c/diam is displayable iff f/D ≤ ξ·s */
+    double log10_k = log10(vis->k_scale);
     for (size_t k = 0; k < count; ++k) {
         const struct lod_chain *chain = &chains[chain_of_object[index[k]]];
         double diameter_deg = angular_diameter_deg[k];
@@ -89,12 +91,12 @@ void lod_select_contrast(const struct acu_contrast_limits *vis, const struct acu
             lod = chain->lod_count - 1; /* a point: nothing of it is resolvable (as Reddy's) */
         } else {
             int bands = chain->band_count;
-            lod = bands > 0 ? contrast_level(vis, chain, retinal_velocity_degps[k], eccentricity_deg[k], diameter_deg,
-                                             &lookups)
+            lod = bands > 0 ? contrast_level(vis, log10_k, chain, retinal_velocity_degps[k], eccentricity_deg[k],
+                                             diameter_deg, &lookups)
                             : 0;
             /* What the spectrum did not measure, above its last band, may be displayable: then it
              * cannot vouch for the object alone, and Reddy's reading holds it at least as fine. */
-            if (bands == 0 || exp2(bands) <= xi_cpdiam_per_deg * diameter_deg) {
+            if (bands == 0 || (double)(1u << bands) <= xi_cpdiam_per_deg * diameter_deg) {
                 double limit_cpd = acu_limit_cpd(lim, retinal_velocity_degps[k], eccentricity_deg[k], &evaluations);
                 int reddy = reddy_level(chain, limit_cpd, diameter_deg);
                 lod = bands > 0 && lod < reddy ? lod : reddy;

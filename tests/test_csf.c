@@ -6,6 +6,7 @@
 #include "test_util.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -360,11 +361,85 @@ static void print_cutoffs(void)
     printf("\n");
 }
 
+static double unit_random(uint64_t *seed)
+{
+    *seed = *seed * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*seed >> 11) / 9007199254740992.0;
+}
+
+/* The selectors' per-object octave bands (acu_contrast_object_*) against the per-band lookup they
+ * replace, and the exponent shortcut of acu_csf_band_visible_log10 against the plain test. */
+static void test_octaves(void)
+{
+    static struct acu_csf_table table;
+    struct acu_contrast_limits lim;
+    uint64_t seed = 11;
+    double worst = 0.0;
+    int bounded = 0, checked = 0;
+    for (int m = 0; m < 2; ++m) {
+        enum acu_csf_model model = m ? ACU_CSF_STELA : ACU_CSF_CASTLE;
+        const double lums[] = {0.02, 1.0, 100.0, 1e4, 1e6};
+        for (int li = 0; li < 5; ++li) {
+            acu_csf_table_fill_cycles(&table, model, lums[li], ACU_CSF_GABOR_CYCLES);
+            /* The last ω row (511 Hz) bounds S beyond it: below 10^−6 at every ρ node. */
+            double row_max = -INFINITY;
+            for (int i = 0; i < ACU_CSF_TABLE_RHO_NODES; ++i)
+                row_max = fmax(row_max, table.log10_s[ACU_CSF_TABLE_OMEGA_NODES - 1][i]);
+            CHECK(row_max < -6.0);
+            acu_contrast_limits_init(&lim, &table, 30.0, 0.5 + 0.5 * (li & 1), 1.0);
+            for (int t = 0; t < 2000; ++t) {
+                double d = exp2(-3.0 + 10.0 * unit_random(&seed)); /* 0.125 … 128° */
+                double v = unit_random(&seed) < 0.3 ? 0.0 : exp2(-4.0 + 14.0 * unit_random(&seed));
+                double e = 70.0 * unit_random(&seed);
+                struct acu_contrast_object obj;
+                acu_contrast_object_init(&lim, d, v, e, 12, &obj);
+                for (int b = 0; b < 12; ++b) {
+                    double s = acu_contrast_band_sensitivity(&lim, exp2(b) / d, v, e);
+                    CHECK((b < obj.displayable_bands) == !(exp2(b) / d / lim.scale > lim.xi_cpd));
+                    if (b >= obj.displayable_bands) {
+                        CHECK(s == 0.0);
+                        continue;
+                    }
+                    double l = acu_contrast_object_log10_s(&lim, &obj, b);
+                    double omega = exp2(b) / d / lim.scale * v;
+                    if (omega > 511.0) { /* the last row: an upper bound */
+                        CHECK(l >= log10(s) - 1e-9 || s == 0.0);
+                        CHECK(l < -6.0);
+                        ++bounded;
+                    } else if (s > 0.0) {
+                        worst = fmax(worst, fabs(l - log10(s)));
+                        ++checked;
+                    }
+                }
+            }
+        }
+    }
+    printf("octave bands against the per-band lookup: %d compared, worst |dlog10 S| %.2e; %d beyond 511 Hz\n",
+           checked, worst, bounded);
+    CHECK(checked > 50000 && bounded > 1000);
+    CHECK(worst < 1e-9); /* the same interpolation, only log2 ρ and ω^0.1898 formed differently */
+    /* The exponent shortcut decides as the plain test does, also right at the threshold. */
+    for (int t = 0; t < 200000; ++t) {
+        double c = exp2(-12.0 + 16.0 * unit_random(&seed)), ls = -4.0 + 8.0 * unit_random(&seed);
+        double k = t % 3 == 0 ? 1.0 : 0.5 + 4.0 * unit_random(&seed);
+        if (t % 5 == 0)
+            c = 1.0 / (pow(10.0, ls) * k); /* at the threshold: the power decides */
+        CHECK(acu_csf_band_visible_log10(c, ls, k, log10(k)) == acu_csf_band_visible(c, pow(10.0, ls), k));
+    }
+    CHECK(acu_csf_band_visible_log10(NAN, 0.0, 1.0, 0.0) == 1);
+    CHECK(acu_csf_band_visible_log10(INFINITY, -300.0, 1.0, 0.0) == 1);
+    CHECK(acu_csf_band_visible_log10(0.0, 300.0, 1.0, 0.0) == 0);
+    CHECK(acu_csf_band_visible_log10(1e300, -INFINITY, 1.0, 0.0) == 0);
+    CHECK(acu_csf_band_visible_log10(-0.5, 1.0, 1.0, 0.0) == 1);
+    CHECK(acu_csf_band_visible_log10(1e-310, 300.0, 1.0, 0.0) == acu_csf_band_visible(1e-310, 1e300, 1.0)); /* subnormal c */
+}
+
 int main(void)
 {
     test_names();
     test_hard_cases();
     test_table();
+    test_octaves();
     print_cutoffs();
     print_fill_time();
     int castle = test_reference("data/csf/castle.csv", ACU_CSF_CASTLE);

@@ -47,6 +47,9 @@ static const char replay_usage[] =
     "  --csf-scale K      safety factor on the sensitivity, (0, 1000]: a band is visible when c*S*K >= 1\n"
     "                     (default 2: castleCSF's periphery is less sensitive than foveated image\n"
     "                     metrics'; docs/visibility.md); 1 = the model's threshold\n"
+    "  --benefit B        what fs and mb value a level by: funkhouser (default; Funkhouser & Sequin's\n"
+    "                     accuracy) or perceptual (the visible contrast it keeps, from the lost-contrast\n"
+    "                     spectrum and the CSF; needs --visibility contrast; docs/optimizer.md)\n"
     "  --render-scale F   per-eye resolution factor in (0, 4] (default 1: the display's pixels)\n"
     "  --frequency-reading R  the lost-detail frequency the selector uses: narrow (default; the\n"
     "                     thickness of the thickest feature Reddy's image analysis sees lost), long\n"
@@ -114,6 +117,8 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, lo
             o->frame.visibility = val;
         else if (!strcmp(opt, "--csf"))
             o->frame.csf = val;
+        else if (!strcmp(opt, "--benefit"))
+            o->frame.benefit = val;
         else if (!strcmp(opt, "--out"))
             o->out_dir = val;
         else if (repeats && !strcmp(opt, "--repeats")) {

@@ -172,7 +172,7 @@ void bch_opt_build(const struct bch_opt_view *v, const struct scn_scene *s, cons
         }
     }
     lod_benefit_fill(&v->benefit, n, w->first, w->count, w->level, w->samples, w->pixels_px, NULL, w->ceiling,
-                     w->previous, w->benefit);
+                     w->previous, NULL, w->benefit);
     lod_hull_reduce(n, w->first, w->count, w->cost_ms, w->benefit, w->level, budget_ms, w->hull_scratch);
     w->p = (struct lod_problem){.object_count = n, .object_id = w->object_id, .first = w->first, .count = w->count,
                                 .cost_ms = w->cost_ms, .benefit = w->benefit, .level = w->level, .budget_ms = budget_ms,

@@ -169,7 +169,7 @@ static size_t run_frame(const struct acu_limits *lim, const struct lod_chain *ch
     double budget_ms = frame_budget_ms - cost_model.c0_ms;
     struct lod_benefit_params bp;
     lod_benefit_params_default(&bp);
-    lod_benefit_fill(&bp, n, first, count, level, samples, pixels_px, NULL, ceiling, previous, benefit);
+    lod_benefit_fill(&bp, n, first, count, level, samples, pixels_px, NULL, ceiling, previous, NULL, benefit);
     size_t bad = lod_hull_reduce(n, first, count, cost_ms, benefit, level, budget_ms, hull_scratch);
     if (bad)
         fprintf(stderr, "embed: %zu candidates had non-finite or negative cost or benefit\n", bad);

@@ -62,6 +62,9 @@ int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct 
     s->chain_lod_count = calloc(chains, 1);
     s->scratch = malloc(lod_scratch_bytes(n, cands));
     s->saccade.level_before = malloc(n);
+    if (s->perceptual_benefit && (s->selector == FRM_SELECT_FS || s->selector == FRM_SELECT_MB) &&
+        !(s->visible_loss = calloc(n * LOD_MAX_LEVELS, sizeof(double))))
+        return hl_fail(err, "scene '%s': out of memory for the visible loss of %zu objects", scene->name, n);
     if (!s->pixels_px || !s->ceiling_level || !s->previous_level || !s->keep || !s->choice || !s->first || !s->count ||
         !s->cand_cost_ms || !s->cand_benefit || !s->cand_level || !s->cand_samples || !s->level_of_instance ||
         !s->last_visible || !s->chain_triangles || !s->chain_lod_count || !s->scratch || !s->saccade.level_before)
@@ -106,6 +109,7 @@ void frm_select_free(struct frm_select *s)
     free(s->cand_benefit);
     free(s->cand_level);
     free(s->cand_samples);
+    free(s->visible_loss);
     free(s->level_of_instance);
     free(s->last_visible);
     free(s->chain_triangles);
@@ -157,7 +161,8 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
      * are in the frame whatever the budget says (the frame then runs late rather than show a hole). */
     budget_ms = fmax(budget_ms, kept_ms + 1e-6); /* lod/ rounds each cost up to 1e-8 ms */
     lod_benefit_fill(&s->benefit, in->count, s->first, s->count, s->cand_level, s->cand_samples, s->pixels_px,
-                     NULL, s->ceiling_level, s->previous_level, s->cand_benefit);
+                     NULL, s->ceiling_level, s->previous_level, s->visible_loss_valid ? s->visible_loss : NULL,
+                     s->cand_benefit);
     if (scene->importance)
         for (size_t k = 0; k < in->count; ++k)
             for (uint32_t j = s->first[k]; j < s->first[k] + s->count[k]; ++j)
@@ -211,6 +216,11 @@ static uint64_t compute_ceilings(struct frm_select *s, const struct scn_scene *s
     else
         lod_select_reddy(in->limits, in->chains, scene->chain_of_instance, in->visible, in->count, in->eccentricity_deg,
                          in->velocity_degps, in->diameter_deg, s->ceiling_level, NULL, &stats);
+    /* The perceptual benefit's visible loss per level, on the same limits (docs/optimizer.md). */
+    s->visible_loss_valid = s->visible_loss && in->contrast;
+    if (s->visible_loss_valid)
+        lod_visible_loss_contrast(in->contrast, in->chains, scene->chain_of_instance, in->visible, in->count,
+                                  in->eccentricity_deg, in->velocity_degps, in->diameter_deg, s->visible_loss, &stats);
     frm_saccade_lower_ceilings(s, scene, in); /* suppressed: nothing above the coarsest is seen */
     return stats.model_evaluations;
 }

@@ -92,6 +92,10 @@ struct frm_select {
     int mb_simplify;   /* set before frm_select_init: hierarchy simplifications for mb (select_mb.h) */
     double saccade_onset_degps; /* set before frm_select_init; ≤ 0 → acu_saccade_params_default's */
     int saccade_off;            /* 1: a gaze model without an eye tracker (head, vor): no saccades known */
+    int perceptual_benefit;     /* set before frm_select_init: fs and mb value levels by visible loss */
+    double *visible_loss;       /* per visible object × LOD_MAX_LEVELS (lod_visible_loss_contrast), when
+                                 * perceptual_benefit and the frame has contrast limits */
+    int visible_loss_valid;     /* this frame's visible_loss was computed */
     struct frm_saccade saccade;
 };
 

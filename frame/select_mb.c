@@ -348,7 +348,7 @@ void frm_mb_select(struct frm_mb *mb, const struct scn_scene *scene, const struc
             const uint8_t count1 = 1, level0 = 0, ceiling0 = 0, unseen = LOD_UNSEEN;
             const double importance = gr->importance;
             lod_benefit_fill(bp, 1, &first0, &count1, &level0, &samples, &px, &importance, &ceiling0, &unseen,
-                             &mb->benefit[c]);
+                             NULL, &mb->benefit[c]);
             mb->cand_level[c] = mb->collapse[g] == COLLAPSED ? IMPOSTOR_LEVEL : 0;
             with_impostor = 1;
         }

@@ -55,6 +55,11 @@ int frm_options_check(const struct frm_options *o, enum frm_selector *selector, 
     enum acu_csf_model csf;
     if (frm_visibility_options(o, &criterion, &csf, err) != 0)
         return -1;
+    int perceptual;
+    if (frm_benefit_parse(o, &perceptual, err) != 0)
+        return -1;
+    if (perceptual && criterion != FRM_VISIBILITY_CONTRAST)
+        return hl_fail(err, "--benefit perceptual values levels by their visible contrast: it needs --visibility contrast");
     if (!(o->render_scale > 0.0 && o->render_scale <= 4.0))
         return hl_fail(err, "--render-scale: %g is outside (0, 4]", o->render_scale);
     enum acu_gaze_model model;
@@ -213,6 +218,8 @@ int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, s
     s->select.static_px = o->static_px_per_triangle;
     s->select.correct = o->cost_correction;
     s->select.mb_simplify = o->mb_simplify;
+    if (frm_benefit_parse(o, &s->select.perceptual_benefit, err) != 0)
+        return -1;
     s->select.saccade_onset_degps = o->saccade_onset_degps; /* frame/saccade_step.c */
     s->select.saccade_off = s->gaze != ACU_GAZE_TRACKED; /* head, vor: no eye tracker, no saccades known */
     if (frm_cost_model_load(o->cost_profile, &s->select.cost, s->cost_label, sizeof s->cost_label, err) != 0 ||

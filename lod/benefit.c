@@ -1,5 +1,6 @@
 /* Benefit (Funkhouser & Séquin 1993 §5), with Reddy's acuity (1998 §3.3) as the perceptual ceiling in
- * place of the paper's ad-hoc Focus and Motion factors. */
+ * place of the paper's ad-hoc Focus and Motion factors; or the perceptual benefit, valued by the
+ * visible contrast a level keeps (issue 31 item 4; docs/optimizer.md "Perceptual benefit"). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -35,26 +36,44 @@ static int levels_changed(uint8_t level, uint8_t previous)
     return abs(a - b);
 }
 
+/* The perceptual benefit's accuracy: 1 / (1 + D·(1 + h·|ΔL|)). D in threshold units, so a level
+ * whose loss is just twice the threshold in one band is worth half a level that loses nothing
+ * visible; hysteresis scales the visible loss as it scales Funkhouser's error. */
+static double perceptual_accuracy(const struct lod_benefit_params *p, double loss, int levels_changed)
+{
+    return 1.0 / (1.0 + loss * (1.0 + p->hysteresis_per_level * levels_changed));
+}
+
+static double level_accuracy(const struct lod_benefit_params *p, const double *loss_row, uint8_t level,
+                             uint32_t samples, double size_px, uint8_t previous)
+{
+    int changed = levels_changed(level, previous);
+    if (loss_row && !isnan(loss_row[0]) && level < LOD_MAX_LEVELS)
+        return perceptual_accuracy(p, loss_row[level], changed);
+    return accuracy(p, samples, size_px, changed);
+}
+
 void lod_benefit_fill(const struct lod_benefit_params *p, size_t object_count, const uint32_t *first,
                       const uint8_t *count, const uint8_t *level, const uint32_t *samples,
                       const double *size_px, const double *importance, const uint8_t *ceiling_level,
-                      const uint8_t *previous_level, double *benefit)
+                      const uint8_t *previous_level, const double *visible_loss, double *benefit)
 {
     for (size_t i = 0; i < object_count; ++i) {
         double weight = size_px[i] * (importance ? importance[i] : 1.0);
+        const double *loss = visible_loss ? visible_loss + i * LOD_MAX_LEVELS : NULL;
         uint32_t c0 = first[i];
         /* The ceiling level's own benefit first: finer levels earn exactly that and no more. */
         double ceiling_benefit = -1.0;
         for (uint32_t c = c0; c < c0 + count[i]; ++c)
             if (level[c] == ceiling_level[i])
-                ceiling_benefit = weight * accuracy(p, samples[c], size_px[i], levels_changed(level[c], previous_level[i]));
+                ceiling_benefit = weight * level_accuracy(p, loss, level[c], samples[c], size_px[i], previous_level[i]);
         for (uint32_t c = c0; c < c0 + count[i]; ++c) {
             if (level[c] == LOD_DROP) {
                 benefit[c] = 0.0;
             } else if (level[c] < ceiling_level[i] && ceiling_benefit >= 0.0) {
                 benefit[c] = ceiling_benefit; /* detail beyond the acuity limit is invisible */
             } else {
-                benefit[c] = weight * accuracy(p, samples[c], size_px[i], levels_changed(level[c], previous_level[i]));
+                benefit[c] = weight * level_accuracy(p, loss, level[c], samples[c], size_px[i], previous_level[i]);
             }
         }
     }

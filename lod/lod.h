@@ -56,6 +56,19 @@ void lod_select_contrast(const struct acu_contrast_limits *vis, const struct acu
                          size_t count, const double *eccentricity_deg, const double *retinal_velocity_degps,
                          const double *angular_diameter_deg, uint8_t *lod_out, struct lod_select_stats *stats);
 
+/* The perceptual benefit's input (lod_benefit_fill): per listed object k and level l < lod_count,
+ *   D_kl = Σ over displayable bands b of max(0, C_lb·S_b·k − 1),
+ * the suprathreshold contrast level l loses against level 0 in units of the threshold (a band seen at
+ * twice its threshold adds 1), with S_b and the displayable bands as lod_select_contrast takes them;
+ * a NaN contrast where displayable adds 1. Writes visible_loss[k·LOD_MAX_LEVELS + l] (D_k0 = 0; levels
+ * ≥ lod_count 0); a chain without a spectrum gets NaN in its whole row. Every displayable band is
+ * looked up (no early exit): about 3× lod_select_contrast's lookups. No allocation. */
+void lod_visible_loss_contrast(const struct acu_contrast_limits *vis, const struct lod_chain *chains,
+                               const uint32_t *chain_of_object, const uint32_t *index, size_t count,
+                               const double *eccentricity_deg, const double *retinal_velocity_degps,
+                               const double *angular_diameter_deg, double *visible_loss,
+                               struct lod_select_stats *stats);
+
 /* The `none` baseline: finest LOD for every listed object. */
 void lod_select_finest(size_t count, uint8_t *lod_out);
 
@@ -199,10 +212,16 @@ struct lod_benefit_params {
     double hysteresis_per_level; /* 1: a level one step from last frame's counts its error twice */
 };
 void lod_benefit_params_default(struct lod_benefit_params *p);
+/* visible_loss: NULL for Funkhouser's accuracy above. Else the perceptual benefit (docs/optimizer.md
+ * "Perceptual benefit"; lod_visible_loss_contrast): object i's level l is worth
+ *   size_px · importance / (1 + D_il · (1 + h·|level − previous|)),
+ * D_il = visible_loss[i·LOD_MAX_LEVELS + l], the suprathreshold contrast it loses in threshold units
+ * (0: nothing visible lost, worth the full size); an object whose row starts with NaN (no spectrum)
+ * keeps Funkhouser's accuracy. The ceiling rule and LOD_DROP = 0 hold as above. */
 void lod_benefit_fill(const struct lod_benefit_params *p, size_t object_count, const uint32_t *first,
                       const uint8_t *count, const uint8_t *level, const uint32_t *samples,
                       const double *size_px, const double *importance, const uint8_t *ceiling_level,
-                      const uint8_t *previous_level, double *benefit);
+                      const uint8_t *previous_level, const double *visible_loss, double *benefit);
 
 /* Reduces each object's candidates in place to the upper convex hull of (cost, benefit) from its
  * cheapest one, so benefit rises strictly with cost and the value Δbenefit/Δcost of each step up

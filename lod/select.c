@@ -111,6 +111,53 @@ void lod_select_contrast(const struct acu_contrast_limits *vis, const struct acu
     }
 }
 
+void lod_visible_loss_contrast(const struct acu_contrast_limits *vis, const struct lod_chain *chains,
+                               const uint32_t *chain_of_object, const uint32_t *index, size_t count,
+                               const double *eccentricity_deg, const double *retinal_velocity_degps,
+                               const double *angular_diameter_deg, double *visible_loss,
+                               struct lod_select_stats *stats)
+{
+    uint64_t lookups = 0, without = 0;
+    double log10_k = log10(vis->k_scale);
+    for (size_t k = 0; k < count; ++k) {
+        const struct lod_chain *chain = &chains[chain_of_object[index[k]]];
+        double *row = visible_loss + k * LOD_MAX_LEVELS;
+        memset(row, 0, LOD_MAX_LEVELS * sizeof *row);
+        int bands = chain->band_count < LOD_MAX_BANDS ? chain->band_count : LOD_MAX_BANDS;
+        double diameter_deg = angular_diameter_deg[k];
+        if (bands == 0) {
+            for (int l = 0; l < LOD_MAX_LEVELS; ++l)
+                row[l] = NAN;
+            ++without;
+            continue;
+        }
+        if (!(diameter_deg > 0.0)) {
+            ++without;
+            continue; /* a point: nothing of it is visible, whatever the level */
+        }
+        struct acu_contrast_object obj;
+        acu_contrast_object_init(vis, diameter_deg, retinal_velocity_degps[k], eccentricity_deg[k], bands, &obj);
+        without += obj.displayable_bands == 0;
+        for (int b = 0; b < obj.displayable_bands; ++b) {
+            double log10_s = acu_contrast_object_log10_s(vis, &obj, b);
+            ++lookups;
+            /* c·S·k − 1 = 10^(log10 c + log10 S + log10 k) − 1: once per band, the power per level. */
+            double sk = pow(10.0, log10_s + log10_k);
+            for (int l = 1; l < chain->lod_count && l < LOD_MAX_LEVELS; ++l) {
+                double c = chain->lost_contrast[l][b];
+                if (isnan(c))
+                    row[l] += 1.0;
+                else if (fabs(c) * sk > 1.0)
+                    row[l] += fabs(c) * sk - 1.0;
+            }
+        }
+    }
+    if (stats) {
+        stats->model_evaluations += lookups;
+        stats->model_skips += without;
+    }
+}
+
 /* Funkhouser & Séquin 1993 §7 "Static": the average triangle of the chosen level covers at least the
  * threshold; finer levels have more, smaller triangles, so walk from the finest until it holds. */
 void lod_select_static(double min_px_per_triangle, const uint32_t *triangles, const uint8_t *lod_count,

@@ -404,6 +404,7 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddStringToObject(root, "display", s->display);
     cJSON_AddStringToObject(root, "selector", s->selector);
     cJSON_AddStringToObject(root, "renderer", s->renderer);
+    cJSON_AddStringToObject(root, "benefit", s->benefit); /* docs/optimizer.md "Perceptual benefit" */
     cJSON *wall = cJSON_AddObjectToObject(root, "wall_clock");
     cJSON_AddStringToObject(wall, "host", s->host);
     cJSON_AddNumberToObject(wall, "start_unix_s", s->wall_start_unix_s);

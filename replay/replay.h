@@ -181,6 +181,7 @@ struct rpl_summary {
     double csf_scale, peak_luminance_cdm2;
     double adapting_luminance_cdm2_mean, adapting_luminance_cdm2_min, adapting_luminance_cdm2_max;
     long csf_table_refills;
+    char benefit[16]; /* what fs and mb valued levels by: "funkhouser" or "perceptual" (--benefit) */
     /* Measured image error against the full-detail frame (--reference), over the compared frames;
      * all NaN when none were compared. PSNR over the RGB channels (+inf for an identical frame, which
      * the mean leaves out and identical_frames counts); SSIM on luminance (Wang et al. 2004, Gaussian

@@ -234,6 +234,7 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     snprintf(summary->visibility, sizeof summary->visibility, "%s", frm_visibility_name(s.visibility.criterion));
     snprintf(summary->csf, sizeof summary->csf, "%s", acu_csf_model_name(s.visibility.csf));
     summary->csf_scale = o->frame.csf_scale;
+    snprintf(summary->benefit, sizeof summary->benefit, "%s", s.select.perceptual_benefit ? "perceptual" : "funkhouser");
     summary->peak_luminance_cdm2 = s.visibility.peak_luminance_cdm2;
     summary->csf_table_refills = s.visibility.refills;
     summary->fixation_m = s.vor.fixation_m;

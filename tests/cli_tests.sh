@@ -375,7 +375,25 @@ expect_error "replay bad visibility" "unknown criterion 'sharpest'" -- \
 expect_error "replay bad csf" "unknown model 'kelly'" -- "$bin" replay --csf kelly --out "$tmp/vis"
 expect_error "replay csf-scale 0" "--csf-scale: 0 is outside" -- "$bin" replay --csf-scale 0 --out "$tmp/vis"
 expect_error "replay csf-scale nan" "not a number" -- "$bin" replay --csf-scale nan --out "$tmp/vis"
+expect_error "replay bad benefit" "unknown benefit 'best'" -- "$bin" replay --benefit best --out "$tmp/vis"
+expect_error "replay perceptual benefit under acuity" "needs --visibility contrast" -- \
+  "$bin" replay --benefit perceptual --visibility acuity --out "$tmp/vis"
 [ ! -e "$tmp/vis/frames.csv" ] || fail "a refused visibility option left frames.csv"
+# The perceptual benefit (docs/optimizer.md): fs values levels by the visible contrast they keep, so on
+# the same budget and cost model (no online correction: the choice is deterministic) it chooses other
+# levels than Funkhouser's accuracy, and the summary says which benefit ran.
+for b in funkhouser perceptual; do
+  "$bin" replay --scene field --objects 300 --display vive --selector fs --benefit $b --render-scale 0.25 \
+    --cost-correction off --budget-ms 8 --frames 20 --quiet --out "$tmp/benefit-$b" >/dev/null 2>"$tmp/err" ||
+    fail "replay --benefit $b: $(cat "$tmp/err")"
+  grep -q "\"benefit\":[[:space:]]*\"$b\"" "$tmp/benefit-$b/summary.json" || fail "summary does not say benefit $b"
+done
+if [ -s "$tmp/benefit-funkhouser/frames.csv" ] && [ -s "$tmp/benefit-perceptual/frames.csv" ]; then
+  col=$(head -1 "$tmp/benefit-perceptual/frames.csv" | tr ',' '\n' | grep -n '^triangles_per_eye$' | cut -d: -f1)
+  a=$(awk -F, -v c="$col" 'NR > 1 { s += $c } END { print s }' "$tmp/benefit-funkhouser/frames.csv")
+  p=$(awk -F, -v c="$col" 'NR > 1 { s += $c } END { print s }' "$tmp/benefit-perceptual/frames.csv")
+  [ "$a" != "$p" ] || fail "perceptual and funkhouser benefits chose the same triangles on every frame ($a)"
+fi
 # The CSF at one condition (issue acceptance; castle.csv row: S = 10.0694).
 expect_ok "acuity csf invisible" "sensitivity +10\.07" -- "$bin" acuity --csf castle --frequency 4 --velocity 2.5 \
   --eccentricity 10 --luminance 100 --area 7.0685835 --contrast 0.05

@@ -642,7 +642,7 @@ static struct lod_problem domes_problem(struct domes_frame *f, const struct scn_
         f->ceiling[k] = 0, f->previous[k] = LOD_UNSEEN;
     }
     lod_benefit_fill(bp, f->n, f->first, f->count, f->level, f->samples, f->px, NULL, f->ceiling, f->previous,
-                     f->benefit);
+                     NULL, f->benefit);
     lod_hull_reduce(f->n, f->first, f->count, f->cost, f->benefit, f->level, budget_ms, f->hull_scratch);
     return (struct lod_problem){f->n, f->visible, f->first, f->count, f->cost, f->benefit, f->level, budget_ms, 0.0, NULL};
 }

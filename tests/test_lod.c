@@ -74,7 +74,8 @@ static void test_select_contrast(void)
                                {0, 0, 0, 0.002, 0.01, 0.03},
                                {0, 0.001, 0.01, 0.03, 0.08, 0.15},
                                {0.02, 0.05, 0.1, 0.2, 0.3, 0.4}};
-    memcpy(chain.lost_contrast, lost, sizeof lost);
+    for (int l = 0; l < 4; ++l) /* row by row: lost_contrast is LOD_MAX_LEVELS × LOD_MAX_BANDS */
+        memcpy(chain.lost_contrast[l], lost[l], sizeof lost[l]);
     struct acu_limits lim;
     acu_limits_init(&lim, 10.0, 1.0);
     struct acu_contrast_limits vis;
@@ -218,6 +219,98 @@ static void test_select_contrast_hard_cases(void)
     flat.lost_contrast[2][3] = 3.0; /* 2 cpd */
     lod_select_contrast(&vis, &lim, &flat, chain_of, one, 1, &ecc, &vel, &diam, &lod, NULL);
     CHECK(lod == 1);
+}
+
+/* The perceptual benefit (issue 31 item 4): the visible loss per level against the direct model, and
+ * the benefit it gives. */
+static void test_perceptual_benefit(void)
+{
+    static struct acu_csf_table table;
+    acu_csf_table_fill_cycles(&table, ACU_CSF_CASTLE, 100.0, ACU_CSF_GABOR_CYCLES);
+    struct lod_chain chains[2] = {{.lod_count = 4, .unique_freq_cpdiam = {INFINITY, 40.0, 12.0, 4.0}, .band_count = 6},
+                                  {.lod_count = 3, .unique_freq_cpdiam = {INFINITY, 20.0, 5.0}}}; /* 2nd: no spectrum */
+    const double lost[4][6] = {{0, 0, 0, 0, 0, 0},
+                               {0, 0, 0, 0.002, 0.01, 0.03},
+                               {0, 0.001, 0.01, 0.03, 0.08, 0.15},
+                               {0.02, 0.05, NAN, 0.2, 0.3, 0.4}};
+    for (int l = 0; l < 4; ++l) /* row by row: lost_contrast is LOD_MAX_LEVELS × LOD_MAX_BANDS */
+        memcpy(chains[0].lost_contrast[l], lost[l], sizeof lost[l]);
+    struct acu_contrast_limits vis;
+    acu_contrast_limits_init(&vis, &table, 10.0, 1.0, 2.0);
+    enum { N = 400 };
+    uint32_t chain_of[N], index[N];
+    double e[N], v[N], d[N], loss[N * LOD_MAX_LEVELS];
+    uint64_t seed = 3;
+    for (int k = 0; k < N; ++k) {
+        seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+        chain_of[k] = k % 7 == 0, index[k] = (uint32_t)k;
+        d[k] = exp2(-4.0 + 9.0 * (double)(seed >> 11) / 9007199254740992.0); /* 0.06 … 32° */
+        e[k] = (double)(k % 41), v[k] = k % 3 ? 0.0 : (double)(k % 17);
+    }
+    d[1] = 0.0; /* a point */
+    struct lod_select_stats st = {0};
+    lod_visible_loss_contrast(&vis, chains, chain_of, index, N, e, v, d, loss, &st);
+    CHECK(st.model_evaluations > 0);
+    double worst = 0.0;
+    int positive = 0;
+    for (int k = 0; k < N; ++k) {
+        const double *row = loss + k * LOD_MAX_LEVELS;
+        if (chain_of[k] == 1) { /* no spectrum: NaN, so the benefit falls back to Funkhouser's */
+            CHECK(isnan(row[0]));
+            continue;
+        }
+        CHECK(row[0] == 0.0);
+        for (int l = 4; l < LOD_MAX_LEVELS; ++l)
+            CHECK(row[l] == 0.0);
+        for (int l = 1; l < 4; ++l) {
+            double want = 0.0;
+            for (int b = 0; b < 6 && d[k] > 0.0; ++b) {
+                double rho = exp2(b) / d[k];
+                if (rho > 10.0)
+                    break;
+                double c = lost[l][b];
+                if (isnan(c)) {
+                    want += 1.0;
+                    continue;
+                }
+                double sens = acu_csf_sensitivity(ACU_CSF_CASTLE, rho, rho * v[k], 100.0,
+                                                  acu_csf_gabor_area_deg2(rho, ACU_CSF_GABOR_CYCLES), e[k]);
+                want += fmax(0.0, c * sens * 2.0 - 1.0);
+            }
+            /* The table is within 0.01 in log10 S of the model (acuity/csf.h): 2.3 % on c·S. */
+            worst = fmax(worst, fabs(row[l] - want) / fmax(1.0, want));
+            positive += row[l] > 0.0;
+        }
+    }
+    printf("visible loss against the direct model: worst relative difference %.4f, %d positive\n", worst, positive);
+    CHECK(worst < 0.03 && positive > 100);
+
+    /* The benefit: size / (1 + D·(1 + h·|ΔL|)); finer than the ceiling earns the ceiling's; a NaN row
+     * keeps Funkhouser's accuracy; a drop earns 0. */
+    struct lod_benefit_params bp;
+    lod_benefit_params_default(&bp);
+    const uint32_t first[2] = {0, 5}, samples[8] = {0, 20, 60, 200, 900, 30, 90, 400};
+    const uint8_t count[2] = {5, 3}, level[8] = {LOD_DROP, 3, 2, 1, 0, 2, 1, 0};
+    const double px[2] = {1000.0, 500.0};
+    const uint8_t ceiling[2] = {1, 0}, previous[2] = {LOD_UNSEEN, 1};
+    double rows[2 * LOD_MAX_LEVELS] = {0, 0.5, 3.0, 9.0};
+    for (int l = 0; l < LOD_MAX_LEVELS; ++l)
+        rows[LOD_MAX_LEVELS + l] = NAN;
+    double benefit[8], funk[8];
+    lod_benefit_fill(&bp, 2, first, count, level, samples, px, NULL, ceiling, previous, rows, benefit);
+    lod_benefit_fill(&bp, 2, first, count, level, samples, px, NULL, ceiling, previous, NULL, funk);
+    CHECK(benefit[0] == 0.0);
+    CHECK(fabs(benefit[1] - 1000.0 / 10.0) < 1e-9);
+    CHECK(fabs(benefit[2] - 1000.0 / 4.0) < 1e-9);
+    CHECK(fabs(benefit[3] - 1000.0 / 1.5) < 1e-9);
+    CHECK(benefit[4] == benefit[3]); /* level 0 is finer than the ceiling (1) */
+    for (int c = 5; c < 8; ++c)
+        CHECK(benefit[c] == funk[c]); /* no spectrum */
+    /* Hysteresis scales the visible loss: one level from last frame's counts it twice. */
+    const uint8_t previous2[2] = {2, 1};
+    lod_benefit_fill(&bp, 2, first, count, level, samples, px, NULL, ceiling, previous2, rows, benefit);
+    CHECK(fabs(benefit[2] - 1000.0 / 4.0) < 1e-9);          /* level 2 = last frame's */
+    CHECK(fabs(benefit[3] - 1000.0 / (1.0 + 0.5 * 2.0)) < 1e-9); /* one step away */
 }
 
 static void test_cost_correction(void)
@@ -550,6 +643,7 @@ int main(void)
     test_select_reddy();
     test_select_contrast();
     test_select_contrast_hard_cases();
+    test_perceptual_benefit();
     test_cost_correction();
     test_cost_correction_no_spiral();
     test_feedback();

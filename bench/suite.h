@@ -21,6 +21,7 @@ struct bch_run {
     char scene[16], selector[16], display[64];
     char gaze[8];        /* "" → replay's default (vor for traces without gaze) */
     char reading[8];     /* "" → narrow */
+    char visibility[12]; /* "" → replay's default criterion (contrast); "acuity": Reddy's H(v, E) */
     double factor;       /* the sweep value: × the display period (t2, t4), × full cost (t5); 0 none */
     double budget_ms;    /* 0 → the display's period */
     double opt_limit_us; /* 0 → no limit */

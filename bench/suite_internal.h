@@ -19,6 +19,7 @@ struct bch_result {
     double ref_frames, identical_frames, psnr_db_mean, psnr_db_min, ssim_mean, ssim_min, ssim_rgb_mean, fssim_mean,
         fssim_min, fssim_p5, px_over_32;
     double fssim_band[4];
+    double flip_mean; /* FLIP (render/flip.h), mean over the compared frames; NaN without --reference */
     long n; /* frames */
     /* per frame (n each; NULL where the column is absent) */
     double *frame_ms, *draw_ms, *predicted_ms, *head_speed, *optimizer_us, *triangles, *finest, *dropped, *iterations,

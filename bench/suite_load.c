@@ -97,6 +97,7 @@ static int load_summary(const char *dir, struct bch_result *r, struct hl_error *
     r->fssim_min = json_stat(e, "fssim", "min");
     r->fssim_p5 = json_stat(e, "fssim", "p5");
     r->px_over_32 = json_num(e, "px_over_32_share_mean");
+    r->flip_mean = json_stat(e, "flip", "mean");
     const cJSON *bands = cJSON_GetObjectItemCaseSensitive(e, "fssim_bands");
     for (int b = 0; b < 4; ++b)
         r->fssim_band[b] = json_num(cJSON_GetArrayItem(bands, b), "ssim_mean");

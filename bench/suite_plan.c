@@ -213,20 +213,27 @@ static void plan_t2(struct builder *b)
  * frequency readings with their image error. */
 static void plan_t3(struct builder *b)
 {
-    static const char *const variants[][3] = {
-        /* id part, motion, gaze ("" for none/size: the gaze changes nothing they use) */
-        {"still-none", "still", ""},       {"real-none", "user1", ""},     {"still-size", "still", ""},
-        {"real-size", "user1", ""},        {"still-full", "still", "vor"}, {"real-full-head", "user1", "head"},
-        {"real-full-vor", "user1", "vor"},
+    static const char *const variants[][4] = {
+        /* id part, motion, gaze ("" for none/size: the gaze changes nothing they use), criterion */
+        {"still-none", "still", "", ""},
+        {"real-none", "user1", "", ""},
+        {"still-size", "still", "", ""},
+        {"real-size", "user1", "", ""},
+        {"still-full", "still", "vor", ""},
+        {"real-full-head", "user1", "head", ""},
+        {"real-full-vor", "user1", "vor", ""},
+        {"real-full-head-acuity", "user1", "head", "acuity"},
+        {"real-full-vor-acuity", "user1", "vor", "acuity"},
     };
     for (int o = 0; o < b->cfg->n_objects; ++o)
-        for (int v = 0; v < 7; ++v) {
+        for (int v = 0; v < 9; ++v) {
             int is_none = strstr(variants[v][0], "none") != NULL, size_only = strstr(variants[v][0], "size") != NULL;
             struct bch_run *r = add(b, 3, "field", is_none ? "none" : "reddy");
             if (!r)
                 return;
             snprintf(r->motion, sizeof r->motion, "%s", variants[v][1]);
             snprintf(r->gaze, sizeof r->gaze, "%s", variants[v][2]);
+            snprintf(r->visibility, sizeof r->visibility, "%s", variants[v][3]);
             r->objects = b->cfg->objects[o];
             r->velocity_off = r->eccentricity_off = size_only;
             r->frames = b->cfg->t3_frames;
@@ -235,18 +242,35 @@ static void plan_t3(struct builder *b)
     int n_displays = b->cfg->n_displays ? b->cfg->n_displays : hmd_builtin_count();
     for (int d = 0; d < n_displays; ++d) {
         const char *name = b->cfg->n_displays ? b->cfg->displays[d] : hmd_builtin_at(d)->name;
-        static const char *const terms[] = {"full", "novel", "noecc"};
-        for (int t = 0; t < 3; ++t) {
+        static const char *const terms[] = {"full", "novel", "noecc", "acuity"};
+        for (int t = 0; t < 4; ++t) {
             struct bch_run *r = add(b, 3, "field", "reddy");
             if (!r)
                 return;
             snprintf(r->display, sizeof r->display, "%s", name);
             r->velocity_off = t == 1;
             r->eccentricity_off = t == 2;
+            if (t == 3) /* both terms, Reddy's full-contrast criterion: what contrast adds */
+                snprintf(r->visibility, sizeof r->visibility, "acuity");
             r->frames = b->cfg->t3d_frames;
             snprintf(r->id, sizeof r->id, "t3d-%s-%s", name, terms[t]);
         }
     }
+    /* Each criterion under each gaze model with --reference, on the largest field: what it keeps and
+     * what the image loses, by eccentricity band and by head speed (Table 3e). */
+    static const char *const criteria[] = {"contrast", "acuity"}, *const t3v_gazes[] = {"vor", "head"};
+    for (int g = 0; g < 2; ++g)
+        for (int k = 0; k < 2; ++k) {
+            struct bch_run *r = add(b, 3, "field", "reddy");
+            if (!r)
+                return;
+            snprintf(r->gaze, sizeof r->gaze, "%s", t3v_gazes[g]);
+            snprintf(r->visibility, sizeof r->visibility, "%s", criteria[k]);
+            r->objects = b->cfg->objects[b->cfg->n_objects - 1];
+            r->reference_every = b->cfg->reference_every;
+            r->frames = b->cfg->t3_frames;
+            snprintf(r->id, sizeof r->id, "t3v-%s-%s", t3v_gazes[g], criteria[k]);
+        }
     static const char *const readings[] = {"narrow", "long"};
     for (int k = 0; k < 2; ++k) {
         struct bch_run *r = add(b, 3, "field", "reddy");
@@ -402,6 +426,10 @@ int bch_run_argv(const struct bch_plan *plan, const struct bch_run *run, const c
     if (run->reading[0]) {
         ARG("--frequency-reading");
         ARG(run->reading);
+    }
+    if (run->visibility[0]) {
+        ARG("--visibility");
+        ARG(run->visibility);
     }
     if (run->objects > 0) {
         ARG("--objects");

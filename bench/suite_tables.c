@@ -227,7 +227,7 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
                       "period) for fs, mb and feedback, --static-px for static; reddy as it is. Every run has "
                       "--reference: image error against the full-detail frame (fSSIM: SSIM weighted by Reddy's "
                       "M(E) around the gaze; SSIM on luminance; PSNR over RGB; px>32: share of pixels off by more "
-                      "than 32 levels) beside the model's predicted visible error. Higher fSSIM is better.\n",
+                      "than 32 levels; FLIP: LDR-FLIP mean at the display's pixels per degree) beside the model's predicted visible error. Higher fSSIM is better.\n",
                       0);
     static const char *const h[] = {"gaze",
                                     "selector",
@@ -239,11 +239,12 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
                                     "*ssim_mean",
                                     "*psnr_db_mean",
                                     "*px_over_32",
+                                    "*flip_mean",
                                     "*visible_error_mean",
                                     "*triangles_per_eye_mean",
                                     "deterministic"};
     struct bch_table t;
-    if (bch_table_begin(&t, c->dir, "t2_speed_error", c->md, NULL, c->det, h, 13, err) != 0)
+    if (bch_table_begin(&t, c->dir, "t2_speed_error", c->md, NULL, c->det, h, 14, err) != 0)
         return -1;
     const double period_ms = 1000.0 / 90.0; /* vive */
     for (size_t i = 0; i < c->plan->count; ++i) {
@@ -251,7 +252,7 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
         if (run->table != 2)
             continue;
         const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
-        char cell[10][BCH_CELL], setting[48];
+        char cell[11][BCH_CELL], setting[48];
         if (run->static_px > 0)
             snprintf(setting, sizeof setting, "%g px/triangle", run->static_px);
         else if (run->factor > 0)
@@ -259,7 +260,7 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
         else
             snprintf(setting, sizeof setting, "acuity");
         double fm = r ? bch_mean_from(r, r->frame_ms, 1) : NAN;
-        const char *cells[13] = {run->gaze,
+        const char *cells[14] = {run->gaze,
                                  run->selector,
                                  setting,
                                  bch_cell(cell[0], fm, 3),
@@ -269,6 +270,7 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
                                  bch_cell(cell[4], r ? r->ssim_mean : NAN, 4),
                                  bch_psnr_cell(cell[5], r),
                                  bch_cell(cell[6], r ? r->px_over_32 : NAN, 4),
+                                 bch_cell(cell[9], r ? r->flip_mean : NAN, 4),
                                  bch_cell(cell[7], r ? r->visible_error_mean : NAN, 4),
                                  bch_cell(cell[8], r ? bch_mean(r, r->triangles) : NAN, 1),
                                  is_deterministic(run->selector) ? "1" : "0"};

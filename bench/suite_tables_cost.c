@@ -104,17 +104,17 @@ static int t4_simplify(struct bch_ctx *c, struct hl_error *err)
                       0);
     static const char *const h[] = {"simplify", "optimizer_us_mean", "optimizer_us_max", "iterations_mean",
                                     "triangles_per_eye_mean", "fssim_mean", "ssim_mean", "psnr_db_mean",
-                                    "visible_error_mean", "frame_ms_mean"};
+                                    "flip_mean", "visible_error_mean", "frame_ms_mean"};
     struct bch_table t;
-    if (bch_table_begin(&t, c->dir, "t4b_simplify", c->md, NULL, c->det, h, 10, err) != 0)
+    if (bch_table_begin(&t, c->dir, "t4b_simplify", c->md, NULL, c->det, h, 11, err) != 0)
         return -1;
     for (size_t i = 0; i < c->plan->count; ++i) {
         const struct bch_run *run = &c->plan->runs[i];
         if (strncmp(run->id, "t4s-", 4))
             continue;
         const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
-        char cell[10][BCH_CELL];
-        const char *cells[10] = {bch_cell(cell[0], run->mb_simplify, 0),
+        char cell[11][BCH_CELL];
+        const char *cells[11] = {bch_cell(cell[0], run->mb_simplify, 0),
                                  bch_cell(cell[1], r ? bch_mean_from(r, r->optimizer_us, 1) : NAN, 1),
                                  bch_cell(cell[2], r ? bch_max_from(r, r->optimizer_us, 1) : NAN, 1),
                                  bch_cell(cell[3], r ? bch_mean(r, r->iterations) : NAN, 1),
@@ -122,6 +122,7 @@ static int t4_simplify(struct bch_ctx *c, struct hl_error *err)
                                  bch_cell(cell[5], r ? r->fssim_mean : NAN, 4),
                                  bch_cell(cell[6], r ? r->ssim_mean : NAN, 4),
                                  bch_psnr_cell(cell[7], r),
+                                 bch_cell(cell[10], r ? r->flip_mean : NAN, 4),
                                  bch_cell(cell[8], r ? r->visible_error_mean : NAN, 4),
                                  bch_cell(cell[9], r ? bch_mean_from(r, r->frame_ms, 1) : NAN, 3)};
         bch_table_row(&t, cells);
@@ -141,17 +142,18 @@ int bch_tables_t5(struct bch_ctx *c, struct hl_error *err)
     bch_heading(c, "Table 5: Mason–Blake's comparison on domes", text, 1);
     static const char *const h[] = {
         "selector",   "x_full_cost", "budget_ms",    "dropped_mean",       "visible_mean",  "triangles_per_eye_mean",
-        "fssim_mean", "ssim_mean",   "psnr_db_mean", "visible_error_mean", "frame_ms_mean", "deadline_met_pct"};
+        "fssim_mean", "ssim_mean",   "psnr_db_mean", "flip_mean", "visible_error_mean", "frame_ms_mean",
+        "deadline_met_pct"};
     struct bch_table t;
-    if (bch_table_begin(&t, c->dir, "t5_mason_blake", c->md, c->echo, c->det, h, 12, err) != 0)
+    if (bch_table_begin(&t, c->dir, "t5_mason_blake", c->md, c->echo, c->det, h, 13, err) != 0)
         return -1;
     for (size_t i = 0; i < c->plan->count; ++i) {
         const struct bch_run *run = &c->plan->runs[i];
         if (run->table != 5)
             continue;
         const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
-        char cell[11][BCH_CELL];
-        const char *cells[12] = {
+        char cell[12][BCH_CELL];
+        const char *cells[13] = {
             run->selector,
             bch_cell(cell[0], run->factor, 2),
             bch_cell(cell[1], run->budget_ms, 3),
@@ -161,6 +163,7 @@ int bch_tables_t5(struct bch_ctx *c, struct hl_error *err)
             bch_cell(cell[5], r ? r->fssim_mean : NAN, 4),
             bch_cell(cell[6], r ? r->ssim_mean : NAN, 4),
             bch_psnr_cell(cell[7], r),
+            bch_cell(cell[11], r ? r->flip_mean : NAN, 4),
             bch_cell(cell[8], r ? r->visible_error_mean : NAN, 4),
             bch_cell(cell[9], r ? bch_mean_from(r, r->frame_ms, 1) : NAN, 3),
             bch_cell(cell[10], r ? 100.0 * bch_mean_from(r, r->deadline_met, 1) : NAN, 1)};

@@ -1,7 +1,8 @@
 /* Table 3 of the bench report: Reddy's study on field (Reddy 1997 §6; PAPERS.md) — the speedup of
  * reddy over none against the object count, size only against size + velocity + eccentricity, still
- * head and real motion per gaze model; per display the share of the LOD reduction owed to velocity
- * and to eccentricity; both frequency readings with their image error. docs/bench.md. */
+ * head and real motion per gaze model and visibility criterion; per display the share of the LOD
+ * reduction owed to velocity, to eccentricity and to contrast; both frequency readings with their
+ * image error; both criteria by eccentricity band and head speed (3e). docs/bench.md. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -20,23 +21,25 @@ static double reduction(const struct bch_result *r)
     return f > 0 ? 1.0 - t / f : NAN;
 }
 
-static const char *const variants[][4] = {
-    /* reddy's run, none's run, motion, terms */
-    {"still-size", "still-none", "still", "size only"},
-    {"still-full", "still-none", "still", "size + velocity + eccentricity"},
-    {"real-size", "real-none", "user1", "size only"},
-    {"real-full-head", "real-none", "user1 (gaze head)", "size + velocity + eccentricity"},
-    {"real-full-vor", "real-none", "user1 (gaze vor)", "size + velocity + eccentricity"},
+static const char *const variants[][5] = {
+    /* reddy's run, none's run, motion, terms, criterion (docs/visibility.md) */
+    {"still-size", "still-none", "still", "size only", "contrast"},
+    {"still-full", "still-none", "still", "size + velocity + eccentricity", "contrast"},
+    {"real-size", "real-none", "user1", "size only", "contrast"},
+    {"real-full-head", "real-none", "user1 (gaze head)", "size + velocity + eccentricity", "contrast"},
+    {"real-full-vor", "real-none", "user1 (gaze vor)", "size + velocity + eccentricity", "contrast"},
+    {"real-full-head-acuity", "real-none", "user1 (gaze head)", "size + velocity + eccentricity", "acuity"},
+    {"real-full-vor-acuity", "real-none", "user1 (gaze vor)", "size + velocity + eccentricity", "acuity"},
 };
-enum { N_VARIANTS = 5 };
+enum { N_VARIANTS = 7 };
 
 static int speedup_table(struct bch_ctx *c, struct hl_error *err)
 {
-    static const char *const h[] = {"objects",        "motion",       "terms",           "none_frame_ms",
-                                    "reddy_frame_ms", "speedup",      "*triangle_ratio", "*visible_error_mean",
-                                    "goal_met",       "deterministic"};
+    static const char *const h[] = {"objects",        "motion",   "terms",           "criterion",
+                                    "none_frame_ms",  "reddy_frame_ms", "speedup",   "*triangle_ratio",
+                                    "*visible_error_mean", "goal_met", "deterministic"};
     struct bch_table t;
-    if (bch_table_begin(&t, c->dir, "t3_reddy_speedup", c->md, c->echo, c->det, h, 10, err) != 0)
+    if (bch_table_begin(&t, c->dir, "t3_reddy_speedup", c->md, c->echo, c->det, h, 11, err) != 0)
         return -1;
     struct hl_out plot;
     FILE *f = bch_plot_data(c, "t3_speedup.dat", &plot, err);
@@ -69,9 +72,10 @@ static int speedup_table(struct bch_ctx *c, struct hl_error *err)
             const char *goal = "";
             if (run->objects == 1000 && strstr(variants[v][0], "full"))
                 goal = !isfinite(speedup) ? "—" : speedup >= GOAL_SPEEDUP && vis == 0.0 ? "yes" : "no";
-            const char *cells[10] = {bch_cell(cell[0], run->objects, 0),
+            const char *cells[11] = {bch_cell(cell[0], run->objects, 0),
                                      variants[v][2],
                                      variants[v][3],
+                                     variants[v][4],
                                      bch_cell(cell[1], fn, 3),
                                      bch_cell(cell[2], fr, 3),
                                      bch_cell(cell[3], speedup, 2),
@@ -104,46 +108,55 @@ static int speedup_table(struct bch_ctx *c, struct hl_error *err)
 
 static int display_table(struct bch_ctx *c, struct hl_error *err)
 {
-    bch_heading(c, "Table 3b: per display, the share of the LOD reduction owed to velocity and to eccentricity",
-                      "reddy on field (user1, default gaze), three runs per display: both terms, velocity term off, "
-                      "eccentricity term off. reduction = 1 − triangles drawn / finest; owed to a term = (reduction "
-                      "with both − reduction without it) / reduction with both (the shares need not add to 1: "
-                      "size alone, and the terms together, do the rest).\n",
+    bch_heading(c, "Table 3b: per display, the share of the LOD reduction owed to velocity, to eccentricity and to contrast",
+                      "reddy on field (user1, default gaze), four runs per display: both terms, velocity term off, "
+                      "eccentricity term off (all under the contrast criterion), and both terms under the acuity "
+                      "criterion (Reddy's H(v, E) at full contrast). reduction = 1 − triangles drawn / finest; owed "
+                      "to a term = (reduction with both − reduction without it) / reduction with both; owed to "
+                      "contrast = (reduction under contrast − under acuity) / reduction under contrast (negative "
+                      "where the contrast criterion keeps more; the shares need not add to 1: size alone, and the "
+                      "terms together, do the rest).\n",
                       0);
     static const char *const h[] = {"display",
                                     "xi_cpd",
                                     "*reduction_both",
                                     "*reduction_no_velocity",
                                     "*reduction_no_eccentricity",
+                                    "*reduction_acuity",
                                     "*owed_to_velocity",
                                     "*owed_to_eccentricity",
+                                    "*owed_to_contrast",
                                     "frame_ms_mean",
                                     "deterministic"};
     struct bch_table t;
-    if (bch_table_begin(&t, c->dir, "t3b_displays", c->md, NULL, c->det, h, 9, err) != 0)
+    if (bch_table_begin(&t, c->dir, "t3b_displays", c->md, NULL, c->det, h, 11, err) != 0)
         return -1;
     for (size_t i = 0; i < c->plan->count; ++i) {
         const struct bch_run *run = &c->plan->runs[i];
-        if (strncmp(run->id, "t3d-", 4) || run->velocity_off || run->eccentricity_off)
+        if (strncmp(run->id, "t3d-", 4) || run->velocity_off || run->eccentricity_off || run->visibility[0])
             continue;
         char id[96];
         snprintf(id, sizeof id, "t3d-%s-novel", run->display);
         const struct bch_result *nv = bch_find(c, id);
         snprintf(id, sizeof id, "t3d-%s-noecc", run->display);
         const struct bch_result *ne = bch_find(c, id);
+        snprintf(id, sizeof id, "t3d-%s-acuity", run->display);
+        const struct bch_result *na = bch_find(c, id);
         const struct bch_result *full = c->results[i].present ? &c->results[i] : NULL;
-        double rb = reduction(full), rv = reduction(nv), re = reduction(ne);
+        double rb = reduction(full), rv = reduction(nv), re = reduction(ne), ra = reduction(na);
         const struct hmd_profile *p = hmd_builtin_find(run->display);
-        char cell[7][BCH_CELL];
-        const char *cells[9] = {run->display,
-                                bch_cell(cell[0], p ? hmd_compute_xi(p).used_cpd : NAN, 2),
-                                bch_cell(cell[1], rb, 4),
-                                bch_cell(cell[2], rv, 4),
-                                bch_cell(cell[3], re, 4),
-                                bch_cell(cell[4], rb > 0 ? (rb - rv) / rb : NAN, 3),
-                                bch_cell(cell[5], rb > 0 ? (rb - re) / rb : NAN, 3),
-                                bch_cell(cell[6], full ? bch_mean_from(full, full->frame_ms, 1) : NAN, 3),
-                                "1"};
+        char cell[9][BCH_CELL];
+        const char *cells[11] = {run->display,
+                                 bch_cell(cell[0], p ? hmd_compute_xi(p).used_cpd : NAN, 2),
+                                 bch_cell(cell[1], rb, 4),
+                                 bch_cell(cell[2], rv, 4),
+                                 bch_cell(cell[3], re, 4),
+                                 bch_cell(cell[7], ra, 4),
+                                 bch_cell(cell[4], rb > 0 ? (rb - rv) / rb : NAN, 3),
+                                 bch_cell(cell[5], rb > 0 ? (rb - re) / rb : NAN, 3),
+                                 bch_cell(cell[8], rb > 0 ? (rb - ra) / rb : NAN, 3),
+                                 bch_cell(cell[6], full ? bch_mean_from(full, full->frame_ms, 1) : NAN, 3),
+                                 "1"};
         bch_table_row(&t, cells);
     }
     return bch_table_end(&t, err);
@@ -155,27 +168,81 @@ static int reading_table(struct bch_ctx *c, struct hl_error *err)
                       "reddy on field (user1) with --frequency-reading narrow (the thickest lost feature) and long "
                       "(the longest lost chord; docs/analysis.md), with --reference.\n",
                       0);
-    static const char *const h[] = {"reading",       "*triangle_share", "*fssim_mean",         "*ssim_mean",
-                                    "*psnr_db_mean", "*px_over_32",     "*visible_error_mean", "frame_ms_mean",
-                                    "deterministic"};
+    static const char *const h[] = {"reading",       "*triangle_share", "*fssim_mean", "*ssim_mean",
+                                    "*psnr_db_mean", "*px_over_32",     "*flip_mean",  "*visible_error_mean",
+                                    "frame_ms_mean", "deterministic"};
     struct bch_table t;
-    if (bch_table_begin(&t, c->dir, "t3c_readings", c->md, NULL, c->det, h, 9, err) != 0)
+    if (bch_table_begin(&t, c->dir, "t3c_readings", c->md, NULL, c->det, h, 10, err) != 0)
         return -1;
     for (size_t i = 0; i < c->plan->count; ++i) {
         const struct bch_run *run = &c->plan->runs[i];
         if (strncmp(run->id, "t3r-", 4))
             continue;
         const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
-        char cell[7][BCH_CELL];
-        const char *cells[9] = {run->reading,
+        char cell[8][BCH_CELL];
+        const char *cells[10] = {run->reading,
                                 bch_cell(cell[0], r ? 1.0 - reduction(r) : NAN, 4),
                                 bch_cell(cell[1], r ? r->fssim_mean : NAN, 4),
                                 bch_cell(cell[2], r ? r->ssim_mean : NAN, 4),
                                 bch_psnr_cell(cell[3], r),
                                 bch_cell(cell[4], r ? r->px_over_32 : NAN, 4),
+                                bch_cell(cell[7], r ? r->flip_mean : NAN, 4),
                                 bch_cell(cell[5], r ? r->visible_error_mean : NAN, 4),
                                 bch_cell(cell[6], r ? bch_mean_from(r, r->frame_ms, 1) : NAN, 3),
                                 "1"};
+        bch_table_row(&t, cells);
+    }
+    return bch_table_end(&t, err);
+}
+
+/* Share of the finest triangles drawn over the frames whose head speed lies in [lo, hi) deg/s. */
+static double share_in_speed_band(const struct bch_result *r, double lo, double hi)
+{
+    if (!r || !r->head_speed || !r->triangles || !r->finest)
+        return NAN;
+    double t = 0.0, f = 0.0;
+    for (long i = 0; i < r->n; ++i)
+        if (r->head_speed[i] >= lo && r->head_speed[i] < hi)
+            t += r->triangles[i], f += r->finest[i];
+    return f > 0.0 ? t / f : NAN;
+}
+
+static int criterion_table(struct bch_ctx *c, struct hl_error *err)
+{
+    bch_heading(c, "Table 3e: the two visibility criteria by eccentricity and by head speed",
+                      "reddy on field (user1, the largest object count) under --visibility contrast (castle CSF, the "
+                      "default k) and acuity, per gaze model, with --reference: the share of the finest triangles "
+                      "drawn, the image error against the full-detail frame (foveated SSIM; SSIM in the eccentricity "
+                      "bands around the gaze; FLIP), and the share of the finest triangles drawn in frames of slow, "
+                      "moderate and fast head motion. Under vor the retinal speed of what the eye holds is about 0 "
+                      "whatever the head does; under head it is the head's speed.\n",
+                      0);
+    static const char *const h[] = {"gaze",           "criterion",       "*triangle_share", "*fssim_mean",
+                                    "*ssim_0_5.79",   "*ssim_5.79_15",   "*ssim_15_30",     "*ssim_30_up",
+                                    "*flip_mean",     "*share_0_10dps",  "*share_10_30dps", "*share_30up_dps",
+                                    "deterministic"};
+    struct bch_table t;
+    if (bch_table_begin(&t, c->dir, "t3e_criteria", c->md, c->echo, c->det, h, 13, err) != 0)
+        return -1;
+    for (size_t i = 0; i < c->plan->count; ++i) {
+        const struct bch_run *run = &c->plan->runs[i];
+        if (strncmp(run->id, "t3v-", 4))
+            continue;
+        const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
+        char cell[10][BCH_CELL];
+        const char *cells[13] = {run->gaze,
+                                 run->visibility,
+                                 bch_cell(cell[0], r ? 1.0 - reduction(r) : NAN, 4),
+                                 bch_cell(cell[1], r ? r->fssim_mean : NAN, 4),
+                                 bch_cell(cell[2], r ? r->fssim_band[0] : NAN, 4),
+                                 bch_cell(cell[3], r ? r->fssim_band[1] : NAN, 4),
+                                 bch_cell(cell[4], r ? r->fssim_band[2] : NAN, 4),
+                                 bch_cell(cell[5], r ? r->fssim_band[3] : NAN, 4),
+                                 bch_cell(cell[6], r ? r->flip_mean : NAN, 4),
+                                 bch_cell(cell[7], share_in_speed_band(r, 0.0, 10.0), 4),
+                                 bch_cell(cell[8], share_in_speed_band(r, 10.0, 30.0), 4),
+                                 bch_cell(cell[9], share_in_speed_band(r, 30.0, INFINITY), 4),
+                                 "1"};
         bch_table_row(&t, cells);
     }
     return bch_table_end(&t, err);
@@ -189,7 +256,7 @@ int bch_tables_t3(struct bch_ctx *c, struct hl_error *err)
                       "--velocity-term off --eccentricity-term off. Goal (Reddy 1997): ≥ 4.5× at zero predicted "
                       "visible error with 1000 objects, per gaze model.\n",
                       1);
-    if (speedup_table(c, err) != 0 || display_table(c, err) != 0)
+    if (speedup_table(c, err) != 0 || display_table(c, err) != 0 || reading_table(c, err) != 0)
         return -1;
-    return reading_table(c, err);
+    return criterion_table(c, err);
 }

@@ -80,8 +80,7 @@ int frm_scene_is_file(const char *scene);
  * but lost foveated SSIM 0.9943 and FLIP 0.0153 in the periphery, against the goals 0.995 and 0.01;
  * at k = 2 it drew 0.69 at 0.9985 and 0.0038 (docs/visibility.md "The safety factor"). */
 #define FRM_CSF_SCALE_DEFAULT 2.0
-/* fs and mb's benefit when --benefit is not given (docs/optimizer.md "Perceptual benefit"). */
-#define FRM_BENEFIT_DEFAULT "funkhouser"
+
 
 /* ---- visibility ----------------------------------------------------------------------------- */
 /* The criterion a session judges lost detail by (frame/visibility.c, docs/visibility.md). */
@@ -92,12 +91,6 @@ enum frm_visibility_criterion { FRM_VISIBILITY_CONTRAST = 0, FRM_VISIBILITY_ACUI
 int frm_visibility_options(const struct frm_options *o, enum frm_visibility_criterion *criterion,
                            enum acu_csf_model *csf, struct hl_error *err);
 const char *frm_visibility_name(enum frm_visibility_criterion c);
-/* --benefit (NULL = FRM_BENEFIT_DEFAULT): *perceptual = 1 for "perceptual", 0 for "funkhouser";
- * −1 naming the option otherwise. Its pairing with the criterion is frm_options_check's. */
-int frm_benefit_parse(const struct frm_options *o, int *perceptual, struct hl_error *err);
-/* --benefit (NULL = FRM_BENEFIT_DEFAULT): *perceptual = 1 for "perceptual", 0 for "funkhouser";
- * −1 naming the option otherwise. Its pairing with the criterion is frm_options_check's. */
-int frm_benefit_parse(const struct frm_options *o, int *perceptual, struct hl_error *err);
 /* Under contrast: the CSF table at the adapting luminance, the display's peak luminance times the
  * mean relative luminance of the previous frame (FRM_ADAPT_FIRST_FRAME on the first). The table is
  * refilled only when that luminance moves by more than FRM_ADAPT_REFILL_RATIO (a fill is ~0.2 ms;

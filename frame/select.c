@@ -23,6 +23,15 @@ int frm_selector_parse(const char *name, enum frm_selector *out, struct hl_error
                    name ? name : "");
 }
 
+int frm_benefit_parse(const char *name, int *perceptual, struct hl_error *err)
+{
+    const char *b = name ? name : FRM_BENEFIT_DEFAULT;
+    if (strcmp(b, "perceptual") != 0 && strcmp(b, "funkhouser") != 0)
+        return hl_fail(err, "--benefit: unknown benefit '%s' (known: perceptual, funkhouser)", b);
+    *perceptual = strcmp(b, "perceptual") == 0;
+    return 0;
+}
+
 int frm_cost_model_load(const char *path, struct lod_cost_model *out, char *label_out, size_t label_size,
                         struct hl_error *err)
 {

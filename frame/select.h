@@ -36,6 +36,12 @@ enum frm_selector {
 };
 /* "none" … "fs" → the enum; −1 with the known names in err for anything else. */
 int frm_selector_parse(const char *name, enum frm_selector *out, struct hl_error *err);
+/* fs and mb's benefit when --benefit is not given (docs/optimizer.md "Perceptual benefit": on equal
+ * budgets Funkhouser's accuracy gave the higher foveated SSIM). */
+#define FRM_BENEFIT_DEFAULT "funkhouser"
+/* --benefit (NULL = FRM_BENEFIT_DEFAULT): *perceptual = 1 for "perceptual", 0 for "funkhouser";
+ * −1 naming the option otherwise. Its pairing with the criterion is frm_options_check's. */
+int frm_benefit_parse(const char *name, int *perceptual, struct hl_error *err);
 /* 1 for the selectors whose choice follows the perceptual ceiling (reddy, fs, mb); the others
  * (none, static, feedback) see it only in the predicted visible error, after the frame's timing. */
 int frm_selector_uses_ceiling(enum frm_selector selector);

@@ -56,7 +56,7 @@ int frm_options_check(const struct frm_options *o, enum frm_selector *selector, 
     if (frm_visibility_options(o, &criterion, &csf, err) != 0)
         return -1;
     int perceptual;
-    if (frm_benefit_parse(o, &perceptual, err) != 0)
+    if (frm_benefit_parse(o->benefit, &perceptual, err) != 0)
         return -1;
     if (perceptual && criterion != FRM_VISIBILITY_CONTRAST)
         return hl_fail(err, "--benefit perceptual values levels by their visible contrast: it needs --visibility contrast");
@@ -218,7 +218,7 @@ int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, s
     s->select.static_px = o->static_px_per_triangle;
     s->select.correct = o->cost_correction;
     s->select.mb_simplify = o->mb_simplify;
-    if (frm_benefit_parse(o, &s->select.perceptual_benefit, err) != 0)
+    if (frm_benefit_parse(o->benefit, &s->select.perceptual_benefit, err) != 0)
         return -1;
     s->select.saccade_onset_degps = o->saccade_onset_degps; /* frame/saccade_step.c */
     s->select.saccade_off = s->gaze != ACU_GAZE_TRACKED; /* head, vor: no eye tracker, no saccades known */

@@ -26,15 +26,6 @@ int frm_visibility_options(const struct frm_options *o, enum frm_visibility_crit
     return 0;
 }
 
-int frm_benefit_parse(const struct frm_options *o, int *perceptual, struct hl_error *err)
-{
-    const char *name = o->benefit ? o->benefit : FRM_BENEFIT_DEFAULT;
-    if (strcmp(name, "perceptual") != 0 && strcmp(name, "funkhouser") != 0)
-        return hl_fail(err, "--benefit: unknown benefit '%s' (known: perceptual, funkhouser)", name);
-    *perceptual = strcmp(name, "perceptual") == 0;
-    return 0;
-}
-
 const char *frm_visibility_name(enum frm_visibility_criterion c)
 {
     return (unsigned)c < 2 ? criterion_names[c] : "unknown";

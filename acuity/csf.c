@@ -265,6 +265,18 @@ void acu_csf_table_fill_cycles(struct acu_csf_table *t, enum acu_csf_model model
     csf_table_fill_any(t, model, luminance_cdm2, 0.0, cycles);
 }
 
+/* log10 S at E = 0, bilinear in the table's (log ρ, ω^0.1898) nodes; x and y in node units, inside
+ * [0, nodes − 1] (the callers check). */
+static double csf_table_interp(const struct acu_csf_table *t, double x, double y)
+{
+    int i = (int)x, j = (int)y;
+    i = i < ACU_CSF_TABLE_RHO_NODES - 1 ? i : ACU_CSF_TABLE_RHO_NODES - 2;
+    j = j < ACU_CSF_TABLE_OMEGA_NODES - 1 ? j : ACU_CSF_TABLE_OMEGA_NODES - 2;
+    double fx = x - i, fy = y - j;
+    const double *r0 = t->log10_s[j], *r1 = t->log10_s[j + 1];
+    return (1.0 - fy) * ((1.0 - fx) * r0[i] + fx * r0[i + 1]) + fy * ((1.0 - fx) * r1[i] + fx * r1[i + 1]);
+}
+
 double acu_csf_table_lookup(const struct acu_csf_table *t, double rho_cpd, double omega_hz, double eccentricity_deg)
 {
     double rho = fabs(rho_cpd), omega = fabs(omega_hz);
@@ -274,14 +286,8 @@ double acu_csf_table_lookup(const struct acu_csf_table *t, double rho_cpd, doubl
         double area = t->area_cycles > 0.0 ? acu_csf_gabor_area_deg2(rho, t->area_cycles) : t->area_deg2;
         return acu_csf_sensitivity(t->model, rho, omega, t->luminance_cdm2, area, eccentricity_deg);
     }
-    int i = (int)x, j = (int)y;
-    i = i < ACU_CSF_TABLE_RHO_NODES - 1 ? i : ACU_CSF_TABLE_RHO_NODES - 2;
-    j = j < ACU_CSF_TABLE_OMEGA_NODES - 1 ? j : ACU_CSF_TABLE_OMEGA_NODES - 2;
-    double fx = x - i, fy = y - j;
-    const double *r0 = t->log10_s[j], *r1 = t->log10_s[j + 1];
-    double l = (1.0 - fy) * ((1.0 - fx) * r0[i] + fx * r0[i + 1]) + fy * ((1.0 - fx) * r1[i] + fx * r1[i + 1]);
     /* PAPERS.md §6 eccentricity factor, exact: log10 S falls by (e_a + ρ·e_f) per degree. */
-    return pow(10.0, l - (t->ecc_a + rho * t->ecc_f) * csf_clamp_eccentricity(eccentricity_deg));
+    return pow(10.0, csf_table_interp(t, x, y) - (t->ecc_a + rho * t->ecc_f) * csf_clamp_eccentricity(eccentricity_deg));
 }
 
 /* ---- the selectors' per-object octave bands (csf.h "per object, band by band") ---------------- */
@@ -324,13 +330,7 @@ double acu_contrast_object_log10_s(const struct acu_contrast_limits *lim, const 
      * 10^−6 (tests/test_csf.c): no band there is visible unless its contrast exceeds 10^6/k. Fast
      * objects under the head-locked gaze land here often; the direct model would cost 20× more. */
     y = y < ACU_CSF_TABLE_OMEGA_NODES - 1 ? y : ACU_CSF_TABLE_OMEGA_NODES - 1;
-    int i = (int)x, j = (int)y;
-    i = i < ACU_CSF_TABLE_RHO_NODES - 1 ? i : ACU_CSF_TABLE_RHO_NODES - 2;
-    j = j < ACU_CSF_TABLE_OMEGA_NODES - 1 ? j : ACU_CSF_TABLE_OMEGA_NODES - 2;
-    double fx = x - i, fy = y - j;
-    const double *r0 = t->log10_s[j], *r1 = t->log10_s[j + 1];
-    double l = (1.0 - fy) * ((1.0 - fx) * r0[i] + fx * r0[i + 1]) + fy * ((1.0 - fx) * r1[i] + fx * r1[i + 1]);
-    return l - (t->ecc_a + rho * t->ecc_f) * csf_clamp_eccentricity(obj->eccentricity_deg);
+    return csf_table_interp(t, x, y) - (t->ecc_a + rho * t->ecc_f) * csf_clamp_eccentricity(obj->eccentricity_deg);
 }
 
 int acu_csf_band_visible_log10(double contrast, double log10_s, double k_scale, double log10_k)

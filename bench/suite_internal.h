@@ -20,6 +20,9 @@ struct bch_result {
         fssim_min, fssim_p5, px_over_32;
     double fssim_band[4];
     double flip_mean; /* FLIP (render/flip.h), mean over the compared frames; NaN without --reference */
+    /* summary.json's triangles_by_band: share of the finest triangles drawn per eccentricity band (the
+     * image error's) and per retinal-speed band (frm_retinal_band_lower_degps); NaN when absent */
+    double kept_ecc[4], kept_retinal[4];
     long n; /* frames */
     /* per frame (n each; NULL where the column is absent) */
     double *frame_ms, *draw_ms, *predicted_ms, *head_speed, *optimizer_us, *triangles, *finest, *dropped, *iterations,

@@ -98,6 +98,13 @@ static int load_summary(const char *dir, struct bch_result *r, struct hl_error *
     r->fssim_p5 = json_stat(e, "fssim", "p5");
     r->px_over_32 = json_num(e, "px_over_32_share_mean");
     r->flip_mean = json_stat(e, "flip", "mean");
+    const cJSON *kept = cJSON_GetObjectItemCaseSensitive(root, "triangles_by_band");
+    const cJSON *kept_e = cJSON_GetObjectItemCaseSensitive(kept, "eccentricity");
+    const cJSON *kept_r = cJSON_GetObjectItemCaseSensitive(kept, "retinal_speed");
+    for (int b = 0; b < 4; ++b) {
+        r->kept_ecc[b] = json_num(cJSON_GetArrayItem(kept_e, b), "triangle_share");
+        r->kept_retinal[b] = json_num(cJSON_GetArrayItem(kept_r, b), "triangle_share");
+    }
     const cJSON *bands = cJSON_GetObjectItemCaseSensitive(e, "fssim_bands");
     for (int b = 0; b < 4; ++b)
         r->fssim_band[b] = json_num(cJSON_GetArrayItem(bands, b), "ssim_mean");

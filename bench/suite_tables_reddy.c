@@ -2,7 +2,8 @@
  * reddy over none against the object count, size only against size + velocity + eccentricity, still
  * head and real motion per gaze model and visibility criterion; per display the share of the LOD
  * reduction owed to velocity, to eccentricity and to contrast; both frequency readings with their
- * image error; both criteria by eccentricity band and head speed (3e). docs/bench.md. */
+ * image error; both criteria's image error by eccentricity band (3e) and triangles kept by
+ * eccentricity and retinal speed (3f). docs/bench.md. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -195,42 +196,27 @@ static int reading_table(struct bch_ctx *c, struct hl_error *err)
     return bch_table_end(&t, err);
 }
 
-/* Share of the finest triangles drawn over the frames whose head speed lies in [lo, hi) deg/s. */
-static double share_in_speed_band(const struct bch_result *r, double lo, double hi)
-{
-    if (!r || !r->head_speed || !r->triangles || !r->finest)
-        return NAN;
-    double t = 0.0, f = 0.0;
-    for (long i = 0; i < r->n; ++i)
-        if (r->head_speed[i] >= lo && r->head_speed[i] < hi)
-            t += r->triangles[i], f += r->finest[i];
-    return f > 0.0 ? t / f : NAN;
-}
-
 static int criterion_table(struct bch_ctx *c, struct hl_error *err)
 {
-    bch_heading(c, "Table 3e: the two visibility criteria by eccentricity and by head speed",
+    bch_heading(c, "Table 3e: the two visibility criteria, image error by eccentricity",
                       "reddy on field (user1, the largest object count) under --visibility contrast (castle CSF, the "
                       "default k) and acuity, per gaze model, with --reference: the share of the finest triangles "
-                      "drawn, the image error against the full-detail frame (foveated SSIM; SSIM in the eccentricity "
-                      "bands around the gaze; FLIP), and the share of the finest triangles drawn in frames of slow, "
-                      "moderate and fast head motion. Under vor the retinal speed of what the eye holds is about 0 "
-                      "whatever the head does; under head it is the head's speed.\n",
+                      "drawn and the image error against the full-detail frame (foveated SSIM; SSIM in the "
+                      "eccentricity bands around the gaze; FLIP).\n",
                       0);
-    static const char *const h[] = {"gaze",           "criterion",       "*triangle_share", "*fssim_mean",
-                                    "*ssim_0_5.79",   "*ssim_5.79_15",   "*ssim_15_30",     "*ssim_30_up",
-                                    "*flip_mean",     "*share_0_10dps",  "*share_10_30dps", "*share_30up_dps",
-                                    "deterministic"};
+    static const char *const h[] = {"gaze",         "criterion",     "*triangle_share", "*fssim_mean",
+                                    "*ssim_0_5.79", "*ssim_5.79_15", "*ssim_15_30",     "*ssim_30_up",
+                                    "*flip_mean",   "deterministic"};
     struct bch_table t;
-    if (bch_table_begin(&t, c->dir, "t3e_criteria", c->md, c->echo, c->det, h, 13, err) != 0)
+    if (bch_table_begin(&t, c->dir, "t3e_criteria", c->md, c->echo, c->det, h, 10, err) != 0)
         return -1;
     for (size_t i = 0; i < c->plan->count; ++i) {
         const struct bch_run *run = &c->plan->runs[i];
         if (strncmp(run->id, "t3v-", 4))
             continue;
         const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
-        char cell[10][BCH_CELL];
-        const char *cells[13] = {run->gaze,
+        char cell[7][BCH_CELL];
+        const char *cells[10] = {run->gaze,
                                  run->visibility,
                                  bch_cell(cell[0], r ? 1.0 - reduction(r) : NAN, 4),
                                  bch_cell(cell[1], r ? r->fssim_mean : NAN, 4),
@@ -239,10 +225,38 @@ static int criterion_table(struct bch_ctx *c, struct hl_error *err)
                                  bch_cell(cell[4], r ? r->fssim_band[2] : NAN, 4),
                                  bch_cell(cell[5], r ? r->fssim_band[3] : NAN, 4),
                                  bch_cell(cell[6], r ? r->flip_mean : NAN, 4),
-                                 bch_cell(cell[7], share_in_speed_band(r, 0.0, 10.0), 4),
-                                 bch_cell(cell[8], share_in_speed_band(r, 10.0, 30.0), 4),
-                                 bch_cell(cell[9], share_in_speed_band(r, 30.0, INFINITY), 4),
                                  "1"};
+        bch_table_row(&t, cells);
+    }
+    return bch_table_end(&t, err);
+}
+
+static int kept_table(struct bch_ctx *c, struct hl_error *err)
+{
+    bch_heading(c, "Table 3f: the two visibility criteria, triangles kept by eccentricity and by retinal speed",
+                      "The runs of Table 3e: per object and frame, the share of its finest triangles drawn, summed by "
+                      "the object's eccentricity band (as the SSIM bands) and by its retinal-speed band (deg/s, under "
+                      "the run's gaze model: under vor the eye holds the world and what it looks at barely moves on "
+                      "the retina; under head every turn is retinal motion); — where no object fell in a band.\n",
+                      0);
+    static const char *const h[] = {"gaze",          "criterion",     "*kept_0_5.79",  "*kept_5.79_15", "*kept_15_30",
+                                    "*kept_30_up",   "*kept_0_2dps",  "*kept_2_10dps", "*kept_10_30dps",
+                                    "*kept_30up_dps", "deterministic"};
+    struct bch_table t;
+    if (bch_table_begin(&t, c->dir, "t3f_kept", c->md, c->echo, c->det, h, 11, err) != 0)
+        return -1;
+    for (size_t i = 0; i < c->plan->count; ++i) {
+        const struct bch_run *run = &c->plan->runs[i];
+        if (strncmp(run->id, "t3v-", 4))
+            continue;
+        const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
+        char cell[8][BCH_CELL];
+        const char *cells[11] = {run->gaze, run->visibility};
+        for (int b = 0; b < 4; ++b) {
+            cells[2 + b] = bch_cell(cell[b], r ? r->kept_ecc[b] : NAN, 4);
+            cells[6 + b] = bch_cell(cell[4 + b], r ? r->kept_retinal[b] : NAN, 4);
+        }
+        cells[10] = "1";
         bch_table_row(&t, cells);
     }
     return bch_table_end(&t, err);
@@ -256,7 +270,8 @@ int bch_tables_t3(struct bch_ctx *c, struct hl_error *err)
                       "--velocity-term off --eccentricity-term off. Goal (Reddy 1997): ≥ 4.5× at zero predicted "
                       "visible error with 1000 objects, per gaze model.\n",
                       1);
-    if (speedup_table(c, err) != 0 || display_table(c, err) != 0 || reading_table(c, err) != 0)
+    if (speedup_table(c, err) != 0 || display_table(c, err) != 0 || reading_table(c, err) != 0 ||
+        criterion_table(c, err) != 0)
         return -1;
-    return criterion_table(c, err);
+    return kept_table(c, err);
 }

@@ -107,6 +107,26 @@ static void acuity_eyes(const struct frm_session *s, const struct rnd_eye_view v
     }
 }
 
+const double frm_retinal_band_lower_degps[FRM_RETINAL_BANDS] = {0.0, 2.0, 10.0, 30.0};
+
+static int band_of(const double *lower, int count, double value)
+{
+    int b = 0;
+    while (b + 1 < count && value >= lower[b + 1])
+        ++b;
+    return b;
+}
+
+/* Where the triangles are kept (docs/replay-output.md "triangles by band"): the record's sums. */
+static void count_in_bands(struct frm_frame_record *rec, double eccentricity_deg, double velocity_degps,
+                           uint32_t finest, uint32_t drawn)
+{
+    int e = band_of(rnd_ecc_band_lower_deg, RND_ECC_BANDS, eccentricity_deg);
+    int v = band_of(frm_retinal_band_lower_degps, FRM_RETINAL_BANDS, velocity_degps);
+    rec->ecc_finest[e] += finest, rec->ecc_drawn[e] += drawn;
+    rec->retinal_finest[v] += finest, rec->retinal_drawn[v] += drawn;
+}
+
 int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_frame_record *rec,
                   struct hl_error *err)
 {
@@ -156,6 +176,8 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
         rec->triangles_finest += chain->lods[0].triangle_count;
         if (a->lod[k] != LOD_DROP)
             rec->lod_histogram[a->lod[k]]++;
+        count_in_bands(rec, a->eccentricity_deg[k], a->velocity_degps[k], chain->lods[0].triangle_count,
+                       a->lod[k] == LOD_DROP ? 0 : chain->lods[a->lod[k]].triangle_count);
         a->draw_index[k] = a->visible[k];
         a->draw_lod[k] = a->lod[k];
     }

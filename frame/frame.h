@@ -184,6 +184,10 @@ void frm_session_close(struct frm_session *s);
 
 /* ---- one frame ------------------------------------------------------------------------------ */
 /* What one frame did, for its CSV row. */
+/* Retinal-speed bands of the frame record, deg/s (lower edges): still, slow, moderate, fast. */
+enum { FRM_RETINAL_BANDS = 4 };
+extern const double frm_retinal_band_lower_degps[FRM_RETINAL_BANDS];
+
 struct frm_frame_record {
     long frame;
     double time_s;
@@ -193,6 +197,11 @@ struct frm_frame_record {
     uint32_t cull_groups_tested, cull_instances_tested; /* scn_cull_stats (summary only, not the CSV) */
     uint64_t acuity_evaluations;
     uint64_t triangles_per_eye, triangles_finest;
+    /* The visible objects' triangles (one eye) split by where they are: by eccentricity band
+     * (rnd_ecc_band_lower_deg, the image error's bands) and by retinal-speed band
+     * (frm_retinal_band_lower_degps); drawn (a dropped object draws 0) and finest (level 0). */
+    uint64_t ecc_drawn[RND_ECC_BANDS], ecc_finest[RND_ECC_BANDS];
+    uint64_t retinal_drawn[FRM_RETINAL_BANDS], retinal_finest[FRM_RETINAL_BANDS];
     uint32_t lod_histogram[SCN_MAX_LODS];
     double acuity_us, select_us, draw_ms, frame_ms;
     int deadline_met;

@@ -201,6 +201,10 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct frm_frame_record *r)
     a->band_frames[band]++;
     a->band_triangles[band] += (double)r->triangles_per_eye;
     a->band_finest[band] += (double)r->triangles_finest;
+    for (int b = 0; b < RND_ECC_BANDS; ++b)
+        a->ecc_drawn[b] += (double)r->ecc_drawn[b], a->ecc_finest[b] += (double)r->ecc_finest[b];
+    for (int b = 0; b < FRM_RETINAL_BANDS; ++b)
+        a->retinal_drawn[b] += (double)r->retinal_drawn[b], a->retinal_finest[b] += (double)r->retinal_finest[b];
     a->eye_speed_sum += r->eye_speed_degps;
     if (r->frame >= a->warm_frames) {
         a->faults_sum += (double)r->minor_faults;
@@ -346,6 +350,10 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
         s->band_frames[b] = a->band_frames[b];
         s->band_triangle_share[b] = a->band_finest[b] > 0 ? a->band_triangles[b] / a->band_finest[b] : NAN;
     }
+    for (int b = 0; b < RND_ECC_BANDS; ++b)
+        s->ecc_triangle_share[b] = a->ecc_finest[b] > 0 ? a->ecc_drawn[b] / a->ecc_finest[b] : NAN;
+    for (int b = 0; b < FRM_RETINAL_BANDS; ++b)
+        s->retinal_triangle_share[b] = a->retinal_finest[b] > 0 ? a->retinal_drawn[b] / a->retinal_finest[b] : NAN;
 }
 
 /* A number, or null where it is not finite (JSON has no NaN or infinity). */
@@ -515,6 +523,22 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
             cJSON_AddNullToObject(band, "triangle_share");
         cJSON_AddItemToArray(bands, band);
     }
+    /* Where the triangles were kept, per object (docs/replay-output.md). */
+    cJSON *kept = cJSON_AddObjectToObject(root, "triangles_by_band");
+    cJSON *ecc = cJSON_AddArrayToObject(kept, "eccentricity");
+    for (int b = 0; b < RND_ECC_BANDS; ++b) {
+        cJSON *band = cJSON_CreateObject();
+        cJSON_AddNumberToObject(band, "from_deg", rnd_ecc_band_lower_deg[b]);
+        add_number_or_null(band, "triangle_share", s->ecc_triangle_share[b]);
+        cJSON_AddItemToArray(ecc, band);
+    }
+    cJSON *ret = cJSON_AddArrayToObject(kept, "retinal_speed");
+    for (int b = 0; b < FRM_RETINAL_BANDS; ++b) {
+        cJSON *band = cJSON_CreateObject();
+        cJSON_AddNumberToObject(band, "from_degps", frm_retinal_band_lower_degps[b]);
+        add_number_or_null(band, "triangle_share", s->retinal_triangle_share[b]);
+        cJSON_AddItemToArray(ret, band);
+    }
     char *text = cJSON_Print(root);
     cJSON_Delete(root);
     if (!text)
@@ -556,6 +580,26 @@ static void print_image_error(FILE *f, const struct rpl_summary *s)
     fprintf(f, "    %-32s %10.4f mean, %.4f worst frame, %.4f weighted median, %.4f worst pixel\n", "FLIP (LDR)",
             s->flip_mean, s->flip_mean_max, s->flip_median_mean, s->flip_max);
     fprintf(f, "    %-32s %10.2f\n", "  at pixels per degree", s->flip_ppd);
+}
+
+/* One line of the summary: the share of the finest triangles drawn per band ("—" for an empty band). */
+static void print_triangle_bands(FILE *f, const char *what, const char *unit, const double *lower,
+                                 const double *share, int count)
+{
+    fprintf(f, "  share of finest triangles drawn, by %s:", what);
+    for (int b = 0; b < count; ++b) {
+        char range[48], value[16];
+        if (b + 1 < count)
+            snprintf(range, sizeof range, "%g-%g %s", lower[b], lower[b + 1], unit);
+        else
+            snprintf(range, sizeof range, ">= %g %s", lower[b], unit);
+        if (isfinite(share[b]))
+            snprintf(value, sizeof value, "%.3f", share[b]);
+        else
+            snprintf(value, sizeof value, "—");
+        fprintf(f, "%s %s %s", b ? "," : "", range, value);
+    }
+    fprintf(f, "\n");
 }
 
 void rpl_summary_print(FILE *f, const struct rpl_summary *s)
@@ -641,4 +685,7 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
             snprintf(label, sizeof label, ">= %g deg/s", rpl_speed_band_lower_degps[b]);
         fprintf(f, "    %-32s %10.3f  (%ld frames)\n", label, s->band_triangle_share[b], s->band_frames[b]);
     }
+    print_triangle_bands(f, "eccentricity", "deg", rnd_ecc_band_lower_deg, s->ecc_triangle_share, RND_ECC_BANDS);
+    print_triangle_bands(f, "retinal speed", "deg/s", frm_retinal_band_lower_degps, s->retinal_triangle_share,
+                         FRM_RETINAL_BANDS);
 }

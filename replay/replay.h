@@ -153,6 +153,10 @@ struct rpl_summary {
     char cost_correction[16];         /* "affine", "ratio" or "off": how fs and mb corrected their budget */
     long band_frames[RPL_SPEED_BAND_COUNT];
     double band_triangle_share[RPL_SPEED_BAND_COUNT]; /* triangles drawn / finest, per band */
+    /* Σ triangles drawn / Σ finest over the visible objects of every frame, by the object's
+     * eccentricity band (rnd_ecc_band_lower_deg) and retinal-speed band (frm_retinal_band_lower_degps);
+     * NaN where no object fell in the band. */
+    double ecc_triangle_share[RND_ECC_BANDS], retinal_triangle_share[FRM_RETINAL_BANDS];
     /* the gaze model used (acuity/gaze.h) and its parameters; the eye's mean angular speed */
     char gaze[16];
     double fixation_m, vor_gain, vor_latency_ms;

@@ -45,6 +45,9 @@ struct rpl_accumulator {
      * so the velocity term's effect shows in one run. */
     long band_frames[RPL_SPEED_BAND_COUNT];
     double band_triangles[RPL_SPEED_BAND_COUNT], band_finest[RPL_SPEED_BAND_COUNT];
+    /* Per object: triangles drawn and finest by eccentricity and by retinal-speed band (frame record). */
+    double ecc_drawn[RND_ECC_BANDS], ecc_finest[RND_ECC_BANDS];
+    double retinal_drawn[FRM_RETINAL_BANDS], retinal_finest[FRM_RETINAL_BANDS];
     /* Every frame's time and draw time, for percentiles; sized once for the run (capacity). */
     double *frame_ms, *draw_ms;
     long capacity;

@@ -20,7 +20,7 @@ fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
 
 headings=("## Table 1: Funkhouser's Table 1 on real traces" "## Table 2: speed against error"
   "## Table 2b: at equal fSSIM" "## Table 3: Reddy's study on field" "## Table 3b: per display"
-  "## Table 3c: the two frequency readings" "## Table 3e: the two visibility criteria"
+  "## Table 3c: the two frequency readings" "## Table 3e: the two visibility criteria" "## Table 3f: the two visibility criteria"
   "## Table 4: Nirenstein's measurements" "## Table 4b: hierarchy simplifications"
   "## Table 5: Mason–Blake's comparison on domes" "## Table 6: the cost model")
 

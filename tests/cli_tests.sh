@@ -537,6 +537,24 @@ if [ -r "$trace" ]; then
   [ "$(lum_cells "$tmp/c-gaze-vor-contrast/frames.csv")" = "600 0" ] || fail "contrast: adapting_luminance_cdm2 missing or out of range"
   [ "$(lum_cells "$tmp/c-gaze-vor-acuity/frames.csv")" = "0 600" ] || fail "acuity: adapting_luminance_cdm2 should be empty"
   grep -q '"criterion":[[:space:]]*"contrast"' "$tmp/c-gaze-vor-contrast/summary.json" || fail "summary: visibility.criterion"
+  # Where the triangles were kept (summary triangles_by_band): under either criterion and gaze the
+  # periphery (>= 30 deg) keeps less than the fovea, and under head with Reddy's acuity fast retinal
+  # motion (>= 30 deg/s) keeps less than still (0-2 deg/s).
+  if command -v python3 >/dev/null; then
+    for run in head-acuity vor-acuity head-contrast vor-contrast; do
+      python3 - "$tmp/c-gaze-$run/summary.json" "$run" <<'PY' || fail "corbillon $run: triangles_by_band"
+import json, sys
+bands = json.load(open(sys.argv[1]))["triangles_by_band"]
+ecc = [b["triangle_share"] for b in bands["eccentricity"]]
+ret = [b["triangle_share"] for b in bands["retinal_speed"]]
+shares = [x for x in ecc + ret if x is not None]
+ok = all(0.0 <= x <= 1.0 for x in shares) and ecc[3] is not None and ecc[0] is not None and ecc[3] < ecc[0]
+if sys.argv[2] == "head-acuity":
+    ok = ok and ret[3] is not None and ret[0] is not None and ret[3] < ret[0]
+sys.exit(0 if ok else 1)
+PY
+    done
+  fi
 fi
 
 # Millisecond logs repeat times (spread, loaded); a time that goes backwards is still file:line; the

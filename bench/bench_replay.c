@@ -1,6 +1,6 @@
 /* hmdlod bench replay: the same head motion through both built-in scenes on the Vive with the
  * selectors none and reddy — reddy under both visibility criteria, contrast and acuity
- * (docs/visibility.md) — in one run, so that their ratios are measured under the same load: per
+ * (docs/visibility.md), and under the gaze models vor and head — in one run, so that their ratios are measured under the same load: per
  * trace and scene, none and reddy in alternated repeats (bench/alternate.c) after one warm-up session.
  * Everything measured comes from rpl_run's summary; this file only runs it and formats. */
 #define _XOPEN_SOURCE 700
@@ -16,11 +16,15 @@
 #define CORBILLON_DIR "data/traces/corbillon-mmsys18"
 
 static const char *const scenes[] = {"field", "auditorium"};
-/* The sessions compared: none first (the ratios' numerator), then reddy under each criterion. */
-static const char *const selectors[] = {"none", "reddy", "reddy"};
-static const char *const criteria[] = {"contrast", "contrast", "acuity"};
-static const char *const session_labels[] = {"none", "reddy contrast", "reddy acuity"};
-enum { N_SCENES = 2, N_SELECTORS = 3, MAX_TRACES = 4 };
+/* The sessions compared: none first (the ratios' numerator; it draws the finest LOD whatever the eye
+ * does), then reddy under each criterion, with the eye held on the world (vor, replay's default
+ * without an eye tracker) and fixed in the head (head: every turn is retinal motion). */
+static const char *const selectors[] = {"none", "reddy", "reddy", "reddy", "reddy"};
+static const char *const criteria[] = {"contrast", "contrast", "acuity", "contrast", "acuity"};
+static const char *const gazes[] = {"vor", "vor", "vor", "head", "head"};
+static const char *const session_labels[] = {"none", "reddy contrast", "reddy acuity", "reddy contrast head",
+                                             "reddy acuity head"};
+enum { N_SCENES = 2, N_SELECTORS = 5, MAX_TRACES = 4 };
 #define WHO "hmdlod bench replay"
 
 struct bench_trace {
@@ -71,6 +75,7 @@ static void trace_options(const struct replay_bench *b, int t, int sc, struct rp
         o->frame.display = "vive";
         o->frame.selector = selectors[se];
         o->frame.visibility = criteria[se];
+        o->frame.gaze = gazes[se];
         o->frames = b->traces[t].frames;
         o->frame.object_count = (int)b->o.objects;
         o->frame.render_scale = b->o.render_scale;
@@ -151,14 +156,14 @@ static void print_scene_table(const struct replay_bench *b, int sc)
 static void print_band_table(const struct replay_bench *b)
 {
     bch_emit("\n### reddy: share of the finest-LOD triangles drawn, by head speed (frames)\n\n| scene | trace | "
-             "criterion |");
+             "criterion | gaze |");
     for (int k = 0; k < RPL_SPEED_BAND_COUNT; ++k) {
         if (k + 1 < RPL_SPEED_BAND_COUNT)
             bch_emit(" %g–%g °/s |", rpl_speed_band_lower_degps[k], rpl_speed_band_lower_degps[k + 1]);
         else
             bch_emit(" ≥%g °/s |", rpl_speed_band_lower_degps[k]);
     }
-    bch_emit("\n|---|---|---|");
+    bch_emit("\n|---|---|---|---|");
     for (int k = 0; k < RPL_SPEED_BAND_COUNT; ++k)
         bch_emit("--:|");
     bch_emit("\n");
@@ -166,7 +171,7 @@ static void print_band_table(const struct replay_bench *b)
         for (int t = 0; t < b->n_traces; ++t)
             for (int se = 1; se < N_SELECTORS; ++se) {
                 const struct rpl_summary *s = &b->sum[t][sc][se]; /* reddy, repeat 0 (deterministic) */
-                bch_emit("| %s | %s | %s |", scenes[sc], b->traces[t].label, criteria[se]);
+                bch_emit("| %s | %s | %s | %s |", scenes[sc], b->traces[t].label, criteria[se], gazes[se]);
                 for (int k = 0; k < RPL_SPEED_BAND_COUNT; ++k) {
                     if (s->band_frames[k] > 0 && isfinite(s->band_triangle_share[k]))
                         bch_emit(" %.1f %% (%ld) |", 100.0 * s->band_triangle_share[k], s->band_frames[k]);
@@ -188,7 +193,8 @@ static void print_notes(const struct replay_bench *b, double wall_s)
     bch_alternate_order(N_SELECTORS, session_labels, order, sizeof order);
     bch_emit("\nHow measured (replay/run.c, frame/frame.c, bench/alternate.c): %d runs in %.0f s: one warm-up "
              "session (left out), then per trace and scene none, reddy under the contrast criterion and reddy under "
-             "the acuity criterion (docs/visibility.md) in %d alternated repeats in one process, "
+             "the acuity criterion (docs/visibility.md), each with the eye held on the world (vor) and fixed in the "
+             "head (the rows marked head; docs/gaze.md), in %d alternated repeats in one process, "
              "order %s, each session opened fresh. Each run replays its trace from "
              "the start on a virtual clock at the display's %.0f Hz (frame f at t0 + f / %.0f s, whatever the "
              "wall clock did), both eyes rendered headless at render scale %g of the %s profile's pixels; none always "

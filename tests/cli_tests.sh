@@ -237,10 +237,11 @@ expect_error "replay bad --raw" "short.raw: byte 10" -- "$bin" replay --raw "$tm
 [ ! -e "$tmp/rawbad/frames.csv" ] || fail "a failed replay --raw left frames.csv"
 
 # bench replay: a short run of both selectors prints the none/reddy ratio rows, one per visibility
-# criterion side by side; a bad count is refused.
+# criterion and gaze model (vor, head) side by side; a bad count is refused.
 out=$("$bin" bench replay --quick --frames 20 --render-scale 0.25 2>"$tmp/err") || fail "bench replay --quick: $(cat "$tmp/err")"
 for pattern in "\| \*\*none/reddy contrast\*\* \| \| \*\*×[0-9.]+\*\*" "\| \*\*none/reddy acuity\*\* \| \| \*\*×[0-9.]+\*\*" \
-  "\| field \| built-in clip \| contrast \|" "\| field \| built-in clip \| acuity \|"; do
+  "\| \*\*none/reddy contrast head\*\* \| \| \*\*×[0-9.]+\*\*" "\| \*\*none/reddy acuity head\*\* \| \| \*\*×[0-9.]+\*\*" \
+  "\| field \| built-in clip \| contrast \| vor \|" "\| field \| built-in clip \| acuity \| head \|"; do
   grep -Eq -- "$pattern" <<<"$out" || fail "bench replay --quick: output does not match /$pattern/"
 done
 expect_error "bench replay bad --frames" "--frames: 'x' is not a whole number" -- "$bin" bench replay --frames x

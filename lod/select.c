@@ -42,6 +42,12 @@ void lod_select_reddy(const struct acu_limits *lim, const struct lod_chain *chai
     }
 }
 
+/* The bands of a chain's spectrum that are read: band_count clamped to 0 … LOD_MAX_BANDS. */
+static int chain_bands(const struct lod_chain *chain)
+{
+    return chain->band_count < 0 ? 0 : chain->band_count < LOD_MAX_BANDS ? chain->band_count : LOD_MAX_BANDS;
+}
+
 /* The contrast criterion for one object with a spectrum: the coarsest level whose every lost band is
  * invisible. Levels are judged against level 0, each on its own (a coarser level that passes is
  * taken even if a finer one measured worse). A band's sensitivity is the same for every level, so it
@@ -50,7 +56,7 @@ void lod_select_reddy(const struct acu_limits *lim, const struct lod_chain *chai
 static int contrast_level(const struct acu_contrast_limits *vis, double log10_k, const struct lod_chain *chain,
                           double velocity_degps, double eccentricity_deg, double diameter_deg, uint64_t *lookups)
 {
-    int bands = chain->band_count < LOD_MAX_BANDS ? chain->band_count : LOD_MAX_BANDS;
+    int bands = chain_bands(chain);
     struct acu_contrast_object obj;
     acu_contrast_object_init(vis, diameter_deg, velocity_degps, eccentricity_deg, bands, &obj);
     double log10_s[LOD_MAX_BANDS];
@@ -90,7 +96,7 @@ void lod_select_contrast(const struct acu_contrast_limits *vis, const struct acu
         if (!(diameter_deg > 0.0)) {
             lod = chain->lod_count - 1; /* a point: nothing of it is resolvable (as Reddy's) */
         } else {
-            int bands = chain->band_count;
+            int bands = chain_bands(chain);
             lod = bands > 0 ? contrast_level(vis, log10_k, chain, retinal_velocity_degps[k], eccentricity_deg[k],
                                              diameter_deg, &lookups)
                             : 0;
@@ -123,7 +129,7 @@ void lod_visible_loss_contrast(const struct acu_contrast_limits *vis, const stru
         const struct lod_chain *chain = &chains[chain_of_object[index[k]]];
         double *row = visible_loss + k * LOD_MAX_LEVELS;
         memset(row, 0, LOD_MAX_LEVELS * sizeof *row);
-        int bands = chain->band_count < LOD_MAX_BANDS ? chain->band_count : LOD_MAX_BANDS;
+        int bands = chain_bands(chain);
         double diameter_deg = angular_diameter_deg[k];
         if (bands == 0) {
             for (int l = 0; l < LOD_MAX_LEVELS; ++l)

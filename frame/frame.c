@@ -109,7 +109,7 @@ static void acuity_eyes(const struct frm_session *s, const struct rnd_eye_view v
 
 const double frm_retinal_band_lower_degps[FRM_RETINAL_BANDS] = {0.0, 2.0, 10.0, 30.0};
 
-static int band_of(const double *lower, int count, double value)
+int frm_band_of(const double *lower, int count, double value)
 {
     int b = 0;
     while (b + 1 < count && value >= lower[b + 1])
@@ -117,14 +117,20 @@ static int band_of(const double *lower, int count, double value)
     return b;
 }
 
-/* Where the triangles are kept (docs/replay-output.md "triangles by band"): the record's sums. */
-static void count_in_bands(struct frm_frame_record *rec, double eccentricity_deg, double velocity_degps,
-                           uint32_t finest, uint32_t drawn)
+/* Where the triangles are kept (docs/replay-output.md "triangles_by_band"): the record's sums over
+ * the n visible objects. A measurement, so it runs after the frame's timing. */
+static void count_in_bands(const struct frm_session *s, const struct frm_frame_arrays *a, uint32_t n,
+                           struct frm_frame_record *rec)
 {
-    int e = band_of(rnd_ecc_band_lower_deg, RND_ECC_BANDS, eccentricity_deg);
-    int v = band_of(frm_retinal_band_lower_degps, FRM_RETINAL_BANDS, velocity_degps);
-    rec->ecc_finest[e] += finest, rec->ecc_drawn[e] += drawn;
-    rec->retinal_finest[v] += finest, rec->retinal_drawn[v] += drawn;
+    for (uint32_t k = 0; k < n; ++k) {
+        const struct scn_chain *chain = &s->scene.chains[s->scene.chain_of_instance[a->visible[k]]];
+        uint32_t finest = chain->lods[0].triangle_count;
+        uint32_t drawn = a->lod[k] == LOD_DROP ? 0 : chain->lods[a->lod[k]].triangle_count;
+        int e = frm_band_of(rnd_ecc_band_lower_deg, RND_ECC_BANDS, a->eccentricity_deg[k]);
+        int v = frm_band_of(frm_retinal_band_lower_degps, FRM_RETINAL_BANDS, a->velocity_degps[k]);
+        rec->ecc_finest[e] += finest, rec->ecc_drawn[e] += drawn;
+        rec->retinal_finest[v] += finest, rec->retinal_drawn[v] += drawn;
+    }
 }
 
 int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_frame_record *rec,
@@ -176,8 +182,6 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
         rec->triangles_finest += chain->lods[0].triangle_count;
         if (a->lod[k] != LOD_DROP)
             rec->lod_histogram[a->lod[k]]++;
-        count_in_bands(rec, a->eccentricity_deg[k], a->velocity_degps[k], chain->lods[0].triangle_count,
-                       a->lod[k] == LOD_DROP ? 0 : chain->lods[a->lod[k]].triangle_count);
         a->draw_index[k] = a->visible[k];
         a->draw_lod[k] = a->lod[k];
     }
@@ -212,6 +216,7 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     rec->deadline_met = rec->frame_ms <= s->select.budget_ms;
     frm_select_measured(&s->select, &rec->sel, rec->draw_ms, rec->frame_ms);
     rec->visible_error = frm_select_visible_error(&s->select, &s->scene, &in, a->lod); /* after the timing */
+    count_in_bands(s, a, n, rec);
     s->frame_views[0] = views[0], s->frame_views[1] = views[1];
     s->frame_gaze_dir = viewer.gaze_dir;
     return 0;

@@ -187,6 +187,9 @@ void frm_session_close(struct frm_session *s);
 /* Retinal-speed bands of the frame record, deg/s (lower edges): still, slow, moderate, fast. */
 enum { FRM_RETINAL_BANDS = 4 };
 extern const double frm_retinal_band_lower_degps[FRM_RETINAL_BANDS];
+/* The band a value falls in, given count ascending lower edges (lower[0] takes everything below
+ * lower[1], NaN included; the last band is open above). */
+int frm_band_of(const double *lower, int count, double value);
 
 struct frm_frame_record {
     long frame;

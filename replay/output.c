@@ -126,14 +126,6 @@ void rpl_resident_memory(long *vm_hwm_kib, long *vm_rss_kib)
 
 const double rpl_speed_band_lower_degps[RPL_SPEED_BAND_COUNT] = {0.0, 10.0, 30.0, 60.0, 120.0};
 
-static int speed_band(double speed_degps)
-{
-    int band = 0;
-    while (band + 1 < RPL_SPEED_BAND_COUNT && speed_degps >= rpl_speed_band_lower_degps[band + 1])
-        ++band;
-    return band;
-}
-
 int rpl_accumulator_init(struct rpl_accumulator *a, long frames, long references, struct hl_error *err)
 {
     memset(a, 0, sizeof *a);
@@ -197,7 +189,7 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct frm_frame_record *r)
         a->frame_ms[a->n] = r->frame_ms;
         a->draw_ms[a->n] = r->draw_ms;
     }
-    int band = speed_band(r->head_speed_degps);
+    int band = frm_band_of(rpl_speed_band_lower_degps, RPL_SPEED_BAND_COUNT, r->head_speed_degps);
     a->band_frames[band]++;
     a->band_triangles[band] += (double)r->triangles_per_eye;
     a->band_finest[band] += (double)r->triangles_finest;
@@ -365,6 +357,19 @@ static void add_number_or_null(cJSON *o, const char *name, double v)
         cJSON_AddNullToObject(o, name);
 }
 
+/* An array of bands: {from_key: lower[b], value_key: value[b] or null}, b < count. */
+static void add_band_array(cJSON *o, const char *name, const char *from_key, const double *lower,
+                           const char *value_key, const double *value, int count)
+{
+    cJSON *bands = cJSON_AddArrayToObject(o, name);
+    for (int b = 0; b < count; ++b) {
+        cJSON *band = cJSON_CreateObject();
+        cJSON_AddNumberToObject(band, from_key, lower[b]);
+        add_number_or_null(band, value_key, value[b]);
+        cJSON_AddItemToArray(bands, band);
+    }
+}
+
 static void add_stat(cJSON *o, const char *name, double mean, double min, double p5)
 {
     cJSON *stat = cJSON_AddObjectToObject(o, name);
@@ -387,13 +392,8 @@ static void add_image_error(cJSON *root, const struct rpl_summary *s)
     add_stat(e, "ssim", s->ssim_mean, s->ssim_min, s->ssim_p5);
     add_number_or_null(e, "ssim_rgb_mean", s->ssim_rgb_mean);
     add_stat(e, "fssim", s->fssim_mean, s->fssim_min, s->fssim_p5);
-    cJSON *bands = cJSON_AddArrayToObject(e, "fssim_bands");
-    for (int b = 0; b < RND_ECC_BANDS; ++b) {
-        cJSON *band = cJSON_CreateObject();
-        cJSON_AddNumberToObject(band, "from_deg", rnd_ecc_band_lower_deg[b]);
-        add_number_or_null(band, "ssim_mean", s->fssim_band_mean[b]);
-        cJSON_AddItemToArray(bands, band);
-    }
+    add_band_array(e, "fssim_bands", "from_deg", rnd_ecc_band_lower_deg, "ssim_mean", s->fssim_band_mean,
+                   RND_ECC_BANDS);
     add_number_or_null(e, "px_over_32_share_mean", s->px_over_32_share_mean);
     add_number_or_null(e, "visible_error_mean", s->visible_error_reference_mean);
     cJSON *flip = cJSON_AddObjectToObject(e, "flip");
@@ -525,20 +525,10 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     }
     /* Where the triangles were kept, per object (docs/replay-output.md). */
     cJSON *kept = cJSON_AddObjectToObject(root, "triangles_by_band");
-    cJSON *ecc = cJSON_AddArrayToObject(kept, "eccentricity");
-    for (int b = 0; b < RND_ECC_BANDS; ++b) {
-        cJSON *band = cJSON_CreateObject();
-        cJSON_AddNumberToObject(band, "from_deg", rnd_ecc_band_lower_deg[b]);
-        add_number_or_null(band, "triangle_share", s->ecc_triangle_share[b]);
-        cJSON_AddItemToArray(ecc, band);
-    }
-    cJSON *ret = cJSON_AddArrayToObject(kept, "retinal_speed");
-    for (int b = 0; b < FRM_RETINAL_BANDS; ++b) {
-        cJSON *band = cJSON_CreateObject();
-        cJSON_AddNumberToObject(band, "from_degps", frm_retinal_band_lower_degps[b]);
-        add_number_or_null(band, "triangle_share", s->retinal_triangle_share[b]);
-        cJSON_AddItemToArray(ret, band);
-    }
+    add_band_array(kept, "eccentricity", "from_deg", rnd_ecc_band_lower_deg, "triangle_share", s->ecc_triangle_share,
+                   RND_ECC_BANDS);
+    add_band_array(kept, "retinal_speed", "from_degps", frm_retinal_band_lower_degps, "triangle_share",
+                   s->retinal_triangle_share, FRM_RETINAL_BANDS);
     char *text = cJSON_Print(root);
     cJSON_Delete(root);
     if (!text)

@@ -18,8 +18,9 @@ enum { MAX_MERGE_DIRS = 64 };
 
 void cmd_bench_suite_usage(FILE *f)
 {
-    fputs("usage: hmdlod bench [--quick|--tiny] [--only GLOB] --out DIR         run the suite, then its report\n"
-          "       hmdlod bench [--quick|--tiny] [--only GLOB] --plan FILE --out DIR  write one replay line per run\n"
+    fputs("usage: hmdlod bench [--quick|--tiny] [--only GLOB] [--repeats N] --out DIR   run the suite, then its report\n"
+          "       hmdlod bench [--quick|--tiny] [--only GLOB] [--repeats N] --plan FILE --out DIR\n"
+          "                                                   write one replay line per run and round\n"
           "       hmdlod bench --merge DIR [DIR...] [--out DIR] [--partial]   the report from run folders\n\n"
           "The suite (docs/bench.md): Funkhouser's Table 1 on real traces, speed against image error, Reddy's\n"
           "study, Nirenstein's optimizer timings, Mason-Blake's comparison and the cost model, as DIR/report.md,\n"
@@ -27,6 +28,8 @@ void cmd_bench_suite_usage(FILE *f)
           "  --quick        a short version (render scale 0.5, 1 s of one trace; under 5 minutes on 2 cores)\n"
           "  --tiny         a few seconds' version for tests (every table, very short runs)\n"
           "  --only GLOB    only the runs whose id matches GLOB (ids: DIR/runs.csv, e.g. 't1-field-*')\n"
+          "  --repeats N    rounds of every run, 1 ... 9 (default 2): each table's runs forward, then backward,\n"
+          "                 ...; timing cells are medians over rounds, timing ratios taken per round\n"
           "  --out DIR      the suite's folder: DIR/runs/ID hold the replays (for --merge: the report's\n"
           "                 folder, default the first DIR)\n"
           "  --plan FILE    write the plan instead of running it (without --out: DIR is FILE.d); run it with\n"
@@ -65,14 +68,18 @@ static int absolute_dir(const char *dir, char *out)
     return 0;
 }
 
-/* Runs every run of the plan serially into DIR/runs/ID, with a progress bar over runs. */
+/* Runs every run of the plan serially, each table's runs in alternated rounds (bch_plan_step), into
+ * DIR/runs/ID and DIR/runs-N/ID, with a progress bar over runs. */
 static int run_serial(const struct bch_plan *plan, const char *dir)
 {
     struct hl_progress bar;
-    hl_progress_begin(&bar, "hmdlod bench", plan->count);
-    for (size_t i = 0; i < plan->count; ++i) {
+    size_t steps = plan->count * (size_t)plan->repeats;
+    hl_progress_begin(&bar, "hmdlod bench", steps);
+    for (size_t s = 0; s < steps; ++s) {
+        int repeat = 0;
+        size_t i = bch_plan_step(plan, s, &repeat);
         char out[PATH_MAX + 128];
-        snprintf(out, sizeof out, "%s/runs/%s", dir, plan->runs[i].id);
+        bch_run_dir(dir, plan->runs[i].id, repeat, out, sizeof out);
         char storage[BCH_MAX_ARGS][BCH_ARG_SIZE];
         const char *argv[BCH_MAX_ARGS];
         int argc = bch_run_argv(plan, &plan->runs[i], out, storage, argv, BCH_MAX_ARGS);
@@ -86,11 +93,13 @@ static int run_serial(const struct bch_plan *plan, const char *dir)
         }
         if (cmd_replay(argc, (char **)argv) != 0) {
             hl_progress_end(&bar);
-            fprintf(stderr, "hmdlod bench: run %s failed (its message is above); the runs before it are in %s/runs\n",
-                    plan->runs[i].id, dir);
+            fprintf(stderr,
+                    "hmdlod bench: run %s (round %d) failed (its message is above); the runs before it are in "
+                    "%s/runs*\n",
+                    plan->runs[i].id, repeat + 1, dir);
             return 1;
         }
-        hl_progress_update(&bar, i + 1);
+        hl_progress_update(&bar, s + 1);
     }
     hl_progress_end(&bar);
     return 0;
@@ -137,7 +146,7 @@ int cmd_bench_suite(int argc, char **argv, int full_argc, char **full_argv)
     enum bch_mode mode = BCH_FULL;
     const char *out = NULL, *plan_file = NULL, *only = NULL;
     const char *merge_dirs[MAX_MERGE_DIRS];
-    int n_merge = 0, merging = 0, partial = 0;
+    int n_merge = 0, merging = 0, partial = 0, repeats = BCH_SUITE_DEFAULT_REPEATS, repeats_given = 0;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--quick"))
@@ -148,7 +157,8 @@ int cmd_bench_suite(int argc, char **argv, int full_argc, char **full_argv)
             partial = 1;
         else if (!strcmp(a, "--merge"))
             merging = 1;
-        else if ((!strcmp(a, "--out") || !strcmp(a, "--plan") || !strcmp(a, "--only")) && !val) {
+        else if ((!strcmp(a, "--out") || !strcmp(a, "--plan") || !strcmp(a, "--only") || !strcmp(a, "--repeats")) &&
+                 !val) {
             fprintf(stderr, "hmdlod bench: %s needs a value\n", a);
             return 1;
         } else if (!strcmp(a, "--out"))
@@ -157,6 +167,16 @@ int cmd_bench_suite(int argc, char **argv, int full_argc, char **full_argv)
             plan_file = argv[++i];
         else if (!strcmp(a, "--only"))
             only = argv[++i];
+        else if (!strcmp(a, "--repeats")) {
+            char *end;
+            long n = strtol(val, &end, 10);
+            if (end == val || *end || n < 1 || n > BCH_SUITE_MAX_REPEATS) {
+                fprintf(stderr, "hmdlod bench: --repeats '%s': want a whole number 1 ... %d\n", val,
+                        BCH_SUITE_MAX_REPEATS);
+                return 1;
+            }
+            repeats = (int)n, repeats_given = 1, ++i;
+        }
         else if (merging && a[0] != '-' && n_merge < MAX_MERGE_DIRS)
             merge_dirs[n_merge++] = a;
         else {
@@ -165,7 +185,7 @@ int cmd_bench_suite(int argc, char **argv, int full_argc, char **full_argv)
         }
     }
     if (merging) {
-        if (n_merge == 0 || plan_file || only || mode != BCH_FULL) {
+        if (n_merge == 0 || plan_file || only || mode != BCH_FULL || repeats_given) {
             fprintf(stderr, "hmdlod bench: --merge takes run folders (DIR...), and --out or --partial only\n");
             return 1;
         }
@@ -202,7 +222,7 @@ int cmd_bench_suite(int argc, char **argv, int full_argc, char **full_argv)
     struct bch_plan plan;
     struct hl_error err = {{0}};
     fprintf(stderr, "hmdlod bench: preparing %s (still-head trace, domes' full-detail cost)\n", dir);
-    if (bch_prepare(dir, mode, only, abs_shared, command, &plan, &err) != 0) {
+    if (bch_prepare(dir, mode, only, repeats, abs_shared, command, &plan, &err) != 0) {
         fprintf(stderr, "hmdlod bench: %s\n", err.msg);
         return 1;
     }
@@ -217,12 +237,13 @@ int cmd_bench_suite(int argc, char **argv, int full_argc, char **full_argv)
             rc = 1;
         } else {
             fprintf(stderr,
-                    "hmdlod bench: wrote %zu runs to %s; run them with  parallel --will-cite -j2 < %s  then  "
-                    "hmdlod bench --merge %s\n",
-                    plan.count, plan_file, plan_file, dir);
+                    "hmdlod bench: wrote %zu runs × %d rounds to %s; run them with  parallel --will-cite -j2 < %s  "
+                    "then  hmdlod bench --merge %s\n",
+                    plan.count, plan.repeats, plan_file, plan_file, dir);
         }
     } else {
-        fprintf(stderr, "hmdlod bench: %zu runs (%s)\n", plan.count, bch_mode_name(mode));
+        fprintf(stderr, "hmdlod bench: %zu runs × %d alternated rounds (%s)\n", plan.count, plan.repeats,
+                bch_mode_name(mode));
         const char *dirs[1] = {dir};
         rc = run_serial(&plan, dir);
         if (rc == 0)

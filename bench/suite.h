@@ -41,12 +41,29 @@ struct bch_plan {
     char still_trace[4200]; /* DIR/still-head.csv */
     char traces[3][4200];   /* Corbillon MMSys'18 user1 … user3 under the shared folder */
     double domes_full_ms;   /* predicted cost of domes at full detail (t5's budgets), ms */
+    int repeats;            /* alternated rounds of every run (1 … BCH_SUITE_MAX_REPEATS; bch_plan_step) */
     struct bch_run *runs;
     size_t count;
 };
 
-/* The run list for mode, filtered by the glob `only` (NULL or "" = all). Needs domes_full_ms (> 0)
- * from bch_prepare or a suite file. Pure: no files touched. 0, or −1 with err. */
+/* Every run is made `repeats` times (issue 30 item 2), so that a timing figure is the median over
+ * rounds and a timing ratio between two runs of a table is taken per round: the runs of one table
+ * (a block of consecutive runs with the same `table`) go forward in the first round, backward in the
+ * second, and so on (bench/alternate.c), so a drift of the machine's load moves both sides of a
+ * ratio alike. The first round writes DIR/runs/ID, round N ≥ 2 DIR/runs-N/ID (bch_prepare makes
+ * the folders). */
+enum { BCH_SUITE_MAX_REPEATS = 9, BCH_SUITE_DEFAULT_REPEATS = 2 };
+/* The folder of round `repeat` (0-based) under out_dir: DIR/runs, DIR/runs-2, …; into buf. */
+void bch_runs_dir(const char *out_dir, int repeat, char *buf, size_t size);
+/* The folder of a run's round `repeat` (0-based) under out_dir, into buf. */
+void bch_run_dir(const char *out_dir, const char *id, int repeat, char *buf, size_t size);
+/* The serial order: step 0 … count·repeats − 1 of the plan → the run's index, and its round in
+ * *repeat. Pure. */
+size_t bch_plan_step(const struct bch_plan *plan, size_t step, int *repeat);
+
+/* The run list for mode, filtered by the glob `only` (NULL or "" = all), one round (set
+ * plan->repeats for more). Needs domes_full_ms (> 0) from bch_prepare or a suite file. Pure: no
+ * files touched. 0, or −1 with err. */
 int bch_plan_make(enum bch_mode mode, const char *only, const char *shared, const char *out_dir,
                         double domes_full_ms, struct bch_plan *plan, struct hl_error *err);
 void bch_plan_free(struct bch_plan *plan);
@@ -54,9 +71,10 @@ const char *bch_mode_name(enum bch_mode mode);
 
 /* Makes DIR (and DIR/runs), writes the still-head trace DIR/still-head.csv, predicts the full-detail
  * cost of domes with a short `none` replay into DIR/calibration (the cost model's predicted_ms mean
- * over t5's frames), builds the plan and writes DIR/suite.txt (mode, glob, shared folder, that cost
- * and `command`, the line that made it) so that --merge rebuilds the same plan. 0, or −1 with err. */
-int bch_prepare(const char *out_dir, enum bch_mode mode, const char *only, const char *shared,
+ * over t5's frames), builds the plan with `repeats` rounds and writes DIR/suite.txt (mode, glob,
+ * rounds, shared folder, that cost and `command`, the line that made it) so that --merge rebuilds the
+ * same plan. 0, or −1 with err. */
+int bch_prepare(const char *out_dir, enum bch_mode mode, const char *only, int repeats, const char *shared,
                       const char *command, struct bch_plan *plan, struct hl_error *err);
 /* Reads DIR/suite.txt and rebuilds its plan; *command gets the stored command line. */
 int bch_plan_read(const char *dir, struct bch_plan *plan, char *command, size_t command_size,
@@ -67,10 +85,11 @@ int bch_plan_read(const char *dir, struct bch_plan *plan, char *command, size_t 
 enum { BCH_MAX_ARGS = 48, BCH_ARG_SIZE = 32 };
 int bch_run_argv(const struct bch_plan *plan, const struct bch_run *run, const char *out_dir,
                        char storage[][BCH_ARG_SIZE], const char **argv, int max);
-/* One shell line: 'exe' replay … --out 'DIR/runs/ID' --quiet, every word shell-quoted. */
-void bch_run_line(const struct bch_plan *plan, const struct bch_run *run, const char *exe,
+/* One shell line: 'exe' replay … --out 'DIR/runs[-N]/ID' --quiet, every word shell-quoted. */
+void bch_run_line(const struct bch_plan *plan, const struct bch_run *run, int repeat, const char *exe,
                         const char *out_dir, FILE *f);
-/* Writes the plan (one line per run) to path via a temporary file and rename. 0, or −1. */
+/* Writes the plan (one line per run and round, in the serial order) to path via a temporary file
+ * and rename. 0, or −1. */
 int bch_plan_write(const struct bch_plan *plan, const char *exe, const char *out_dir, const char *path,
                          struct hl_error *err);
 

@@ -3,6 +3,7 @@
 #ifndef HMDLOD_BENCH_SUITE_INTERNAL_H
 #define HMDLOD_BENCH_SUITE_INTERNAL_H
 
+#include <stddef.h>
 #include <stdio.h>
 
 #include "bench/bench.h"
@@ -27,6 +28,10 @@ struct bch_result {
     /* per frame (n each; NULL where the column is absent) */
     double *frame_ms, *draw_ms, *predicted_ms, *head_speed, *optimizer_us, *triangles, *finest, *dropped, *iterations,
         *truncated, *deadline_met, *visible, *visible_error;
+    /* The plan's rounds of this run (bench/suite.h): this one is the first; more[k] the (k+2)-th, each
+     * loaded like this one (present 0 where its folder was missing). rounds 1 and more NULL with one. */
+    int rounds;
+    struct bch_result *more;
 };
 
 int bch_result_load(const char *run_dir, struct bch_result *r, struct hl_error *err);
@@ -39,6 +44,19 @@ double bch_stddev(const struct bch_result *r, const double *col);
 double bch_mean_from(const struct bch_result *r, const double *col, long first);
 double bch_max_from(const struct bch_result *r, const double *col, long first);
 double bch_stddev_from(const struct bch_result *r, const double *col, long first);
+
+/* A timing column's statistic over a run's rounds: each round's mean, max or sample standard deviation
+ * of the column from frame 1 on (frame 0 compiles the driver's shaders), then the median over the
+ * rounds loaded. column: BCH_COLUMN(frame_ms) and the like. NaN for a NULL run or no figure. */
+enum bch_stat { BCH_STAT_MEAN, BCH_STAT_MAX, BCH_STAT_SD };
+/* Round k (0-based) of a run when it was loaded, else NULL. */
+const struct bch_result *bch_round(const struct bch_result *r, int k);
+#define BCH_COLUMN(name) offsetof(struct bch_result, name)
+double bch_timing(const struct bch_result *r, enum bch_stat stat, size_t column);
+/* The ratio of two runs' timing statistic taken round by round — round k of num over round k of den,
+ * which ran in the same pass over their table — with its median and min–max over the rounds. */
+void bch_timing_ratio(const struct bch_result *num, const struct bch_result *den, enum bch_stat stat, size_t column,
+                      struct bch_spread *out);
 
 /* ---- tables: one Markdown table in report.md, the same rows in DIR/NAME.csv ----------------------- */
 enum { BCH_MAX_COLS = 20, BCH_CELL = 48 };

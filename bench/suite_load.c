@@ -223,6 +223,11 @@ void bch_result_free(struct bch_result *r)
         free(*column_ptr(r, k));
         *column_ptr(r, k) = NULL;
     }
+    for (int k = 0; r->more && k < r->rounds - 1; ++k)
+        bch_result_free(&r->more[k]);
+    free(r->more);
+    r->more = NULL;
+    r->rounds = 0;
     r->present = 0;
 }
 
@@ -267,4 +272,48 @@ double bch_stddev_from(const struct bch_result *r, const double *col, long first
         if (isfinite(col[i]))
             ss += (col[i] - mean) * (col[i] - mean), ++n;
     return n > 1 ? sqrt(ss / (double)(n - 1)) : 0.0;
+}
+
+const struct bch_result *bch_round(const struct bch_result *r, int k)
+{
+    const struct bch_result *x = k == 0 ? r : k < r->rounds && r->more ? &r->more[k - 1] : NULL;
+    return x && x->present ? x : NULL;
+}
+
+static double stat_of(const struct bch_result *x, enum bch_stat stat, size_t column)
+{
+    const double *col = *(double *const *)((const char *)x + column);
+    /* frame 0 left out: the GL driver compiles its shaders there */
+    return stat == BCH_STAT_MAX ? bch_max_from(x, col, 1) : stat == BCH_STAT_SD ? bch_stddev_from(x, col, 1)
+                                                                                : bch_mean_from(x, col, 1);
+}
+
+double bch_timing(const struct bch_result *r, enum bch_stat stat, size_t column)
+{
+    if (!r)
+        return NAN;
+    int rounds = r->rounds > 1 ? r->rounds : 1;
+    double v[BCH_SUITE_MAX_REPEATS];
+    for (int k = 0; k < rounds && k < BCH_SUITE_MAX_REPEATS; ++k) {
+        const struct bch_result *x = bch_round(r, k);
+        v[k] = x ? stat_of(x, stat, column) : NAN;
+    }
+    struct bch_spread sp;
+    bch_spread_of(v, rounds < BCH_SUITE_MAX_REPEATS ? rounds : BCH_SUITE_MAX_REPEATS, &sp);
+    return sp.median;
+}
+
+void bch_timing_ratio(const struct bch_result *num, const struct bch_result *den, enum bch_stat stat, size_t column,
+                      struct bch_spread *out)
+{
+    double v[BCH_SUITE_MAX_REPEATS];
+    int n = 0;
+    if (num && den) {
+        int rounds = num->rounds > den->rounds ? num->rounds : den->rounds;
+        for (int k = 0; k < rounds && k < BCH_SUITE_MAX_REPEATS; ++k) {
+            const struct bch_result *a = bch_round(num, k), *b = bch_round(den, k);
+            v[n++] = a && b ? stat_of(a, stat, column) / stat_of(b, stat, column) : NAN;
+        }
+    }
+    bch_spread_of(v, n, out);
 }

@@ -336,6 +336,7 @@ int bch_plan_make(enum bch_mode mode, const char *only, const char *shared, cons
                        domes_full_ms);
     plan->mode = mode;
     plan->domes_full_ms = domes_full_ms;
+    plan->repeats = 1;
     snprintf(plan->only, sizeof plan->only, "%s", only ? only : "");
     snprintf(plan->shared, sizeof plan->shared, "%s", shared);
     snprintf(plan->out_dir, sizeof plan->out_dir, "%s", out_dir);
@@ -489,11 +490,45 @@ static void put_quoted(FILE *f, const char *s)
     fputc('\'', f);
 }
 
-void bch_run_line(const struct bch_plan *plan, const struct bch_run *run, const char *exe,
+void bch_runs_dir(const char *out_dir, int repeat, char *buf, size_t size)
+{
+    if (repeat <= 0)
+        snprintf(buf, size, "%s/runs", out_dir);
+    else
+        snprintf(buf, size, "%s/runs-%d", out_dir, repeat + 1);
+}
+
+void bch_run_dir(const char *out_dir, const char *id, int repeat, char *buf, size_t size)
+{
+    char runs[4300];
+    bch_runs_dir(out_dir, repeat, runs, sizeof runs);
+    snprintf(buf, size, "%s/%s", runs, id);
+}
+
+size_t bch_plan_step(const struct bch_plan *plan, size_t step, int *repeat)
+{
+    size_t rounds = plan->repeats > 1 ? (size_t)plan->repeats : 1;
+    /* Blocks: runs in a row that serve one table. Each block runs all its rounds before the next. */
+    for (size_t first = 0; first < plan->count;) {
+        size_t n = 1;
+        while (first + n < plan->count && plan->runs[first + n].table == plan->runs[first].table)
+            ++n;
+        if (step < n * rounds) {
+            *repeat = (int)(step / n);
+            return first + (size_t)bch_alternate_index(*repeat, (int)(step % n), (int)n);
+        }
+        step -= n * rounds;
+        first += n;
+    }
+    *repeat = 0;
+    return plan->count; /* past the end */
+}
+
+void bch_run_line(const struct bch_plan *plan, const struct bch_run *run, int repeat, const char *exe,
                         const char *out_dir, FILE *f)
 {
     char dir[4400];
-    snprintf(dir, sizeof dir, "%s/runs/%s", out_dir, run->id);
+    bch_run_dir(out_dir, run->id, repeat, dir, sizeof dir);
     char storage[BCH_MAX_ARGS][BCH_ARG_SIZE];
     const char *argv[BCH_MAX_ARGS];
     int argc = bch_run_argv(plan, run, dir, storage, argv, BCH_MAX_ARGS);
@@ -511,8 +546,11 @@ int bch_plan_write(const struct bch_plan *plan, const char *exe, const char *out
     if (hl_out_open(&out, path, err) != 0)
         return -1;
     FILE *f = out.f;
-    for (size_t i = 0; i < plan->count; ++i) {
-        bch_run_line(plan, &plan->runs[i], exe, out_dir, f);
+    size_t steps = plan->count * (size_t)(plan->repeats > 1 ? plan->repeats : 1);
+    for (size_t s = 0; s < steps; ++s) {
+        int repeat = 0;
+        size_t i = bch_plan_step(plan, s, &repeat);
+        bch_run_line(plan, &plan->runs[i], repeat, exe, out_dir, f);
         fputc('\n', f);
     }
     return hl_out_commit(&out, err);

@@ -85,13 +85,19 @@ static int domes_full_cost(const char *out_dir, enum bch_mode mode, const char *
     return 0;
 }
 
-int bch_prepare(const char *out_dir, enum bch_mode mode, const char *only, const char *shared,
+int bch_prepare(const char *out_dir, enum bch_mode mode, const char *only, int repeats, const char *shared,
                       const char *command, struct bch_plan *plan, struct hl_error *err)
 {
     char runs[4300], path[4300];
-    snprintf(runs, sizeof runs, "%s/runs", out_dir);
-    if (make_dir(out_dir, err) != 0 || hl_dir_make(runs, err) != 0)
+    if (repeats < 1 || repeats > BCH_SUITE_MAX_REPEATS)
+        return hl_fail(err, "bench plan: %d rounds: want 1 … %d", repeats, BCH_SUITE_MAX_REPEATS);
+    if (make_dir(out_dir, err) != 0)
         return -1;
+    for (int r = 0; r < repeats; ++r) { /* every round's runs folder, before any plan line runs */
+        bch_runs_dir(out_dir, r, runs, sizeof runs);
+        if (hl_dir_make(runs, err) != 0)
+            return -1;
+    }
     snprintf(path, sizeof path, "%s/still-head.csv", out_dir);
     if (write_still_trace(path, 600.0 / 90.0 + 1.0, err) != 0) /* the longest run: 600 frames at 90 Hz */
         return -1;
@@ -100,6 +106,7 @@ int bch_prepare(const char *out_dir, enum bch_mode mode, const char *only, const
         return -1;
     if (bch_plan_make(mode, only, shared, out_dir, full_ms, plan, err) != 0)
         return -1;
+    plan->repeats = repeats;
     snprintf(path, sizeof path, "%s/suite.txt", out_dir);
     struct hl_out out;
     if (hl_out_open(&out, path, err) != 0) {
@@ -107,8 +114,10 @@ int bch_prepare(const char *out_dir, enum bch_mode mode, const char *only, const
         return -1;
     }
     FILE *f = out.f;
-    fprintf(f, "format hmdlod-bench-suite-1\nmode %s\nonly %s\nshared %s\nout %s\ndomes_full_ms %.17g\ncommand %s\n",
-            bch_mode_name(mode), plan->only, shared, out_dir, full_ms, command);
+    fprintf(f,
+            "format hmdlod-bench-suite-1\nmode %s\nonly %s\nrepeats %d\nshared %s\nout %s\ndomes_full_ms %.17g\n"
+            "command %s\n",
+            bch_mode_name(mode), plan->only, repeats, shared, out_dir, full_ms, command);
     if (hl_out_commit(&out, err) != 0) {
         bch_plan_free(plan);
         return -1;
@@ -128,6 +137,7 @@ int bch_plan_read(const char *dir, struct bch_plan *plan, char *command, size_t 
     char line[8192], mode[16] = "", only[128] = "", shared[4096] = "", out[4096] = "";
     double full_ms = 0.0;
     int format_ok = 0;
+    long repeats = 1; /* folders made before the suite had rounds: one */
     command[0] = '\0';
     for (int lineno = 1; fgets(line, sizeof line, f); ++lineno) {
         line[strcspn(line, "\n")] = '\0';
@@ -145,7 +155,14 @@ int bch_plan_read(const char *dir, struct bch_plan *plan, char *command, size_t 
             snprintf(shared, sizeof shared, "%s", val);
         else if (!strcmp(line, "out"))
             snprintf(out, sizeof out, "%s", val);
-        else if (!strcmp(line, "domes_full_ms"))
+        else if (!strcmp(line, "repeats")) {
+            char *end;
+            repeats = strtol(val, &end, 10);
+            if (end == val || *end || repeats < 1 || repeats > BCH_SUITE_MAX_REPEATS) {
+                fclose(f);
+                return hl_fail(err, "%s:%d: repeats '%s': want 1 … %d", path, lineno, val, BCH_SUITE_MAX_REPEATS);
+            }
+        } else if (!strcmp(line, "domes_full_ms"))
             full_ms = strtod(val, NULL);
         else if (!strcmp(line, "command"))
             snprintf(command, command_size, "%s", val);
@@ -172,5 +189,6 @@ int bch_plan_read(const char *dir, struct bch_plan *plan, char *command, size_t 
         snprintf(why, sizeof why, "%s", err ? err->msg : "");
         return hl_fail(err, "%s: %s", path, why);
     }
+    plan->repeats = (int)repeats;
     return 0;
 }

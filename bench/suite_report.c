@@ -201,30 +201,64 @@ static int exists(const char *path)
     return stat(path, &st) == 0;
 }
 
-/* Loads every run from the first folder that has it; lists the missing ones in *missing. */
-static int load_all(const struct bch_report_options *o, struct bch_result *results, size_t *n_missing,
-                    char *missing, size_t missing_size, struct hl_error *err)
+/* Loads round `repeat` of run id from the first of the folders that has it into *r (r NULL: only looks);
+ * 1 when found, 0 when no folder has it, −1 with err when one has it but it does not read. */
+static int load_round(const struct bch_report_options *o, const char *id, int repeat, struct bch_result *r,
+                      struct hl_error *err)
 {
-    *n_missing = 0;
+    for (int d = 0; d < o->dir_count; ++d) {
+        char dir[4400], summary[4500];
+        bch_run_dir(o->dirs[d], id, repeat, dir, sizeof dir);
+        snprintf(summary, sizeof summary, "%s/summary.json", dir);
+        if (!exists(summary))
+            continue;
+        return r && bch_result_load(dir, r, err) != 0 ? -1 : 1;
+    }
+    return 0;
+}
+
+static void note_missing(const char *id, int repeat, size_t *n_missing, char *missing, size_t missing_size)
+{
+    size_t len = strlen(missing);
+    if (*n_missing < 8) {
+        if (repeat == 0)
+            snprintf(missing + len, missing_size - len, "%s%s", *n_missing ? ", " : "", id);
+        else
+            snprintf(missing + len, missing_size - len, "%s%s (round %d)", *n_missing ? ", " : "", id, repeat + 1);
+    }
+    ++*n_missing;
+}
+
+/* Loads every run's every round from the first folder that has it; lists the missing ones in *missing
+ * (a run with its first round missing counts as missing, whatever its other rounds). */
+static int load_all(const struct bch_report_options *o, struct bch_result *results, size_t *n_missing,
+                    size_t *n_missing_runs, char *missing, size_t missing_size, struct hl_error *err)
+{
+    *n_missing = *n_missing_runs = 0;
     missing[0] = '\0';
+    int rounds = o->plan->repeats > 1 ? o->plan->repeats : 1;
     for (size_t i = 0; i < o->plan->count; ++i) {
         const char *id = o->plan->runs[i].id;
-        int found = 0;
-        for (int d = 0; d < o->dir_count && !found; ++d) {
-            char dir[4400], summary[4500];
-            snprintf(dir, sizeof dir, "%s/runs/%s", o->dirs[d], id);
-            snprintf(summary, sizeof summary, "%s/summary.json", dir);
-            if (!exists(summary))
-                continue;
-            if (bch_result_load(dir, &results[i], err) != 0)
-                return -1;
-            found = 1;
+        int found = load_round(o, id, 0, &results[i], err);
+        if (found < 0)
+            return -1;
+        if (!found) { /* the run is missing; count its other rounds all the same */
+            note_missing(id, 0, n_missing, missing, missing_size);
+            ++*n_missing_runs;
+            for (int k = 1; k < rounds; ++k)
+                if (load_round(o, id, k, NULL, err) == 0)
+                    note_missing(id, k, n_missing, missing, missing_size);
+            continue;
         }
-        if (!found) {
-            size_t len = strlen(missing);
-            if (*n_missing < 8)
-                snprintf(missing + len, missing_size - len, "%s%s", *n_missing ? ", " : "", id);
-            ++*n_missing;
+        results[i].rounds = rounds;
+        if (rounds > 1 && !(results[i].more = calloc((size_t)rounds - 1, sizeof *results[i].more)))
+            return hl_fail(err, "bench report: out of memory");
+        for (int k = 1; k < rounds; ++k) {
+            found = load_round(o, id, k, &results[i].more[k - 1], err);
+            if (found < 0)
+                return -1;
+            if (!found)
+                note_missing(id, k, n_missing, missing, missing_size);
         }
     }
     return 0;
@@ -239,16 +273,20 @@ static int write_runs_csv(const struct bch_report_options *o, const struct bch_r
     if (hl_out_open(&out, path, err) != 0)
         return -1;
     FILE *f = out.f;
-    fputs("id,table,present,frames,renderer,command\n", f);
+    fputs("id,table,present,rounds_present,frames,renderer,command\n", f);
     for (size_t i = 0; i < o->plan->count; ++i) {
         const struct bch_run *r = &o->plan->runs[i];
-        fprintf(f, "%s,%d,%d,%ld,\"%s\",\"", r->id, r->table, results[i].present, results[i].n, results[i].renderer);
+        int rounds = results[i].present;
+        for (int k = 0; k + 1 < results[i].rounds; ++k)
+            rounds += results[i].more[k].present;
+        fprintf(f, "%s,%d,%d,%d,%ld,\"%s\",\"", r->id, r->table, results[i].present, rounds, results[i].n,
+                results[i].renderer);
         /* the plan line, CSV-quoted (a double quote doubled) */
         char *line = NULL;
         size_t len = 0;
         FILE *m = open_memstream(&line, &len);
         if (m) {
-            bch_run_line(o->plan, r, o->exe, o->plan->out_dir, m);
+            bch_run_line(o->plan, r, 0, o->exe, o->plan->out_dir, m);
             fclose(m);
             for (const char *p = line; p && *p; ++p)
                 fputs(*p == '"' ? "\"\"" : (char[2]){*p, 0}, f);
@@ -274,11 +312,24 @@ static int make_dir(const char *path, struct hl_error *err)
  * (summary.json): runs whose spans overlap on one host ran in parallel (GNU parallel, a Slurm array
  * on one node), so their timing columns measured a shared machine; runs from several hosts measured
  * different machines. Deterministic columns are not affected either way. */
-static void timing_note(const struct bch_result *results, size_t count, char *out, size_t size)
+static void timing_note(const struct bch_plan *plan, const struct bch_result *results, char *out, size_t size)
 {
+    /* every round of every run, as one list */
+    size_t count = 0, cap = 0;
+    for (size_t i = 0; i < plan->count; ++i)
+        cap += 1 + (size_t)(results[i].rounds > 1 ? results[i].rounds - 1 : 0);
+    const struct bch_result **all = malloc((cap ? cap : 1) * sizeof *all);
+    out[0] = '\0';
+    if (!all)
+        return;
+    for (size_t i = 0; i < plan->count; ++i) {
+        all[count++] = &results[i];
+        for (int k = 0; k + 1 < results[i].rounds; ++k)
+            all[count++] = &results[i].more[k];
+    }
     size_t timed = 0, present = 0, overlapped = 0, hosts = 0;
     for (size_t i = 0; i < count; ++i) {
-        const struct bch_result *a = &results[i];
+        const struct bch_result *a = all[i];
         if (!a->present)
             continue;
         ++present;
@@ -287,7 +338,7 @@ static void timing_note(const struct bch_result *results, size_t count, char *ou
         ++timed;
         int new_host = 1, overlaps = 0;
         for (size_t j = 0; j < count; ++j) {
-            const struct bch_result *b = &results[j];
+            const struct bch_result *b = all[j];
             if (j == i || !b->present || strcmp(a->host, b->host) != 0)
                 continue;
             if (j < i && isfinite(b->wall_start_unix_s))
@@ -298,11 +349,22 @@ static void timing_note(const struct bch_result *results, size_t count, char *ou
         hosts += (size_t)new_host;
         overlapped += (size_t)overlaps;
     }
+    free(all);
     size_t used = 0;
-    out[0] = '\0';
-    if (timed < present)
-        used += (size_t)snprintf(out, size, "- timing: %zu of %zu runs have no wall-clock span in summary.json "
-                                            "(made by an older hmdlod): whether they ran in parallel is unknown\n",
+    if (plan->repeats > 1)
+        used += (size_t)snprintf(out, size,
+                                 "- timing: %d alternated rounds of every run (each table's runs forward, then "
+                                 "backward, …): a timing cell is the median of its rounds' figures, Table 3's "
+                                 "speedup the median of its per-round ratios; Figure 7's per-frame series and Table "
+                                 "6's frames come from the first round\n",
+                                 plan->repeats);
+    else
+        used += (size_t)snprintf(out, size, "- timing: one round of every run (`--repeats 1`): timing cells and "
+                                            "ratios come from single runs, in plan order\n");
+    if (used < size && timed < present)
+        used += (size_t)snprintf(out + used, size - used,
+                                 "- timing: %zu of %zu runs have no wall-clock span in summary.json "
+                                 "(made by an older hmdlod): whether they ran in parallel is unknown\n",
                                  present - timed, present);
     if (used >= size || timed == 0)
         return;
@@ -323,7 +385,7 @@ static void timing_note(const struct bch_result *results, size_t count, char *ou
 }
 
 static int write_report(const struct bch_report_options *o, struct bch_result *results, size_t n_missing,
-                        const char *missing, struct hl_error *err)
+                        size_t n_missing_runs, const char *missing, struct hl_error *err)
 {
     char plots[4300], md_path[4300], det_path[4300];
     snprintf(plots, sizeof plots, "%s/plots", o->out_dir);
@@ -350,8 +412,8 @@ static int write_report(const struct bch_report_options *o, struct bch_result *r
             break;
         }
     /* The timing note goes under every table, with the rest of the context. */
-    char note[1024];
-    timing_note(results, o->plan->count, note, sizeof note);
+    char note[1536];
+    timing_note(o->plan, results, note, sizeof note);
     size_t context_len = strlen(o->context) + strlen(note) + 1;
     char *context = malloc(context_len);
     if (!context) {
@@ -365,17 +427,21 @@ static int write_report(const struct bch_report_options *o, struct bch_result *r
     if (o->echo)
         fprintf(o->echo, "# hmdlod bench report (%s): %s/report.md\n\n%s- renderer: %s\n",
                 bch_mode_name(o->plan->mode), o->out_dir, context, renderer);
+    size_t rounds = (size_t)(o->plan->repeats > 1 ? o->plan->repeats : 1);
     fprintf(md,
-            "# hmdlod bench report (%s)\n\n%s- renderer: %s\n- runs: %zu of %zu (each run's replay command: "
-            "runs.csv)\n",
-            bch_mode_name(o->plan->mode), context, renderer, o->plan->count - n_missing, o->plan->count);
+            "# hmdlod bench report (%s)\n\n%s- renderer: %s\n- runs: %zu of %zu, %zu round(s) each: %zu of %zu "
+            "replays (each run's replay command: runs.csv)\n",
+            bch_mode_name(o->plan->mode), context, renderer, o->plan->count - n_missing_runs, o->plan->count, rounds,
+            o->plan->count * rounds - n_missing, o->plan->count * rounds);
     if (!c.gnuplot)
         fputs("\n**gnuplot is not on PATH: the plots' scripts are in plots/*.gp, but no PNG was made** (install "
               "gnuplot-nox, then run `gnuplot NAME.gp` in plots/).\n",
               md);
     if (n_missing)
-        fprintf(md, "\n**Partial report.** %zu run(s) missing: %s%s; their cells read —.\n", n_missing, missing,
-                n_missing > 8 ? ", …" : "");
+        fprintf(md,
+                "\n**Partial report.** %zu run(s) or round(s) missing: %s%s; the cells of a missing run read —, "
+                "a missing round leaves its run's timing cells to the rounds present.\n",
+                n_missing, missing, n_missing > 8 ? ", …" : "");
     int rc = 0;
     int (*const tables[])(struct bch_ctx *, struct hl_error *) = {
         bch_tables_t1, bch_tables_t2, bch_tables_t3,
@@ -403,19 +469,20 @@ int bch_report(const struct bch_report_options *o, struct hl_error *err)
     struct bch_result *results = calloc(o->plan->count ? o->plan->count : 1, sizeof *results);
     if (!results)
         return hl_fail(err, "bench report: out of memory");
-    size_t n_missing = 0;
+    size_t n_missing = 0, n_missing_runs = 0;
     char missing[1024];
-    int rc = load_all(o, results, &n_missing, missing, sizeof missing, err);
-    if (rc == 0 && n_missing == o->plan->count)
+    int rc = load_all(o, results, &n_missing, &n_missing_runs, missing, sizeof missing, err);
+    if (rc == 0 && n_missing_runs == o->plan->count)
         rc = hl_fail(err, "%s: no runs found (no %s/runs/ID/summary.json for any of the plan's %zu runs)", o->dirs[0],
                      o->dirs[0], o->plan->count);
     else if (rc == 0 && n_missing && !o->partial)
         rc = hl_fail(err,
-                     "%zu of %zu runs missing (%s%s): run the rest of the plan, merge the other hosts' "
+                     "%zu of %zu replays missing (%s%s): run the rest of the plan, merge the other hosts' "
                      "folders too, or pass --partial",
-                     n_missing, o->plan->count, missing, n_missing > 8 ? ", …" : "");
+                     n_missing, o->plan->count * (size_t)(o->plan->repeats > 1 ? o->plan->repeats : 1), missing,
+                     n_missing > 8 ? ", …" : "");
     if (rc == 0)
-        rc = write_report(o, results, n_missing, missing, err);
+        rc = write_report(o, results, n_missing, n_missing_runs, missing, err);
     for (size_t i = 0; i < o->plan->count; ++i)
         bch_result_free(&results[i]);
     free(results);

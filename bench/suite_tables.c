@@ -55,25 +55,25 @@ int bch_tables_t1(struct bch_ctx *c, struct hl_error *err)
         char jitter_id[96];
         snprintf(jitter_id, sizeof jitter_id, "t1-%s-still-static", run->scene);
         const struct bch_result *still = bch_find(c, jitter_id);
-        double jitter = still ? bch_stddev_from(still, still->frame_ms, 1) / still->budget_ms : NAN;
+        double jitter = still ? bch_timing(still, BCH_STAT_SD, BCH_COLUMN(frame_ms)) / still->budget_ms : NAN;
         char cell[15][BCH_CELL], sel[32];
         snprintf(sel, sizeof sel, "%s%s", run->selector, run->opt_limit_us > 0 ? "-lim200" : "");
         double target = r ? r->budget_ms : NAN;
         /* timings from frame 1: frame 0 compiles the driver's shaders (10× a frame on llvmpipe) */
-        double sd = r ? bch_stddev_from(r, r->frame_ms, 1) / target : NAN;
-        double mx = r ? bch_max_from(r, r->frame_ms, 1) / target : NAN;
+        double sd = r ? bch_timing(r, BCH_STAT_SD, BCH_COLUMN(frame_ms)) / target : NAN;
+        double mx = r ? bch_timing(r, BCH_STAT_MAX, BCH_COLUMN(frame_ms)) / target : NAN;
         const char *cells[15] = {
             !strcmp(run->motion, "still") ? "still (constant load)" : run->motion,
             run->scene,
             sel,
             r ? bch_cell(cell[0], (double)r->n, 0) : "—",
-            bch_cell(cell[1], r ? bch_mean_from(r, r->optimizer_us, 1) : NAN, 1),
-            bch_cell(cell[2], r ? bch_max_from(r, r->optimizer_us, 1) : NAN, 1),
-            bch_cell(cell[3], r ? 100.0 * bch_mean_from(r, r->frame_ms, 1) / target : NAN, 1),
+            bch_cell(cell[1], r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(optimizer_us)) : NAN, 1),
+            bch_cell(cell[2], r ? bch_timing(r, BCH_STAT_MAX, BCH_COLUMN(optimizer_us)) : NAN, 1),
+            bch_cell(cell[3], r ? 100.0 * bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) / target : NAN, 1),
             bch_cell(cell[4], 100.0 * mx, 1),
             bch_cell(cell[5], 100.0 * sd, 1),
             bch_cell(cell[9], sd / jitter, 2),
-            bch_cell(cell[6], r ? 100.0 * bch_mean_from(r, r->deadline_met, 1) : NAN, 1),
+            bch_cell(cell[6], r ? 100.0 * bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(deadline_met)) : NAN, 1),
             !r                                                                  ? "—"
             : (sd <= GOAL_STDDEV_SHARE || sd <= jitter) && mx <= GOAL_MAX_SHARE ? "yes"
                                                                                 : "no",
@@ -156,7 +156,7 @@ static int curve(const struct bch_ctx *c, const char *gaze, const char *selector
             x[k] = x[k - 1], y[k] = y[k - 1];
             --k;
         }
-        x[k] = r->fssim_mean, y[k] = bch_mean_from(r, r->frame_ms, 1);
+        x[k] = r->fssim_mean, y[k] = bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms));
     }
     return n;
 }
@@ -180,7 +180,7 @@ static int t2_plot(struct bch_ctx *c, const char *gaze, struct hl_error *err)
             const struct bch_result *r = &c->results[i];
             if (run->table != 2 || strcmp(run->gaze, gaze) || strcmp(run->selector, t2_selectors[s]) || !r->present)
                 continue;
-            double v[5] = {bch_mean_from(r, r->frame_ms, 1), r->fssim_mean, r->ssim_mean, r->psnr_db_mean,
+            double v[5] = {bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)), r->fssim_mean, r->ssim_mean, r->psnr_db_mean,
                            r->visible_error_mean};
             for (int k = 0; k < 4; ++k)
                 has[k] |= isfinite(v[0]) && isfinite(v[k + 1]);
@@ -259,7 +259,7 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
             snprintf(setting, sizeof setting, "%g × period", run->factor);
         else
             snprintf(setting, sizeof setting, "acuity");
-        double fm = r ? bch_mean_from(r, r->frame_ms, 1) : NAN;
+        double fm = r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) : NAN;
         const char *cells[14] = {run->gaze,
                                  run->selector,
                                  setting,
@@ -299,7 +299,7 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
             if (run->table != 2 || strcmp(run->gaze, gaze) ||
                 (strcmp(run->selector, "fs") && strcmp(run->selector, "mb")))
                 continue;
-            double q = r ? r->fssim_mean : NAN, fm = r ? bch_mean_from(r, r->frame_ms, 1) : NAN;
+            double q = r ? r->fssim_mean : NAN, fm = r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) : NAN;
             char cell[6][BCH_CELL];
             const char *cells[7] = {gaze,
                                     run->selector,

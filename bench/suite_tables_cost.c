@@ -10,6 +10,33 @@
 
 static int t4_simplify(struct bch_ctx *c, struct hl_error *err);
 
+/* The optimizer's mean time per head-speed band (frames.csv's head_speed_degps; frame 0 is warm-up),
+ * per round, then the median over the rounds; NaN where a band has no frames. */
+static void optimizer_by_speed(const struct bch_result *r, double band_us[RPL_SPEED_BAND_COUNT])
+{
+    double v[RPL_SPEED_BAND_COUNT][BCH_SUITE_MAX_REPEATS];
+    int rounds = r && r->rounds > 1 ? r->rounds : 1;
+    if (rounds > BCH_SUITE_MAX_REPEATS)
+        rounds = BCH_SUITE_MAX_REPEATS;
+    for (int q = 0; q < rounds; ++q) {
+        const struct bch_result *x = r ? bch_round(r, q) : NULL;
+        double sum[RPL_SPEED_BAND_COUNT] = {0}, count[RPL_SPEED_BAND_COUNT] = {0};
+        for (long k = 1; x && x->head_speed && x->optimizer_us && k < x->n; ++k) {
+            int b = 0;
+            while (b + 1 < RPL_SPEED_BAND_COUNT && x->head_speed[k] >= rpl_speed_band_lower_degps[b + 1])
+                ++b;
+            sum[b] += x->optimizer_us[k], count[b] += 1;
+        }
+        for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b)
+            v[b][q] = count[b] > 0 ? sum[b] / count[b] : NAN;
+    }
+    for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b) {
+        struct bch_spread sp;
+        bch_spread_of(v[b], rounds, &sp);
+        band_us[b] = sp.median;
+    }
+}
+
 int bch_tables_t4(struct bch_ctx *c, struct hl_error *err)
 {
     bch_heading(c, "Table 4: Nirenstein's measurements",
@@ -38,29 +65,24 @@ int bch_tables_t4(struct bch_ctx *c, struct hl_error *err)
         if (run->table != 4 || !strncmp(run->id, "t4s-", 4))
             continue;
         const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
-        double sum[RPL_SPEED_BAND_COUNT] = {0}, count[RPL_SPEED_BAND_COUNT] = {0};
-        for (long k = 1; r && r->head_speed && r->optimizer_us && k < r->n; ++k) { /* frame 0: warm-up */
-            int b = 0;
-            while (b + 1 < bands && r->head_speed[k] >= rpl_speed_band_lower_degps[b + 1])
-                ++b;
-            sum[b] += r->optimizer_us[k], count[b] += 1;
-        }
+        double band_us[RPL_SPEED_BAND_COUNT];
+        optimizer_by_speed(r, band_us);
         char cell[7 + RPL_SPEED_BAND_COUNT][BCH_CELL];
         const char *cells[7 + RPL_SPEED_BAND_COUNT] = {
             bch_cell(cell[0], run->factor, 2),
             bch_cell(cell[1], run->opt_limit_us, 0),
-            bch_cell(cell[2], r ? bch_mean_from(r, r->optimizer_us, 1) : NAN, 1),
-            bch_cell(cell[3], r ? bch_max_from(r, r->optimizer_us, 1) : NAN, 1),
+            bch_cell(cell[2], r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(optimizer_us)) : NAN, 1),
+            bch_cell(cell[3], r ? bch_timing(r, BCH_STAT_MAX, BCH_COLUMN(optimizer_us)) : NAN, 1),
             bch_cell(cell[4], r ? bch_mean(r, r->iterations) : NAN, 1),
             bch_cell(cell[5], r ? 100.0 * bch_mean(r, r->truncated) : NAN, 1),
-            bch_cell(cell[6], r ? bch_mean_from(r, r->frame_ms, 1) : NAN, 3)};
+            bch_cell(cell[6], r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) : NAN, 3)};
         if (n_series < 12) {
             snprintf(labels[n_series], sizeof labels[n_series], "%gx-%s", run->factor,
                      run->opt_limit_us > 0 ? "limit" : "nolimit");
             fprintf(f, "%s# %s\n", n_series ? "\n\n" : "", labels[n_series]);
         }
         for (int b = 0; b < bands; ++b) {
-            double mean = count[b] > 0 ? sum[b] / count[b] : NAN;
+            double mean = band_us[b];
             cells[7 + b] = bch_cell(cell[7 + b], mean, 1);
             if (n_series < 12)
                 fprintf(f, "%g %.3f\n", rpl_speed_band_lower_degps[b], mean);
@@ -115,8 +137,8 @@ static int t4_simplify(struct bch_ctx *c, struct hl_error *err)
         const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
         char cell[11][BCH_CELL];
         const char *cells[11] = {bch_cell(cell[0], run->mb_simplify, 0),
-                                 bch_cell(cell[1], r ? bch_mean_from(r, r->optimizer_us, 1) : NAN, 1),
-                                 bch_cell(cell[2], r ? bch_max_from(r, r->optimizer_us, 1) : NAN, 1),
+                                 bch_cell(cell[1], r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(optimizer_us)) : NAN, 1),
+                                 bch_cell(cell[2], r ? bch_timing(r, BCH_STAT_MAX, BCH_COLUMN(optimizer_us)) : NAN, 1),
                                  bch_cell(cell[3], r ? bch_mean(r, r->iterations) : NAN, 1),
                                  bch_cell(cell[4], r ? bch_mean(r, r->triangles) : NAN, 1),
                                  bch_cell(cell[5], r ? r->fssim_mean : NAN, 4),
@@ -124,7 +146,7 @@ static int t4_simplify(struct bch_ctx *c, struct hl_error *err)
                                  bch_psnr_cell(cell[7], r),
                                  bch_cell(cell[10], r ? r->flip_mean : NAN, 4),
                                  bch_cell(cell[8], r ? r->visible_error_mean : NAN, 4),
-                                 bch_cell(cell[9], r ? bch_mean_from(r, r->frame_ms, 1) : NAN, 3)};
+                                 bch_cell(cell[9], r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) : NAN, 3)};
         bch_table_row(&t, cells);
     }
     return bch_table_end(&t, err);
@@ -165,8 +187,8 @@ int bch_tables_t5(struct bch_ctx *c, struct hl_error *err)
             bch_psnr_cell(cell[7], r),
             bch_cell(cell[11], r ? r->flip_mean : NAN, 4),
             bch_cell(cell[8], r ? r->visible_error_mean : NAN, 4),
-            bch_cell(cell[9], r ? bch_mean_from(r, r->frame_ms, 1) : NAN, 3),
-            bch_cell(cell[10], r ? 100.0 * bch_mean_from(r, r->deadline_met, 1) : NAN, 1)};
+            bch_cell(cell[9], r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) : NAN, 3),
+            bch_cell(cell[10], r ? 100.0 * bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(deadline_met)) : NAN, 1)};
         bch_table_row(&t, cells);
     }
     return bch_table_end(&t, err);

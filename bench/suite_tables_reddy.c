@@ -36,11 +36,12 @@ enum { N_VARIANTS = 7 };
 
 static int speedup_table(struct bch_ctx *c, struct hl_error *err)
 {
-    static const char *const h[] = {"objects",        "motion",   "terms",           "criterion",
-                                    "none_frame_ms",  "reddy_frame_ms", "speedup",   "*triangle_ratio",
-                                    "*visible_error_mean", "goal_met", "deterministic"};
+    static const char *const h[] = {"objects",        "motion",         "terms",       "criterion",
+                                    "none_frame_ms",  "reddy_frame_ms", "speedup",     "speedup_min",
+                                    "speedup_max",    "*triangle_ratio", "*visible_error_mean", "goal_met",
+                                    "deterministic"};
     struct bch_table t;
-    if (bch_table_begin(&t, c->dir, "t3_reddy_speedup", c->md, c->echo, c->det, h, 11, err) != 0)
+    if (bch_table_begin(&t, c->dir, "t3_reddy_speedup", c->md, c->echo, c->det, h, 13, err) != 0)
         return -1;
     struct hl_out plot;
     FILE *f = bch_plot_data(c, "t3_speedup.dat", &plot, err);
@@ -65,21 +66,26 @@ static int speedup_table(struct bch_ctx *c, struct hl_error *err)
             snprintf(id_r, sizeof id_r, "t3-o%d-%s", run->objects, variants[v][0]);
             snprintf(id_n, sizeof id_n, "t3-o%d-%s", run->objects, variants[v][1]);
             const struct bch_result *r = bch_find(c, id_r), *n = bch_find(c, id_n);
-            double fr = r ? bch_mean_from(r, r->frame_ms, 1) : NAN,
-                   fn = n ? bch_mean_from(n, n->frame_ms, 1) : NAN;
+            double fr = r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) : NAN,
+                   fn = n ? bch_timing(n, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) : NAN;
             double tr = r ? bch_mean(r, r->triangles) : NAN, tn = n ? bch_mean(n, n->triangles) : NAN;
-            double speedup = fn / fr, vis = r ? r->visible_error_mean : NAN;
-            char cell[7][BCH_CELL];
+            /* per round: none and reddy of one object count ran in the same pass over the table */
+            struct bch_spread sp;
+            bch_timing_ratio(n, r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms), &sp);
+            double speedup = sp.median, vis = r ? r->visible_error_mean : NAN;
+            char cell[9][BCH_CELL];
             const char *goal = "";
             if (run->objects == 1000 && strstr(variants[v][0], "full"))
                 goal = !isfinite(speedup) ? "—" : speedup >= GOAL_SPEEDUP && vis == 0.0 ? "yes" : "no";
-            const char *cells[11] = {bch_cell(cell[0], run->objects, 0),
+            const char *cells[13] = {bch_cell(cell[0], run->objects, 0),
                                      variants[v][2],
                                      variants[v][3],
                                      variants[v][4],
                                      bch_cell(cell[1], fn, 3),
                                      bch_cell(cell[2], fr, 3),
                                      bch_cell(cell[3], speedup, 2),
+                                     bch_cell(cell[7], sp.min, 2),
+                                     bch_cell(cell[8], sp.max, 2),
                                      bch_cell(cell[4], tn / tr, 2),
                                      bch_cell(cell[5], vis, 4),
                                      goal,
@@ -156,7 +162,7 @@ static int display_table(struct bch_ctx *c, struct hl_error *err)
                                  bch_cell(cell[4], rb > 0 ? (rb - rv) / rb : NAN, 3),
                                  bch_cell(cell[5], rb > 0 ? (rb - re) / rb : NAN, 3),
                                  bch_cell(cell[8], rb > 0 ? (rb - ra) / rb : NAN, 3),
-                                 bch_cell(cell[6], full ? bch_mean_from(full, full->frame_ms, 1) : NAN, 3),
+                                 bch_cell(cell[6], full ? bch_timing(full, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) : NAN, 3),
                                  "1"};
         bch_table_row(&t, cells);
     }
@@ -189,7 +195,7 @@ static int reading_table(struct bch_ctx *c, struct hl_error *err)
                                 bch_cell(cell[4], r ? r->px_over_32 : NAN, 4),
                                 bch_cell(cell[7], r ? r->flip_mean : NAN, 4),
                                 bch_cell(cell[5], r ? r->visible_error_mean : NAN, 4),
-                                bch_cell(cell[6], r ? bch_mean_from(r, r->frame_ms, 1) : NAN, 3),
+                                bch_cell(cell[6], r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) : NAN, 3),
                                 "1"};
         bch_table_row(&t, cells);
     }
@@ -265,7 +271,9 @@ static int kept_table(struct bch_ctx *c, struct hl_error *err)
 int bch_tables_t3(struct bch_ctx *c, struct hl_error *err)
 {
     bch_heading(c, "Table 3: Reddy's study on field",
-                      "Speedup = none's frame time mean / reddy's over the same frames and motion; triangle ratio = "
+                      "Speedup = none's frame time mean / reddy's over the same frames and motion, taken per round "
+                      "(the two ran in the same pass over the table) — the median over rounds, with min and max; "
+                      "frame times are medians over rounds; triangle ratio = "
                       "none's triangles / reddy's. still: the suite's still-head trace (still-head.csv); size only: "
                       "--velocity-term off --eccentricity-term off. Goal (Reddy 1997): ≥ 4.5× at zero predicted "
                       "visible error with 1000 objects, per gaze model.\n",

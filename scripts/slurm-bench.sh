@@ -5,7 +5,7 @@
 #   sbatch --array=1-$(wc -l < plan.txt) scripts/slurm-bench.sh plan.txt
 #   build/hmdlod bench --merge /shared/fs/bench                      # when every task has finished
 #
-# Task N runs line N of the plan (each line is a complete `hmdlod replay ... --out DIR/runs/ID --quiet`
+# Task N runs line N of the plan (each line is a complete `hmdlod replay ... --out DIR/runs[-R]/ID --quiet`
 # command with absolute paths, shell-quoted). A task that fails leaves no summary.json in its run
 # folder, so --merge names it as missing; resubmit just those with --array=N,M.
 # Limit how many run at once on a node with, e.g., --array=1-140%8: timings are only comparable

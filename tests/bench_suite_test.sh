@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # hmdlod bench's suite end to end (docs/bench.md).
-#   tiny:  the --tiny plan serially, and as a plan under `parallel --will-cite -j2` then --merge; the
-#          merged report's deterministic columns (deterministic.txt) must equal the serial run's; every
-#          table heading in report.md; every plot a PNG; missing runs and bad arguments give one
-#          message and exit 1.
-#   quick: `hmdlod bench --quick --out DIR` as CI runs it: exit 0, every table heading, the PNGs.
+#   tiny:  the --tiny plan serially (2 alternated rounds, the default), and as a plan under
+#          `parallel --will-cite -j2` then --merge; the merged report's deterministic columns
+#          (deterministic.txt) must equal the serial run's, and each round's triangles the first
+#          round's; every table heading in report.md; every plot a PNG; missing runs and rounds and bad
+#          arguments give one message and exit 1.
+#   quick: `hmdlod bench --quick --repeats 1 --out DIR`: exit 0, every table heading, the PNGs. One
+#          round keeps CI's time; the rounds themselves are the tiny mode's.
 # Skips (77) when the shared traces, GNU parallel, gnuplot or python3 are absent.
 set -u
 mode=${1:-tiny}
@@ -45,12 +47,13 @@ check_report() { # DIR: headings, CSVs, PNGs
 }
 
 if [ "$mode" = quick ]; then
-  "$bin" bench --quick --out "$tmp/quick" >"$tmp/quick.out" 2>"$tmp/quick.err" || {
+  "$bin" bench --quick --repeats 1 --out "$tmp/quick" >"$tmp/quick.out" 2>"$tmp/quick.err" || {
     fail "bench --quick: exit $?: $(tail -5 "$tmp/quick.err")"
     exit 1
   }
   check_report "$tmp/quick"
   grep -qF "## Table 1" "$tmp/quick.out" || fail "bench --quick printed no Table 1 on stdout"
+  grep -q -- "- timing: one round of every run" "$tmp/quick/report.md" || fail "the report does not say it had one round"
   [ $failures -eq 0 ] && echo "bench --quick: report and plots complete"
   exit $((failures > 0))
 fi
@@ -65,15 +68,39 @@ check_report "$tmp/serial"
 # the plan under GNU parallel, then the merge
 "$bin" bench --tiny --plan "$tmp/plan.txt" --out "$tmp/par" 2>"$tmp/plan.err" ||
   fail "--plan: exit $?: $(cat "$tmp/plan.err")"
-runs=$(wc -l <"$tmp/plan.txt")
-[ "$runs" -ge 20 ] || fail "the tiny plan has $runs lines, want ≥ 20"
-[ -d "$tmp/par/runs" ] && [ -z "$(ls "$tmp/par/runs")" ] || fail "--plan ran runs itself"
+lines=$(wc -l <"$tmp/plan.txt")
+runs=$(($(wc -l <"$tmp/serial/runs.csv") - 1))
+[ "$runs" -ge 20 ] || fail "the tiny plan has $runs runs, want ≥ 20"
+[ "$lines" -eq $((2 * runs)) ] || fail "the tiny plan has $lines lines, want 2 rounds × $runs runs"
+[ "$(grep -c -- "--out $tmp/par/runs-2/" "$tmp/plan.txt")" -eq "$runs" ] || fail "the plan's second round does not write runs-2/"
+[ -d "$tmp/par/runs" ] && [ -d "$tmp/par/runs-2" ] && [ -z "$(find "$tmp/par/runs" "$tmp/par/runs-2" -mindepth 1)" ] ||
+  fail "--plan ran runs itself"
 parallel --will-cite -j2 <"$tmp/plan.txt" >"$tmp/parallel.out" 2>&1 || fail "parallel: $(tail -3 "$tmp/parallel.out")"
 "$bin" bench --merge "$tmp/par" >"$tmp/merge.out" 2>"$tmp/merge.err" || fail "--merge: exit $?: $(cat "$tmp/merge.err")"
 check_report "$tmp/par"
 # how the runs shared the machine, from their wall-clock spans: the serial run says serial, the plan
 # under parallel -j2 marks its timing columns as from parallel runs
 grep -q -- "- timing: serial" "$tmp/serial/report.md" || fail "the serial report does not say its runs were serial"
+grep -q -- "- timing: 2 alternated rounds of every run" "$tmp/serial/report.md" || fail "the report does not say it had 2 rounds"
+[ "$(ls "$tmp/serial/runs")" = "$(ls "$tmp/serial/runs-2")" ] || fail "the serial run's second round does not hold every run"
+# the rounds are real replays of the same configuration: the deterministic selectors draw the same
+# triangles on every frame in both rounds
+python3 - "$tmp/serial" <<'EOF' || fail "a deterministic run drew other triangles in its second round"
+import csv, json, os, sys
+d, compared, bad = sys.argv[1], 0, 0
+for run in sorted(os.listdir(f"{d}/runs")):
+    sel = json.load(open(f"{d}/runs/{run}/summary.json")).get("selector")
+    if sel not in ("none", "static", "reddy"):
+        continue
+    cols = ("triangles_per_eye", "lod0", "lod1", "lod2", "lod3")
+    a = [[r[c] for c in cols] for r in csv.DictReader(open(f"{d}/runs/{run}/frames.csv"))]
+    b = [[r[c] for c in cols] for r in csv.DictReader(open(f"{d}/runs-2/{run}/frames.csv"))]
+    compared += 1
+    if a != b:
+        print(f"{run}: triangles differ between the rounds"); bad += 1
+print(f"{compared} deterministic runs compared across rounds, {bad} differ")
+sys.exit(1 if bad or compared < 10 else 0)
+EOF
 grep -q -- "- timing: \*\*from parallel runs\*\*" "$tmp/par/report.md" ||
   fail "the report of the plan under parallel -j2 does not mark its timings as from parallel runs"
 # deterministic columns: merged (parallel) against serial
@@ -117,9 +144,17 @@ cp -r "$tmp/par" "$tmp/partial"
 gone=$(ls "$tmp/partial/runs" | head -1)
 rm -rf "$tmp/partial/runs/$gone"
 "$bin" bench --merge "$tmp/partial" >/dev/null 2>"$tmp/err"; rc=$?
-[ $rc -eq 1 ] && grep -q "1 of $runs runs missing ($gone)" "$tmp/err" || fail "merge with $gone missing: exit $rc: $(cat "$tmp/err")"
+[ $rc -eq 1 ] && grep -q "1 of $lines replays missing ($gone)" "$tmp/err" || fail "merge with $gone missing: exit $rc: $(cat "$tmp/err")"
 "$bin" bench --merge "$tmp/partial" --partial >/dev/null 2>"$tmp/err" || fail "--partial: exit $?: $(cat "$tmp/err")"
-grep -qF "1 run(s) missing: $gone;" "$tmp/partial/report.md" || fail "the partial report does not name $gone"
+grep -qF "1 run(s) or round(s) missing: $gone;" "$tmp/partial/report.md" || fail "the partial report does not name $gone"
+grep -qF "runs: $((runs - 1)) of $runs, 2 round(s) each: $((lines - 1)) of $lines replays" "$tmp/partial/report.md" ||
+  fail "the partial report does not count the runs and replays present"
+# a round missing: named with its round
+cp -r "$tmp/par" "$tmp/noround"
+rm -rf "$tmp/noround/runs-2/$gone"
+"$bin" bench --merge "$tmp/noround" >/dev/null 2>"$tmp/err"; rc=$?
+[ $rc -eq 1 ] && grep -qF "1 of $lines replays missing ($gone (round 2))" "$tmp/err" ||
+  fail "merge with round 2 of $gone missing: exit $rc: $(cat "$tmp/err")"
 # the union of two folders: the missing run taken from the other
 "$bin" bench --merge "$tmp/partial" "$tmp/par" --out "$tmp/union" >/dev/null 2>"$tmp/err" ||
   fail "merge of two folders: exit $?: $(cat "$tmp/err")"
@@ -142,6 +177,11 @@ touch "$tmp/file"
 expect_error "unwritable --out" "--out .*file/sub: cannot create the folder" -- "$bin" bench --tiny --out "$tmp/file/sub"
 expect_error "--only matching nothing" "matches no run id" -- "$bin" bench --tiny --only 'zz*' --out "$tmp/only"
 expect_error "--partial without --merge" "--partial goes with --merge" -- "$bin" bench --partial --out "$tmp/x"
+expect_error "--repeats 0" "--repeats '0': want a whole number 1 ... 9" -- "$bin" bench --tiny --repeats 0 --out "$tmp/x"
+expect_error "--repeats 2x" "--repeats '2x'" -- "$bin" bench --tiny --repeats 2x --out "$tmp/x"
+expect_error "--repeats with --merge" "--merge takes run folders" -- "$bin" bench --merge "$tmp/par" --repeats 2
+sed 's/^repeats .*/repeats 10/' "$tmp/par/suite.txt" >"$tmp/noruns/suite.txt"
+expect_error "suite.txt with 10 rounds" "suite.txt:[0-9]+: repeats '10': want 1" -- "$bin" bench --merge "$tmp/noruns"
 
 [ $failures -eq 0 ] && echo "bench suite: serial and parallel agree on $runs runs; merge, partial and errors as documented"
 exit $((failures > 0))

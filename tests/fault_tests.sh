@@ -8,7 +8,7 @@
 #   symlinks   a link planted at every output name (replay's frames.csv, summary.json and PNGs, lodgen's
 #              .lod, calibrate's profile, the soak's files, a bench suite's files) points at a victim
 #              outside: the victim is untouched and the outputs are regular files; a link planted where
-#              the program makes a folder (a bench suite's runs/, and runs/ID when it runs the plan
+#              the program makes a folder (a bench suite's runs/ and runs-2/, and runs/ID when it runs the plan
 #              itself) is refused.
 set -u
 bin=${HMDLOD_BIN:?HMDLOD_BIN must point at the hmdlod program}
@@ -161,6 +161,13 @@ if [ -f "$shared/data/traces/corbillon-mmsys18/user1_quaternion.txt" ]; then
   else
     fail "bench --plan names no run"
   fi
+  # the second round's folder, runs-2/, likewise
+  mkdir -p "$tmp/suite4"
+  ln -s "$tmp/elsewhere" "$tmp/suite4/runs-2"
+  "$bin" "${suite[@]}" --plan "$tmp/plan4.txt" --out "$tmp/suite4" >/dev/null 2>"$tmp/err"
+  rc=$?
+  [ $rc -eq 1 ] && grep -q "suite4/runs-2: is a symbolic link" "$tmp/err" ||
+    fail "bench with runs-2/ a planted link: exit $rc: $(cat "$tmp/err")"
   [ -z "$(ls -A "$tmp/elsewhere")" ] || fail "something was written through a planted folder link"
 else
   echo "skip: the bench suite's links (no Corbillon traces under $shared)"

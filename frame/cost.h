@@ -79,7 +79,7 @@ struct frm_cost_profile {
     struct frm_cost_accuracy held_out;    /* of the kept form */
     struct frm_cost_accuracy held_out_other; /* of the form not kept (frames 0: unknown) */
     struct frm_cost_fixed fixed;          /* the measured fixed cost c0 was taken from */
-    char label[160];                      /* e.g. "built-in llvmpipe reference (2-core, measured …)" */
+    char label[256];                      /* e.g. "built-in llvmpipe reference (2-core, measured …)" */
     char renderer[128];                   /* GL_RENDERER the coefficients were measured on */
     char display[HMD_NAME_MAX];
     int eye_width_px, eye_height_px;      /* per eye: c0 (clears) depends on it */

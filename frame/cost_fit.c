@@ -27,6 +27,7 @@ int frm_cost_calibrate(const struct hmd_profile *display, struct rnd_cost_grid *
     for (size_t k = 0; k < out->object_count; ++k) {
         struct rnd_cost_object *o = &out->objects[k];
         acu_compute_pixels(eyes, 2, o->center_m, &o->radius_m, &first, 1, &o->pixels_px);
+        o->pixels_px *= o->fill; /* the fragments, as the replay charges them (frm_level_cost_ms) */
     }
     return 0;
 }

@@ -5,6 +5,8 @@
  * predicted three times the measured frame (docs/RESULTS.md, "Cost-bounded selectors in replay"). */
 #include "frame/select.h"
 
+#include <string.h>
+
 #include "acuity/acuity.h"
 #include "scene/scene.h"
 
@@ -30,9 +32,11 @@ static void instance_box(const struct scn_scene *scene, uint32_t inst, double ce
 }
 
 void frm_coverage_compute(const struct scn_scene *scene, const struct acu_eye *eyes, int eye_count,
-                          const uint32_t *visible, size_t count, double *pixels_px)
+                          const uint32_t *visible, size_t count, double *pixels_px, uint8_t *boxed)
 {
     acu_compute_pixels(eyes, eye_count, scene->center_m, scene->radius_m, visible, count, pixels_px);
+    if (boxed)
+        memset(boxed, 0, count);
     double image_px = 0.0;
     for (int e = 0; e < eye_count; ++e)
         image_px += eyes[e].width_px * eyes[e].height_px;
@@ -42,7 +46,18 @@ void frm_coverage_compute(const struct scn_scene *scene, const struct acu_eye *e
         double centre[3], axes[9], box_px;
         instance_box(scene, visible[k], centre, axes);
         acu_compute_pixels_box(eyes, eye_count, centre, axes, 1, &box_px);
-        if (box_px < pixels_px[k])
+        if (box_px < pixels_px[k]) {
             pixels_px[k] = box_px;
+            if (boxed)
+                boxed[k] = 1;
+        }
     }
+}
+
+double frm_level_cost_ms(const struct lod_cost_model *m, const struct scn_chain *ch, int level, double pixels_px,
+                         int boxed)
+{
+    const struct scn_lod *lod = &ch->lods[level];
+    double fragments_px = pixels_px * scn_lod_fill(ch, level, boxed);
+    return lod_cost_object_ms(m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, fragments_px, 2.0);
 }

@@ -58,12 +58,6 @@ void frm_saccade_lower_ceilings(struct frm_select *s, const struct scn_scene *sc
     }
 }
 
-/* One object at one level, both eyes (as select.c prices candidates). */
-static double level_cost_ms(const struct lod_cost_model *m, const struct scn_lod *lod, double pixels_px)
-{
-    return lod_cost_object_ms(m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, pixels_px, 2.0);
-}
-
 void frm_saccade_account(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                          const uint8_t *lod, struct frm_select_record *rec)
 {
@@ -89,8 +83,8 @@ void frm_saccade_account(struct frm_select *s, const struct scn_scene *scene, co
         if (!(fmin(ch->lods[ceiling].vertex_count, px) > shown))
             continue;
         rec->refine_pending++;
-        double raise_ms = level_cost_ms(&s->cost, &ch->lods[ceiling], s->pixels_px[k]) -
-                          (lod[k] == LOD_DROP ? 0.0 : level_cost_ms(&s->cost, &ch->lods[lod[k]], s->pixels_px[k]));
+        double raise_ms = frm_level_cost_ms(&s->cost, ch, ceiling, px, s->boxed[k]) -
+                          (lod[k] == LOD_DROP ? 0.0 : frm_level_cost_ms(&s->cost, ch, lod[k], px, s->boxed[k]));
         rec->refine_unbudgeted += raise_ms <= slack_ms;
     }
     if (rec->refine_unbudgeted == 0) {

@@ -55,6 +55,7 @@ int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct 
     size_t cands = n * (LOD_MAX_LEVELS + 1);
     size_t chains = scene->chain_count ? scene->chain_count : 1;
     s->pixels_px = calloc(n, sizeof(double));
+    s->boxed = calloc(n, 1);
     s->ceiling_level = calloc(n, 1);
     s->previous_level = calloc(n, 1);
     s->keep = calloc(n, 1);
@@ -74,7 +75,7 @@ int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct 
     if (s->perceptual_benefit && (s->selector == FRM_SELECT_FS || s->selector == FRM_SELECT_MB) &&
         !(s->visible_loss = calloc(n * LOD_MAX_LEVELS, sizeof(double))))
         return hl_fail(err, "scene '%s': out of memory for the visible loss of %zu objects", scene->name, n);
-    if (!s->pixels_px || !s->ceiling_level || !s->previous_level || !s->keep || !s->choice || !s->first || !s->count ||
+    if (!s->pixels_px || !s->boxed || !s->ceiling_level || !s->previous_level || !s->keep || !s->choice || !s->first || !s->count ||
         !s->cand_cost_ms || !s->cand_benefit || !s->cand_level || !s->cand_samples || !s->level_of_instance ||
         !s->last_visible || !s->chain_triangles || !s->chain_lod_count || !s->scratch || !s->saccade.level_before)
         return hl_fail(err, "scene '%s': out of memory for the selector's arrays (%zu objects)", scene->name, n);
@@ -108,6 +109,7 @@ int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct 
 void frm_select_free(struct frm_select *s)
 {
     free(s->pixels_px);
+    free(s->boxed);
     free(s->ceiling_level);
     free(s->previous_level);
     free(s->keep);
@@ -127,12 +129,6 @@ void frm_select_free(struct frm_select *s)
     free(s->saccade.level_before);
     frm_mb_destroy(s->mb);
     s->mb = NULL;
-}
-
-/* One object at one level, both eyes: the cost profile's units (lod.h). */
-static double level_cost_ms(const struct lod_cost_model *m, const struct scn_lod *lod, double pixels_px)
-{
-    return lod_cost_object_ms(m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, pixels_px, 2.0);
 }
 
 /* The frame's problem over the visible objects: per object its levels coarsest first (the null
@@ -158,7 +154,7 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
         }
         for (int l = s->chain_lod_count[scene->chain_of_instance[inst]] - 1; l >= 0; --l, ++c) {
             s->cand_level[c] = (uint8_t)l;
-            s->cand_cost_ms[c] = level_cost_ms(&s->cost, &ch->lods[l], s->pixels_px[k]);
+            s->cand_cost_ms[c] = frm_level_cost_ms(&s->cost, ch, l, s->pixels_px[k], s->boxed[k]);
             s->cand_samples[c] = ch->lods[l].vertex_count; /* Gouraud: m = 2 (§5) */
         }
         s->count[k] = (uint8_t)(c - s->first[k]);
@@ -191,7 +187,7 @@ static double predicted_ms(const struct frm_select *s, const struct scn_scene *s
         if (lod[k] == LOD_DROP)
             continue;
         const struct scn_chain *ch = &scene->chains[scene->chain_of_instance[in->visible[k]]];
-        sum += level_cost_ms(&s->cost, &ch->lods[lod[k]], s->pixels_px[k]);
+        sum += frm_level_cost_ms(&s->cost, ch, lod[k], s->pixels_px[k], s->boxed[k]);
     }
     return sum;
 }
@@ -247,7 +243,7 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
     *extra_count = 0;
     rec->budget_ms = s->budget_ms;
     rec->lp_bound = NAN;
-    frm_coverage_compute(scene, in->eyes, 2, in->visible, in->count, s->pixels_px);
+    frm_coverage_compute(scene, in->eyes, 2, in->visible, in->count, s->pixels_px, s->boxed);
     if (frm_selector_uses_ceiling(s->selector))
         rec->acuity_evaluations = compute_ceilings(s, scene, in);
 
@@ -317,7 +313,7 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
         const struct scn_chain *ch = &scene->chains[scene->instances[extra_index[k]].chain];
         double px = 0.0;
         acu_compute_pixels(in->eyes, 2, scene->center_m, scene->radius_m, &extra_index[k], 1, &px);
-        rec->predicted_ms += level_cost_ms(&s->cost, &ch->lods[extra_level[k]], px);
+        rec->predicted_ms += frm_level_cost_ms(&s->cost, ch, extra_level[k], px, 0);
     }
     frm_saccade_account(s, scene, in, lod_out, rec);
     rec->lod_changes = remember_levels(s, in, lod_out);

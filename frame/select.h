@@ -76,6 +76,7 @@ struct frm_select {
 
     /* per visible object (capacity: the scene's instances) */
     double *pixels_px;
+    uint8_t *boxed;            /* 1: pixels_px is the model box's projection, 0: the bounding sphere's */
     uint8_t *ceiling_level, *previous_level, *choice;
     uint8_t *keep;             /* 1: covers ≥ FRM_KEEP_IMAGE_SHARE of the image, never dropped */
     uint32_t *first;
@@ -181,9 +182,15 @@ void frm_select_measured(struct frm_select *s, const struct frm_select_record *r
 
 /* Projected pixels of the visible objects, summed over the eyes (frame/coverage.c): bounding
  * spheres (acu_compute_pixels), and for objects that claim over 2 % of the image also their
- * oriented model box (acu_compute_pixels_box), keeping the smaller. pixels_px[k] per visible[k]. */
+ * oriented model box (acu_compute_pixels_box), keeping the smaller. pixels_px[k] per visible[k];
+ * boxed[k] (NULL: not wanted) 1 where the box's figure was kept. */
 struct acu_eye;
 void frm_coverage_compute(const struct scn_scene *scene, const struct acu_eye *eyes, int eye_count,
-                          const uint32_t *visible, size_t count, double *pixels_px);
+                          const uint32_t *visible, size_t count, double *pixels_px, uint8_t *boxed);
+/* An object at level `level` of its chain ch, both eyes, in the cost profile's units (lod.h): its
+ * triangles, vertices and 2 draws, and the fragments it rasterises — pixels_px (frm_coverage_compute)
+ * times the level's fill of the bound pixels_px measured (boxed 1: the model box; scn_lod_fill). */
+double frm_level_cost_ms(const struct lod_cost_model *m, const struct scn_chain *ch, int level, double pixels_px,
+                         int boxed);
 
 #endif

@@ -5,6 +5,7 @@
  * candidate indices, which change with the hull from frame to frame), and mapped back the way
  * lod_choice_start does. */
 #include "frame/select_mb.h"
+#include "frame/select.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -343,7 +344,7 @@ void frm_mb_select(struct frm_mb *mb, const struct scn_scene *scene, const struc
              * benefit at the group's importance, no hysteresis (it has one level). */
             const struct scn_lod *lod = &scene->chains[gr->impostor_chain].lods[0];
             double px = mb->imp_px[j++];
-            mb->cost_ms[c] = lod_cost_object_ms(cost, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, px, 2.0);
+            mb->cost_ms[c] = frm_level_cost_ms(cost, &scene->chains[gr->impostor_chain], 0, px, 0);
             const uint32_t first0 = 0, samples = lod->vertex_count;
             const uint8_t count1 = 1, level0 = 0, ceiling0 = 0, unseen = LOD_UNSEEN;
             const double importance = gr->importance;

@@ -83,6 +83,7 @@ static void place_objects(struct scn_scene *s, const struct rnd_cost_eye eyes[2]
         objects[i].vertices = 2.0 * L->vertex_count;
         objects[i].draws = 2.0;
         objects[i].pixels_px = 0.0;
+        objects[i].fill = scn_lod_fill(chain, level, 0);
         for (int a = 0; a < 3; ++a)
             objects[i].center_m[a] = s->center_m[3 * i + a];
         objects[i].radius_m = radius_m;

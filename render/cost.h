@@ -18,6 +18,7 @@
 struct rnd_cost_object {
     double triangles, vertices, pixels_px, draws;
     double center_m[3], radius_m;
+    double fill; /* the level's fill of its bounding disc (scn_lod_fill): pixels_px is the disc's times this */
 };
 struct rnd_cost_frame {
     double measured_ms;

@@ -84,6 +84,37 @@ static void chain_box(struct scn_chain *c, const struct scn_mesh *meshes, int co
     }
 }
 
+/* A quarter of the mesh's surface area (scn_lod.front_area_m2). */
+static double mesh_front_area(const struct scn_mesh *m)
+{
+    double area = 0.0;
+    for (uint32_t t = 0; t + 2 < m->index_count; t += 3) {
+        const float *a = m->positions + 3 * (size_t)m->indices[t], *b = m->positions + 3 * (size_t)m->indices[t + 1],
+                    *c = m->positions + 3 * (size_t)m->indices[t + 2];
+        double u[3], v[3];
+        for (int k = 0; k < 3; ++k)
+            u[k] = (double)b[k] - a[k], v[k] = (double)c[k] - a[k];
+        double x = u[1] * v[2] - u[2] * v[1], y = u[2] * v[0] - u[0] * v[2], z = u[0] * v[1] - u[1] * v[0];
+        area += 0.5 * sqrt(x * x + y * y + z * z);
+    }
+    return 0.25 * area;
+}
+
+double scn_lod_fill(const struct scn_chain *ch, int level, int box)
+{
+    double bound_m2;
+    if (box) {
+        double e[3];
+        for (int k = 0; k < 3; ++k)
+            e[k] = ch->box_max_m[k] - ch->box_min_m[k];
+        bound_m2 = 0.5 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0]); /* a quarter of 2(ab + bc + ca) */
+    } else {
+        bound_m2 = HL_PI * ch->bound_radius_m * ch->bound_radius_m;
+    }
+    double fill = ch->lods[level].front_area_m2 / bound_m2;
+    return bound_m2 > 0.0 && isfinite(fill) ? fill : 1.0;
+}
+
 int scn_scene_pack_chain(struct scn_scene *s, const char *name, const struct scn_mesh *meshes, int count,
                          struct hl_error *err)
 {
@@ -115,6 +146,7 @@ int scn_scene_pack_chain(struct scn_scene *s, const char *name, const struct scn
         lod->index_count = m->index_count;
         lod->triangle_count = m->index_count / 3;
         lod->vertex_count = m->vertex_count;
+        lod->front_area_m2 = mesh_front_area(m);
         memcpy(s->positions + 3 * (size_t)s->vertex_count, m->positions, 3 * sizeof(float) * m->vertex_count);
         memcpy(s->normals + 3 * (size_t)s->vertex_count, m->normals, 3 * sizeof(float) * m->vertex_count);
         for (uint32_t k = 0; k < m->index_count; ++k) /* absolute indices: one glDrawElements per LOD */

@@ -20,6 +20,10 @@ struct scn_lod {
     struct scn_level_freq freq; /* every reading known for this level (lodset.h) */
     /* lodset.h: band b (2^b cycles per diameter) contrast lost against level 0 */
     double lost_contrast[SCN_LODSET_MAX_BANDS];
+    /* Mean front-facing projected area over all view directions, model units² at scale 1: a quarter
+     * of the level's surface area (Cauchy's projection formula; back faces are culled). What the
+     * rasteriser fills, overdraw of front faces included (scn_lod_fill). */
+    double front_area_m2;
 };
 
 struct scn_chain {
@@ -39,6 +43,13 @@ struct scn_chain {
     int contrast_band_count;     /* 0: not measured */
     double contrast_percentile;  /* of each view's object pixels behind each value, (0, 100]; 0 when not measured */
 };
+
+/* The share of a projected bound that level `level` of chain ch fills, on average over view
+ * directions: its front_area_m2 over the bound's mean projected area — the bounding sphere's disc,
+ * π·r² (box 0), or the model box's, a quarter of its surface (box 1; Cauchy). The cost model charges
+ * pixels_px × fill (frame/select.c): a chair fills a fraction of its disc, a sphere about all of it,
+ * and an object whose front faces overlap more than 1. 1 where the bound has no area. */
+double scn_lod_fill(const struct scn_chain *ch, int level, int box);
 
 struct scn_instance {
     uint32_t chain;

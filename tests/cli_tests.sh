@@ -450,7 +450,7 @@ expect_ok "calibrate --help" "usage: hmdlod calibrate" -- "$bin" calibrate --hel
 expect_ok "calibrate --quick" "kept: (max|additive)" -- "$bin" calibrate --quick --render-scale 0.25 --out "$tmp/cost.json"
 expect_ok "calibrate --quick fixed cost" "^fixed cost: 12 empty frames .*: median [0-9.]+ ms" -- "$bin" calibrate --quick \
   --render-scale 0.25 --out "$tmp/cost-fixed.json"
-grep -q '"format":[[:space:]]*"hmdlod-cost-profile-2"' "$tmp/cost.json" && grep -q '"c5_ms_per_edge_px"' "$tmp/cost.json" \
+grep -q '"format":[[:space:]]*"hmdlod-cost-profile-3"' "$tmp/cost.json" && grep -q '"c5_ms_per_edge_px"' "$tmp/cost.json" \
   && grep -q '"fixed_cost"' "$tmp/cost.json" || fail "calibrate wrote no cost profile"
 [ -z "$(find "$tmp" -maxdepth 1 -name 'cost.json.tmp.*')" ] || fail "calibrate left its temporary file"
 expect_error "calibrate without --out" "--out FILE is required" -- "$bin" calibrate --quick

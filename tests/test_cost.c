@@ -395,6 +395,16 @@ static void test_profile(void)
                                                                ", \"c4_ms_per_draw\": 0.01}}");
     CHECK(frm_cost_profile_read(minimal, &q, &err) == 0 && q.model.form == LOD_COST_MAX &&
           q.model.c4_ms_per_draw == 0.01);
+    /* Formats 1 and 2 fitted the pixel terms per bounding-disc pixel: they read, and their label says so;
+     * the current format's label is as written. */
+    CHECK(strstr(q.label, "[hmdlod-cost-profile-1: pixel terms fitted per bounding-disc pixel, before fill factors; "
+                          "recalibrate]") == q.label);
+    const char *v2 = write_text("v2.json", "{\"format\": \"hmdlod-cost-profile-2\", \"form\": \"max\", "
+                                           "\"renderer\": \"x\", \"label\": \"mine\", \"coefficients\": {" GOOD_COEF
+                                           ", \"c4_ms_per_draw\": 0, \"c5_ms_per_edge_px\": 1e-5}}");
+    CHECK(frm_cost_profile_read(v2, &q, &err) == 0 && q.model.c5_ms_per_edge_px == 1e-5 &&
+          strstr(q.label, "mine [hmdlod-cost-profile-2: pixel terms fitted per bounding-disc pixel") == q.label);
+    CHECK(frm_cost_profile_read(path, &q, &err) == 0 && !strcmp(q.label, p.label));
 
     expect_bad("missing.json", GOOD_HEAD "\"coefficients\": {" GOOD_COEF "}}", "'c4_ms_per_draw': missing");
     expect_bad("nonfinite.json", GOOD_HEAD "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 1e999}}",
@@ -486,7 +496,9 @@ static void test_measure(void)
     /* Grid order is level, coverage, count: frame 0 is level 0, coverage 2 %, 1 object; the estimate
      * is within 10 % of the requested coverage of both eyes (270 × 300 each). */
     const struct rnd_cost_object *o = &cal.objects[cal.frames[0].first_object];
-    CHECK_NEAR(o->pixels_px, 0.02 * 2 * 270 * 300, 0.1 * 0.02 * 2 * 270 * 300);
+    CHECK_NEAR(o->pixels_px / o->fill, 0.02 * 2 * 270 * 300, 0.1 * 0.02 * 2 * 270 * 300);
+    /* The pixels the model charges are the fragments: the disc × the bumpy sphere's fill (scn_lod_fill). */
+    CHECK(o->fill > 0.6 && o->fill < 0.8);
     CHECK(o->triangles == 2.0 * 3906 && o->draws == 2.0);
     /* The second half is the chair (600 triangles, 640 vertices at level 0). */
     const struct rnd_cost_object *chair = &cal.objects[cal.frames[12].first_object];

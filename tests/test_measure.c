@@ -316,6 +316,21 @@ static void test_add_lodset(void)
     CHECK_NEAR(ch->lods[1].unique_freq_cpdiam, ch->bound_radius_m / 0.12, 1e-12); /* NaN → R/ε */
     CHECK(ch->bound_radius_m >= sqrt(0.7 * 0.7 + 0.9 * 0.9 + 0.6 * 0.6) - 1e-6);
     CHECK(ch->bound_radius_m < 1.5); /* about the centre, not the origin (|c| ≈ 6.2) */
+    /* The box level's mean front-facing area: a quarter of 2(ab + bc + ca) for its 1.4 × 1.8 × 1.2 m;
+     * its fill of the bounding disc, and of the chain's box (which the sphere level widens to ±0.8). */
+    double front_m2 = 0.25 * 2.0 * (1.4 * 1.8 + 1.8 * 1.2 + 1.2 * 1.4);
+    CHECK_NEAR(ch->lods[1].front_area_m2, front_m2, 1e-5);
+    /* (front_area_m2 is summed from the mesh's float positions: 1e-5 relative) */
+    CHECK_NEAR(scn_lod_fill(ch, 1, 0), front_m2 / (HL_PI * ch->bound_radius_m * ch->bound_radius_m), 1e-5);
+    double e[3] = {ch->box_max_m[0] - ch->box_min_m[0], ch->box_max_m[1] - ch->box_min_m[1],
+                   ch->box_max_m[2] - ch->box_min_m[2]};
+    CHECK(e[0] > 1.4 && e[2] > 1.2);
+    CHECK_NEAR(scn_lod_fill(ch, 1, 1), front_m2 / (0.5 * (e[0] * e[1] + e[1] * e[2] + e[2] * e[0])), 1e-5);
+    CHECK(scn_lod_fill(ch, 1, 1) < 1.0 && scn_lod_fill(ch, 1, 1) > 0.7);
+    /* the bumpy sphere of radius about 0.8 in a bound grown to the box's corners: about (0.8 / R)², the
+     * bumps (±15 %) moving it a little */
+    double r = 0.8 / ch->bound_radius_m;
+    CHECK_NEAR(scn_lod_fill(ch, 0, 0), r * r, 0.15 * r * r);
     CHECK(s.vertex_count == vbefore + set.levels[0].vertex_count + set.levels[1].vertex_count);
     CHECK(ch->lods[1].first_index == ch->lods[0].first_index + ch->lods[0].index_count);
     for (uint32_t k = 0; k < ch->lods[1].index_count; ++k) /* indices made absolute */

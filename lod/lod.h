@@ -100,7 +100,8 @@ void lod_feedback_update(struct lod_feedback *f, double measured_ms, double budg
  *   LOD_COST_MAX:      max(c1·triangles + c2·vertices, c3·pixels + c5·e) + c4·draws
  *   LOD_COST_ADDITIVE: c1·triangles + c2·vertices + c3·pixels + c5·e + c4·draws
  * and a frame costs c0 + Σ objects. triangles, vertices, draws count both eyes' work; pixels is the
- * object's projected coverage summed over both eyes (acu_compute_pixels). Coefficients ≥ 0. The edge
+ * fragments the object rasterises, summed over both eyes: its projected bound (acu_compute_pixels)
+ * times the level's fill of it (scn_lod_fill; frame's frm_level_cost_ms). Coefficients ≥ 0. The edge
  * term: n triangles sharing p pixels have perimeters ∝ √(p/n) each, so √(n·p) counts the pixels on
  * their edges — the partly covered blocks a tiled rasteriser (llvmpipe: 4×4) visits per triangle,
  * which make a pixel of a finely tessellated object dearer than one of a coarse one; without it the

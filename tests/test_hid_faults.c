@@ -430,10 +430,10 @@ static void test_cycles(struct trk_pose_source *src, int cycles, const struct gr
      * growth varies by a few KB per cycle around its mean (glib tables): −31 to +1 KB in four runs. */
     int fds_source = (fds1 - fds0) - testbed->fds;
     long heap_source = ((long)heap1 - (long)heap0) - testbed->heap_b;
-    /* A leaked fd a cycle shows as +99. The testbed's own count varies by a few fds between its run
-     * and this one under load (−1 and −2 seen on a loaded machine, where == 0 failed): fewer than the
-     * testbed alone is its variation, not ours. */
-    CHECK(fds_source <= 0);
+    /* A leaked fd a cycle shows as +99, one every tenth cycle as +10. The testbed's own count varies
+     * by a few fds between its run and this one under load (−1 and −2 seen on a loaded machine,
+     * where == 0 failed; +1 once under ASan with a second build beside it): ±2 is its variation. */
+    CHECK(fds_source <= 2);
     CHECK(fds_source >= -8);
     CHECK(heap_source <= 32 * 1024);
     CHECK(rss1 - rss0 - testbed->rss_kib <= 1024);

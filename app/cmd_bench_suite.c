@@ -73,7 +73,7 @@ static int absolute_dir(const char *dir, char *out)
 static int run_serial(const struct bch_plan *plan, const char *dir)
 {
     struct hl_progress bar;
-    size_t steps = plan->count * (size_t)plan->repeats;
+    size_t steps = plan->count * (size_t)bch_plan_rounds(plan);
     hl_progress_begin(&bar, "hmdlod bench", steps);
     for (size_t s = 0; s < steps; ++s) {
         int repeat = 0;

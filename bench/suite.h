@@ -53,6 +53,8 @@ struct bch_plan {
  * ratio alike. The first round writes DIR/runs/ID, round N ≥ 2 DIR/runs-N/ID (bch_prepare makes
  * the folders). */
 enum { BCH_SUITE_MAX_REPEATS = 9, BCH_SUITE_DEFAULT_REPEATS = 2 };
+/* The plan's rounds, held to 1 … BCH_SUITE_MAX_REPEATS (a plan made without setting them has one). */
+int bch_plan_rounds(const struct bch_plan *plan);
 /* The folder of round `repeat` (0-based) under out_dir: DIR/runs, DIR/runs-2, …; into buf. */
 void bch_runs_dir(const char *out_dir, int repeat, char *buf, size_t size);
 /* The folder of a run's round `repeat` (0-based) under out_dir, into buf. */

@@ -49,6 +49,8 @@ double bch_stddev_from(const struct bch_result *r, const double *col, long first
  * of the column from frame 1 on (frame 0 compiles the driver's shaders), then the median over the
  * rounds loaded. column: BCH_COLUMN(frame_ms) and the like. NaN for a NULL run or no figure. */
 enum bch_stat { BCH_STAT_MEAN, BCH_STAT_MAX, BCH_STAT_SD };
+/* The rounds a run holds (loaded or missing), 1 … BCH_SUITE_MAX_REPEATS; 1 for NULL. */
+int bch_result_rounds(const struct bch_result *r);
 /* Round k (0-based) of a run when it was loaded, else NULL. */
 const struct bch_result *bch_round(const struct bch_result *r, int k);
 #define BCH_COLUMN(name) offsetof(struct bch_result, name)

@@ -274,6 +274,13 @@ double bch_stddev_from(const struct bch_result *r, const double *col, long first
     return n > 1 ? sqrt(ss / (double)(n - 1)) : 0.0;
 }
 
+int bch_result_rounds(const struct bch_result *r)
+{
+    if (!r || r->rounds < 1)
+        return 1;
+    return r->rounds > BCH_SUITE_MAX_REPEATS ? BCH_SUITE_MAX_REPEATS : r->rounds;
+}
+
 const struct bch_result *bch_round(const struct bch_result *r, int k)
 {
     const struct bch_result *x = k == 0 ? r : k < r->rounds && r->more ? &r->more[k - 1] : NULL;
@@ -292,14 +299,14 @@ double bch_timing(const struct bch_result *r, enum bch_stat stat, size_t column)
 {
     if (!r)
         return NAN;
-    int rounds = r->rounds > 1 ? r->rounds : 1;
+    int rounds = bch_result_rounds(r);
     double v[BCH_SUITE_MAX_REPEATS];
-    for (int k = 0; k < rounds && k < BCH_SUITE_MAX_REPEATS; ++k) {
+    for (int k = 0; k < rounds; ++k) {
         const struct bch_result *x = bch_round(r, k);
         v[k] = x ? stat_of(x, stat, column) : NAN;
     }
     struct bch_spread sp;
-    bch_spread_of(v, rounds < BCH_SUITE_MAX_REPEATS ? rounds : BCH_SUITE_MAX_REPEATS, &sp);
+    bch_spread_of(v, rounds, &sp);
     return sp.median;
 }
 
@@ -309,8 +316,9 @@ void bch_timing_ratio(const struct bch_result *num, const struct bch_result *den
     double v[BCH_SUITE_MAX_REPEATS];
     int n = 0;
     if (num && den) {
-        int rounds = num->rounds > den->rounds ? num->rounds : den->rounds;
-        for (int k = 0; k < rounds && k < BCH_SUITE_MAX_REPEATS; ++k) {
+        int a_rounds = bch_result_rounds(num), b_rounds = bch_result_rounds(den);
+        int rounds = a_rounds > b_rounds ? a_rounds : b_rounds;
+        for (int k = 0; k < rounds; ++k) {
             const struct bch_result *a = bch_round(num, k), *b = bch_round(den, k);
             v[n++] = a && b ? stat_of(a, stat, column) / stat_of(b, stat, column) : NAN;
         }

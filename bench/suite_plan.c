@@ -490,6 +490,11 @@ static void put_quoted(FILE *f, const char *s)
     fputc('\'', f);
 }
 
+int bch_plan_rounds(const struct bch_plan *plan)
+{
+    return plan->repeats < 1 ? 1 : plan->repeats > BCH_SUITE_MAX_REPEATS ? BCH_SUITE_MAX_REPEATS : plan->repeats;
+}
+
 void bch_runs_dir(const char *out_dir, int repeat, char *buf, size_t size)
 {
     if (repeat <= 0)
@@ -507,7 +512,7 @@ void bch_run_dir(const char *out_dir, const char *id, int repeat, char *buf, siz
 
 size_t bch_plan_step(const struct bch_plan *plan, size_t step, int *repeat)
 {
-    size_t rounds = plan->repeats > 1 ? (size_t)plan->repeats : 1;
+    size_t rounds = (size_t)bch_plan_rounds(plan);
     /* Blocks: runs in a row that serve one table. Each block runs all its rounds before the next. */
     for (size_t first = 0; first < plan->count;) {
         size_t n = 1;
@@ -546,7 +551,7 @@ int bch_plan_write(const struct bch_plan *plan, const char *exe, const char *out
     if (hl_out_open(&out, path, err) != 0)
         return -1;
     FILE *f = out.f;
-    size_t steps = plan->count * (size_t)(plan->repeats > 1 ? plan->repeats : 1);
+    size_t steps = plan->count * (size_t)bch_plan_rounds(plan);
     for (size_t s = 0; s < steps; ++s) {
         int repeat = 0;
         size_t i = bch_plan_step(plan, s, &repeat);

@@ -236,7 +236,7 @@ static int load_all(const struct bch_report_options *o, struct bch_result *resul
 {
     *n_missing = *n_missing_runs = 0;
     missing[0] = '\0';
-    int rounds = o->plan->repeats > 1 ? o->plan->repeats : 1;
+    int rounds = bch_plan_rounds(o->plan);
     for (size_t i = 0; i < o->plan->count; ++i) {
         const char *id = o->plan->runs[i].id;
         int found = load_round(o, id, 0, &results[i], err);
@@ -317,7 +317,7 @@ static void timing_note(const struct bch_plan *plan, const struct bch_result *re
     /* every round of every run, as one list */
     size_t count = 0, cap = 0;
     for (size_t i = 0; i < plan->count; ++i)
-        cap += 1 + (size_t)(results[i].rounds > 1 ? results[i].rounds - 1 : 0);
+        cap += (size_t)bch_result_rounds(&results[i]);
     const struct bch_result **all = malloc((cap ? cap : 1) * sizeof *all);
     out[0] = '\0';
     if (!all)
@@ -427,7 +427,7 @@ static int write_report(const struct bch_report_options *o, struct bch_result *r
     if (o->echo)
         fprintf(o->echo, "# hmdlod bench report (%s): %s/report.md\n\n%s- renderer: %s\n",
                 bch_mode_name(o->plan->mode), o->out_dir, context, renderer);
-    size_t rounds = (size_t)(o->plan->repeats > 1 ? o->plan->repeats : 1);
+    size_t rounds = (size_t)bch_plan_rounds(o->plan);
     fprintf(md,
             "# hmdlod bench report (%s)\n\n%s- renderer: %s\n- runs: %zu of %zu, %zu round(s) each: %zu of %zu "
             "replays (each run's replay command: runs.csv)\n",
@@ -479,7 +479,7 @@ int bch_report(const struct bch_report_options *o, struct hl_error *err)
         rc = hl_fail(err,
                      "%zu of %zu replays missing (%s%s): run the rest of the plan, merge the other hosts' "
                      "folders too, or pass --partial",
-                     n_missing, o->plan->count * (size_t)(o->plan->repeats > 1 ? o->plan->repeats : 1), missing,
+                     n_missing, o->plan->count * (size_t)bch_plan_rounds(o->plan), missing,
                      n_missing > 8 ? ", …" : "");
     if (rc == 0)
         rc = write_report(o, results, n_missing, n_missing_runs, missing, err);

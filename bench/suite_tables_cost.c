@@ -15,16 +15,12 @@ static int t4_simplify(struct bch_ctx *c, struct hl_error *err);
 static void optimizer_by_speed(const struct bch_result *r, double band_us[RPL_SPEED_BAND_COUNT])
 {
     double v[RPL_SPEED_BAND_COUNT][BCH_SUITE_MAX_REPEATS];
-    int rounds = r && r->rounds > 1 ? r->rounds : 1;
-    if (rounds > BCH_SUITE_MAX_REPEATS)
-        rounds = BCH_SUITE_MAX_REPEATS;
+    int rounds = bch_result_rounds(r);
     for (int q = 0; q < rounds; ++q) {
         const struct bch_result *x = r ? bch_round(r, q) : NULL;
         double sum[RPL_SPEED_BAND_COUNT] = {0}, count[RPL_SPEED_BAND_COUNT] = {0};
         for (long k = 1; x && x->head_speed && x->optimizer_us && k < x->n; ++k) {
-            int b = 0;
-            while (b + 1 < RPL_SPEED_BAND_COUNT && x->head_speed[k] >= rpl_speed_band_lower_degps[b + 1])
-                ++b;
+            int b = frm_band_of(rpl_speed_band_lower_degps, RPL_SPEED_BAND_COUNT, x->head_speed[k]);
             sum[b] += x->optimizer_us[k], count[b] += 1;
         }
         for (int b = 0; b < RPL_SPEED_BAND_COUNT; ++b)

@@ -16,12 +16,13 @@
 /* Bump when the analysis itself changes (shader, light, colour, orientations, extent rule) or the
  * cache file's content does: every cached table then misses (another key, another file name) and
  * is measured again. 2: the largest lost feature governs, sized by run lengths (was the smallest,
- * by projections). 3: the file holds the lost-contrast spectrum too ("hmdlod-freq 2").
+ * by projections). 3: the file holds the lost-contrast spectrum too ("hmdlod-freq 2"). 4: the renderer
+ * shades in linear light (sRGB albedo decoded, shading applied, encoded), so readings moved.
  * FRM_CACHE_FILE_MAX: the largest file is about 3.1 KB — five header lines (≈ 145 bytes with a
  * 24-character %.17g percentile), per level (8) a "level" line of two %.17g values (≤ 58) and a
  * "contrast" line of 12 (≤ 11 + 12 × 25 = 311), and the check line (23); twice that leaves room
  * for a later field without a silent "cannot write" (frm_cache_format fails rather than cut). */
-enum { FRM_ANALYSIS_VERSION = 3, FRM_CACHE_FILE_MAX = 8192 };
+enum { FRM_ANALYSIS_VERSION = 4, FRM_CACHE_FILE_MAX = 8192 };
 
 int frm_freq_reading_parse(const char *name, enum frm_freq_reading *out, struct hl_error *err)
 {

@@ -42,15 +42,28 @@ static const char rnd_vs[] =
     "    gl_Position = u_proj * (u_mv * vec4(a_position, 1.0));\n"
     "}\n";
 
+/* Diffuse shading in linear light: the albedo (sRGB-encoded, as a user gives it) is decoded with
+ * the sRGB EOTF (IEC 61966-2-1), shaded, and encoded for the RGBA8 target. Multiplying in the
+ * encoded space would make an object's shading contrast depend on its albedo, because the EOTF is
+ * not a power law; in linear light a shading change's contrast is a ratio of shading terms, the
+ * same for every albedo, so the lost-contrast analysis may measure it on grey renders
+ * (docs/analysis.md "Albedo"). The ambient 0.0732 is the EOTF of 0.3, the encoded ambient used
+ * before, so the lit and unlit sides keep their 14:1 luminance range. */
 static const char rnd_fs[] =
     "#version 450 core\n"
     "in vec3 v_normal;\n"
     "uniform vec3 u_color;\n"
     "uniform vec3 u_light; /* unit direction towards the light, eye space */\n"
     "out vec4 o_color;\n"
+    "vec3 srgb_decode(vec3 c) {\n"
+    "    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), c));\n"
+    "}\n"
+    "vec3 srgb_encode(vec3 c) {\n"
+    "    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));\n"
+    "}\n"
     "void main() {\n"
     "    float lambert = max(dot(normalize(v_normal), u_light), 0.0);\n"
-    "    o_color = vec4(u_color * (0.3 + 0.7 * lambert), 1.0);\n"
+    "    o_color = vec4(srgb_encode(srgb_decode(u_color) * (0.0732 + 0.9268 * lambert)), 1.0);\n"
     "}\n";
 
 /* Light from above, a little to the right and behind the default view, fixed in the world so that

@@ -519,11 +519,17 @@ static void test_field(struct rnd_renderer *r)
             CHECK(set.freq[l].long_cpdiam <= set.freq[l].narrow_cpdiam);
             CHECK(set.freq[l].narrow_cpdiam <= p.size_px / 2.0); /* a feature is at least a pixel */
             CHECK(!L->invisible && L->components > 0);
-            /* The largest lost feature grows with coarseness, so the tables fall on their own. */
-            CHECK(!L->clamped);
-            /* Coarser levels lose more and larger: more pixels differ and the largest region grows. */
+            /* Coarser levels lose more and larger: more pixels differ and the largest region grows,
+             * so at the default 18 views the tables fall on their own. With only the 6 axis views,
+             * levels 2 and 3 both lose a 188-px chord (linear-light shading; measured): the region
+             * may tie there, and the tables' clamp makes the fall strict. */
             if (l > 1)
-                CHECK(L->differing_px > F->differing_px && L->long_extent_px > F->long_extent_px);
+                CHECK(L->differing_px > F->differing_px && L->long_extent_px >= F->long_extent_px);
+            if (views == 18) {
+                CHECK(!L->clamped);
+                if (l > 1)
+                    CHECK(L->long_extent_px > F->long_extent_px);
+            }
             printf("field, %d views, level %d: lost contrast against level 0:", views, l);
             for (int b = 0; b < set.contrast_band_count; ++b)
                 printf(" %.3f", set.lost_contrast[l][b]);
@@ -561,19 +567,16 @@ static void test_field(struct rnd_renderer *r)
     scn_scene_free(&sc);
 }
 
-/* Diffuse shading is albedo × (ambient + Lambert), so away from silhouettes the lost contrast (a
- * ratio of luminances) would not depend on the albedo if the display's luminance were a pure power
- * of the shader's output. The issue asks the bunny's spectra in grey 0.8 and in a mid red (0.7, 0.2,
- * 0.2: a fifth of the grey's luminance) to agree within 10 % in every band, silhouettes excluded.
- * Measured (6 views, meshopt chain): the red reads 4.9–11.3 % lower in every band that has interior
- * pixels, and 24 % lower in one band whose readings are tiny (level 1 at 4 c/diam: 0.0045 against
- * 0.0034); the two coarsest bands (1, 2 c/diam) have no interior pixel at this reach (reach 2; with
- * reach 0, only the blocks touching the background dropped, up to 32 % apart). The cause: the
- * shader multiplies in the encoded space and the sRGB EOTF is not a power law — its local exponent
- * falls from 2.25 at 0.8 to 1.9 at 0.2 and 1 near black, and the red's green and blue channels (a
- * fifth of its luminance) sit low on it, so its shading contrast is compressed. Asserted: within
- * 15 % wherever the grey reading is ≥ 0.01 (below that a few 8-bit steps decide), NOT the issue's 10 %. */
-static const double albedo_tolerance = 0.15, albedo_min_reading = 0.01;
+/* Diffuse shading is albedo × (ambient + Lambert) in linear light (render/renderer.c decodes the
+ * sRGB albedo, shades, encodes), so away from silhouettes the lost contrast (a ratio of luminances)
+ * does not depend on the albedo. The issue asks the bunny's spectra in grey 0.8 and in a mid red
+ * (0.7, 0.2, 0.2: a fifth of the grey's luminance) to agree within 10 % in every band, silhouettes
+ * excluded. Measured (6 views, meshopt chain, reach 2): at most 4.2 % apart (level 2 at 4 c/diam),
+ * most bands within 2.5 %; what is left is 8-bit quantisation of the darker red. The two coarsest
+ * bands (1, 2 c/diam) have no interior pixel at this reach. Below a reading of 0.01 a few 8-bit
+ * steps decide, so those bands are printed, not asserted. (When the shader multiplied in the
+ * encoded space, the red read 4.9–11.3 % lower: the sRGB EOTF is not a power law.) */
+static const double albedo_tolerance = 0.10, albedo_min_reading = 0.01;
 
 static void test_albedo(struct rnd_renderer *r)
 {

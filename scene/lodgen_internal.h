@@ -60,6 +60,10 @@ int scn_ply_check(const char *path, struct scn_ply_strips *strips, struct hl_err
 /* An OFF file before OpenMesh reads it (mesh_off_check.c): a keyword OpenMesh reads, counts that fit
  * the file, the vertex lines, and every face's size and indices. Text OFF only. */
 int scn_off_check(const char *path, uint64_t file_size, struct hl_error *err);
+/* A glTF 2.0 file (.gltf, or .glb when glb) before assimp reads it (mesh_gltf_check.c): the magic or
+ * '{', a .glb's chunks inside the file, then its JSON: buffer views inside their buffers, accessors
+ * and sparse accessors inside their views, zero-filled accessors bounded. Or an error naming them. */
+int scn_gltf_check(const char *path, int glb, uint64_t file_size, struct hl_error *err);
 /* What iostream >> skips in the C locale (isspace): the blanks OpenMesh's readers split words at. */
 extern const char scn_lex_blanks[];
 /* Text reading shared by the two checks (mesh_lex.c). A line without its newline into buf: 0, or

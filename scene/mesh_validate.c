@@ -478,64 +478,6 @@ static int obj_prescan(const char *path, uint32_t *vertex_lines, struct hl_error
     return rc;
 }
 
-/* assimp picks its importer by content, not by our extension: an OFF file named .gltf went to its
- * OFF importer, whose triangulation asserts and aborts the program (found by fuzz_mesh_import). So a
- * .glb must start with the magic "glTF" and a .gltf with a JSON object ('{' after blanks). */
-static uint32_t le32(const unsigned char *b)
-{
-    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-}
-
-/* A .glb's 12-byte header and its chunk headers: assimp allocates a chunk's stated length before
- * reading it (a 644-byte file asked for 1.7 GB; found by fuzz_mesh_import), so the total length must
- * be the file's size and every chunk must lie inside it. glTF 2.0 binary only (version 2). */
-static int glb_check_chunks(FILE *f, const char *path, uint64_t file_size, struct hl_error *err)
-{
-    unsigned char h[12];
-    if (fread(h, 1, 12, f) != 12 || memcmp(h, "glTF", 4) != 0)
-        return hl_fail(err, "%s: not a binary glTF file (no \"glTF\" magic)", path);
-    if (le32(h + 4) != 2)
-        return hl_fail(err, "%s: binary glTF version %u: only version 2 is supported", path, le32(h + 4));
-    uint64_t length = le32(h + 8);
-    if (length != file_size)
-        return hl_fail(err, "%s: binary glTF header says %llu bytes, the file has %llu", path,
-                       (unsigned long long)length, (unsigned long long)file_size);
-    int chunks = 0;
-    for (uint64_t at = 12; at < length; ++chunks) {
-        if (length - at < 8 || fread(h, 1, 8, f) != 8)
-            return hl_fail(err, "%s: byte %llu: binary glTF chunk header cut short", path, (unsigned long long)at);
-        uint64_t n = le32(h);
-        if (n > length - at - 8)
-            return hl_fail(err, "%s: byte %llu: binary glTF chunk of %llu bytes runs past the end of the file", path,
-                           (unsigned long long)at, (unsigned long long)n);
-        if (fseeko(f, (off_t)n, SEEK_CUR) != 0)
-            return hl_fail(err, "%s: cannot seek", path);
-        at += 8 + n;
-    }
-    return chunks > 0 ? 0 : hl_fail(err, "%s: binary glTF file without chunks", path);
-}
-
-static int gltf_sniff(const char *path, int glb, uint64_t file_size, struct hl_error *err)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
-    if (glb) {
-        int rc = glb_check_chunks(f, path, file_size, err);
-        fclose(f);
-        return rc;
-    }
-    unsigned char head[64];
-    size_t n = fread(head, 1, sizeof head, f);
-    fclose(f);
-    size_t i = 0;
-    if (n >= 3 && head[0] == 0xEF && head[1] == 0xBB && head[2] == 0xBF) /* UTF-8 byte order mark */
-        i = 3;
-    while (i < n && (head[i] == ' ' || head[i] == '\t' || head[i] == '\r' || head[i] == '\n'))
-        ++i;
-    return i < n && head[i] == '{' ? 0 : hl_fail(err, "%s: not a glTF file (JSON starting with '{')", path);
-}
-
 /* A PLY file's strips (decoded by scn_ply_check: OpenMesh does not read them) join the faces OpenMesh
  * read, after them in the face numbering, through the same door: index range, then welding and the
  * zero-area test in scn_soup_to_mesh. The soup is freed on error. */
@@ -595,7 +537,7 @@ int scn_mesh_import(const char *path, struct scn_mesh *out, struct scn_import_re
     if (ext_is(ext, "ply") && scn_ply_check(path, &strips, err) != 0)
         return -1;
     if ((ext_is(ext, "off") && scn_off_check(path, size, err) != 0) ||
-        (gltf && gltf_sniff(path, ext_is(ext, "glb"), size, err) != 0))
+        (gltf && scn_gltf_check(path, ext_is(ext, "glb"), size, err) != 0))
         return -1;
     struct scn_soup soup;
     int rc = om ? scn_om_read(path, &soup, strips.elements > 0, err) : scn_assimp_read(path, &soup, err);

@@ -399,6 +399,65 @@ static void check_prefixes(const char *src, const char *name, size_t step)
     free(data);
 }
 
+/* A one-triangle glTF whose buffer also holds a sparse index (2) and value (0, 1, 1); the POSITION
+ * accessor (accessor 0) is given in full by the caller. */
+static void write_gltf(const char *name, const char *position_accessor)
+{
+    char text[2048];
+    snprintf(text, sizeof text,
+             "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"uri\":\"data:application/octet-stream;base64,"
+             "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAACAAAAAAAAAAAAgD8AAIA/\",\"byteLength\":60}],"
+             "\"bufferViews\":[{\"buffer\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,\"byteLength\":6},"
+             "{\"buffer\":0,\"byteOffset\":44,\"byteLength\":2},{\"buffer\":0,\"byteOffset\":48,\"byteLength\":12}],"
+             "\"accessors\":[%s,{\"bufferView\":1,\"componentType\":5123,\"count\":3,\"type\":\"SCALAR\"}],"
+             "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],"
+             "\"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0}",
+             position_accessor);
+    write_text(name, text);
+}
+
+/* glTF accessors held to the spec before assimp reads them (scene/mesh_gltf_check.c): assimp 5.2
+ * overflowed a heap buffer filling a sparse accessor whose views were too short, and allocated
+ * 4.8 GB of zeros for a 700-byte file's accessor without a buffer view (both fuzz_mesh_import). */
+static void test_gltf_accessors_checked(void)
+{
+#define POS_ACCESSOR(count, extra) \
+    "{\"bufferView\":0,\"componentType\":5126,\"count\":" #count ",\"type\":\"VEC3\",\"max\":[1,1,1],\"min\":[0,0,0]" extra "}"
+    write_gltf("plain.gltf", POS_ACCESSOR(3, ""));
+    struct scn_mesh m;
+    struct hl_error err = {{0}};
+    CHECK(scn_mesh_import(tmp_path("plain.gltf"), &m, NULL, &err) == 0 && m.index_count == 3 && mesh_valid(&m));
+    scn_mesh_free(&m);
+    /* a valid sparse accessor is read and applied: vertex 2 moves off the z = 0 plane */
+    write_gltf("sparse.gltf", POS_ACCESSOR(3, ",\"sparse\":{\"count\":1,\"indices\":{\"bufferView\":2,"
+                                              "\"componentType\":5123},\"values\":{\"bufferView\":3}}"));
+    int rc = scn_mesh_import(tmp_path("sparse.gltf"), &m, NULL, &err);
+    CHECK(rc == 0 && m.index_count == 3 && mesh_valid(&m));
+    if (rc != 0)
+        fprintf(stderr, "sparse.gltf: %s\n", err.msg);
+    double z_span = 0;
+    for (uint32_t i = 0; rc == 0 && i < m.vertex_count; ++i)
+        z_span = fmax(z_span, fabs(m.positions[3 * i + 2] - m.positions[2]));
+    CHECK(z_span > 0.1);
+    scn_mesh_free(&m);
+    write_gltf("sparse-short.gltf", POS_ACCESSOR(3, ",\"sparse\":{\"count\":2,\"indices\":{\"bufferView\":2,"
+                                                    "\"componentType\":5123},\"values\":{\"bufferView\":3}}"));
+    expect_refused(tmp_path("sparse-short.gltf"),
+                   "glTF sparse indices of accessor 0: 2 elements of 2 bytes need 4 bytes of bufferView 2, which has 2");
+    write_gltf("sparse-many.gltf", POS_ACCESSOR(3, ",\"sparse\":{\"count\":400000000,\"indices\":{\"bufferView\":2,"
+                                                   "\"componentType\":5123},\"values\":{\"bufferView\":3}}"));
+    expect_refused(tmp_path("sparse-many.gltf"), "glTF accessor 0: sparse needs a count 1 … 3");
+    write_gltf("zeros.gltf", "{\"componentType\":5126,\"count\":400000000,\"type\":\"VEC3\"}");
+    expect_refused(tmp_path("zeros.gltf"), "accessors without a bufferView add up to 4800000000 bytes of zeros");
+    write_gltf("count.gltf", POS_ACCESSOR(4, ""));
+    expect_refused(tmp_path("count.gltf"), "glTF accessor 0: 4 elements of 12 bytes need 48 bytes of bufferView 0");
+    write_gltf("ctype.gltf", "{\"bufferView\":0,\"componentType\":5124,\"count\":3,\"type\":\"VEC3\"}");
+    expect_refused(tmp_path("ctype.gltf"), "glTF accessor 0: needs a count ≥ 1, a componentType and a type");
+    write_text("trunc.gltf", "{\"asset\":{\"version\":\"2.0\"},\"accessors\":[");
+    expect_refused(tmp_path("trunc.gltf"), "the glTF JSON does not parse");
+#undef POS_ACCESSOR
+}
+
 static void test_truncated_and_glb(void)
 {
     const char *spot = tu_shared_path("data/meshes/spot.obj");
@@ -1344,6 +1403,7 @@ int main(int argc, char **argv)
     test_ply_strips_real_mesh();
     test_shared_meshes();
     test_truncated_and_glb();
+    test_gltf_accessors_checked();
     test_fandisk_features();
     test_simplifiers();
     if (!small)

@@ -213,10 +213,11 @@ int acu_csf_check_inputs(double rho_cpd, double omega_hz, double luminance_cdm2,
 /* The ω axis is w = ω^0.1898, uniform from 0 to 511^0.1898 (PAPERS.md §6: ln R_trans = −(w − w0)²/σ is
  * exactly quadratic in w and ln R_sust = −w^7.01/σ smooth at 0). On log(1 + ω) the transient term's
  * infinite slope at ω = 0 cost up to 0.02–0.9 in log10 S in the first cell (docs/csf.md). */
+static const double csf_omega_per_w = (ACU_CSF_TABLE_OMEGA_NODES - 1) / ACU_CSF_TABLE_OMEGA_W_MAX;
+
 static double csf_omega_axis(double omega)
 {
-    static const double per_w = (ACU_CSF_TABLE_OMEGA_NODES - 1) / ACU_CSF_TABLE_OMEGA_W_MAX;
-    return pow(omega, CSF_BETA_TRANS) * per_w;
+    return pow(omega, CSF_BETA_TRANS) * csf_omega_per_w;
 }
 
 static double csf_omega_node_hz(int j)
@@ -305,7 +306,8 @@ void acu_contrast_object_init(const struct acu_contrast_limits *lim, double diam
     obj->rho0_cpd = 1.0 / diameter_deg / lim->scale;
     obj->log2_rho0 = log2(obj->rho0_cpd);
     obj->velocity_degps = v;
-    obj->w0 = v > 0.0 ? csf_omega_axis(obj->rho0_cpd * v) : 0.0;
+    /* (ρ0·v)^β as 2^(β·(log2 ρ0 + log2 v)): log2 ρ0 is already here, and log2 + exp2 cost less than pow. */
+    obj->w0 = v > 0.0 ? exp2(CSF_BETA_TRANS * (obj->log2_rho0 + log2(v))) * csf_omega_per_w : 0.0;
     obj->eccentricity_deg = lim->use_eccentricity ? eccentricity_deg : 0.0;
     /* The same test as acu_contrast_band_sensitivity, band by band: ρ grows with b, so the
      * displayable bands are a prefix. Doubling is exact, so ρ_b here is 2^b/D/s to the bit. */

@@ -4,7 +4,8 @@
  *    stream's badbit: at the end of the file, or after a count that is not a number (failbit), it
  *    loops for ever. So the header must be what the PLY format says, line by line: "ply", one
  *    "format" line, then comment / obj_info / element NAME COUNT / property TYPE NAME / property
- *    list TYPE TYPE NAME lines, and a line "end_header", on which OpenMesh's loop ends.
+ *    list TYPE TYPE NAME lines, and a line "end_header", on which OpenMesh's loop ends. OpenMesh
+ *    skips a comment line but reads obj_info's words as keywords: those may not name one.
  *  - Body: OpenMesh sizes its arrays from the element counts and each face from its list count,
  *    before it knows the file holds them; a 400-byte file claiming 2·10⁹ vertices asked for 24 GB.
  *    So every record of every element is walked here first, in the file's own encoding: the file
@@ -147,6 +148,26 @@ static const char *ply_header_words(char **w, int k, int n, struct ply_layout *l
     return "unknown PLY header keyword";
 }
 
+/* OpenMesh skips the rest of a "comment" line but reads an "obj_info" line's words as header keywords,
+ * one by one (fuzz_mesh_import: "obj_info … element tristrips \"perty" declared an element whose count
+ * failed to read, and its header loop spun for ever). So an obj_info line may not name element,
+ * property or end_header before a word "comment" (after which OpenMesh skips the line): the keyword,
+ * or NULL. line is the whole line, not yet split. */
+static const char *ply_obj_info_keyword(const char *line)
+{
+    static const char *const keywords[] = {"element", "property", "end_header"};
+    char copy[PLY_LINE_MAX + 1], *save = NULL;
+    snprintf(copy, sizeof copy, "%s", line);
+    for (char *w = strtok_r(copy, scn_lex_blanks, &save); w; w = strtok_r(NULL, scn_lex_blanks, &save)) {
+        if (!strcmp(w, "comment"))
+            return NULL;
+        for (int i = 0; i < 3; ++i)
+            if (!strcmp(w, keywords[i]))
+                return keywords[i];
+    }
+    return NULL;
+}
+
 /* The header up to and including end_header: 0 with the layout and *line at end_header's line. */
 static int ply_read_header(FILE *f, const char *path, struct ply_layout *lay, uint64_t *line, struct hl_error *err)
 {
@@ -160,9 +181,13 @@ static int ply_read_header(FILE *f, const char *path, struct ply_layout *lay, ui
             return hl_fail(err, "%s: line %d: PLY header line longer than %d bytes", path, n, PLY_LINE_MAX);
         if (got == -3)
             return hl_fail(err, "%s: line %d: NUL byte in the PLY header", path, n);
+        const char *info_keyword = ply_obj_info_keyword(buf); /* before the split writes NULs into buf */
         char *w[PLY_MAX_WORDS + 1];
         int k = scn_lex_words(buf, w, PLY_MAX_WORDS);
         const char *why;
+        if (k > 0 && !strcmp(w[0], "obj_info") && info_keyword)
+            return hl_fail(err, "%s: line %d: an obj_info line naming '%s' (OpenMesh reads obj_info's words as "
+                           "header keywords)", path, n, info_keyword);
         if (n == 1)
             why = k == 1 && !strcmp(w[0], "ply") ? NULL : "not a PLY file (the first line must be \"ply\")";
         else if (k == 0)

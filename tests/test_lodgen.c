@@ -839,6 +839,21 @@ static void test_mesh_headers(void)
     expect_refused(tmp_path("bad-version.ply"), "line 2: format must be");
     write_text("bad-type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty real x\nend_header\n0\n");
     expect_refused(tmp_path("bad-type.ply"), "line 4: property must be");
+    /* OpenMesh reads an obj_info line's words as keywords: an "element" there declared an element
+     * whose count failed to read, and its header loop spun for ever (fuzz_mesh_import) */
+    write_text("info-element.ply", "ply\nformat ascii 1.0\nobj_info list uchar element tristrips x\nelement vertex 3\n"
+                                   "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+                                   "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    expect_refused(tmp_path("info-element.ply"),
+                   "line 3: an obj_info line naming 'element' (OpenMesh reads obj_info's words as header keywords)");
+    /* Stanford's scanner lines, and a keyword after "comment" (OpenMesh skips the rest), still load */
+    write_text("info-ok.ply", "ply\nformat ascii 1.0\nobj_info is_cyberware_data 1\nobj_info num_cols 512\n"
+                              "obj_info note comment element property\nelement vertex 3\nproperty float x\n"
+                              "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                              "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    struct scn_mesh info_mesh;
+    CHECK(scn_mesh_import(tmp_path("info-ok.ply"), &info_mesh, NULL, &err) == 0 && info_mesh.index_count == 3);
+    scn_mesh_free(&info_mesh);
     /* OpenMesh splits header words at any isspace blank: "f\vace" is two words to it */
     write_text("vtab.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nelement f\vace 0\n"
                            "end_header\n0\n");

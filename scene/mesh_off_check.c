@@ -7,6 +7,9 @@
  *  - it reads each face's vertex count as an unsigned number and then pushes that many vertex
  *    handles, whether or not the stream still reads: a face "-1" (or a stray token read as one)
  *    asked for 4 294 967 295 of them, 16 GiB. So every face's size and indices are read here first.
+ *  - it skips the rest of the keyword line (getline) and reads the counts after it, so counts put on
+ *    that line are not read; with nothing after them the counts stayed unset. So the keyword line
+ *    holds the keyword alone.
  * OpenMesh reads vertices a line at a time (blank lines skipped, words after the coordinates
  * ignored) and faces as a stream of tokens; the check reads them the same way. Comment lines inside
  * the vertex list would be read as vertices, and binary OFF's sizes cannot be checked the same way:
@@ -56,24 +59,29 @@ static int off_read_header(FILE *f, const char *path, uint64_t file_size, uint64
     if (k >= 2 && !strcmp(w[1], "BINARY"))
         return hl_fail(err, "%s: line 1: binary OFF is not supported (OpenMesh reads its face sizes unchecked); "
                             "convert it to text OFF, PLY or OBJ", path);
-    int first = 1;
-    if (k == 1) { /* the counts on the next line that is not blank or a comment */
-        for (first = 0;;) {
-            ++*line;
-            got = scn_lex_line(f, buf, sizeof buf);
-            if (got != 0)
-                return hl_fail(err, "%s: line %llu: %s", path, (unsigned long long)*line,
-                               got == -1 ? "OFF header ends without the vertex and face counts" : "bad OFF counts line");
-            k = scn_lex_words(buf, w, OFF_MAX_WORDS);
-            if (k > 0 && w[0][0] != '#')
-                break;
-        }
-    }
-    if (k - first != 3 || !scn_lex_is_count(w[first]) || !scn_lex_is_count(w[first + 1]) ||
-        !scn_lex_is_count(w[first + 2]))
+    /* OpenMesh takes the keyword line whole (getline) and reads the counts after it: counts on that
+     * line are skipped, and with nothing after them it read none and pushed faces of garbage sizes
+     * (2 GiB for "OFF\v0 0 0", found by fuzz_mesh_import). */
+    if (k > 1)
+        return hl_fail(err, "%s: line 1: words after the OFF keyword; the counts (vertices faces edges) must be on "
+                            "a line of their own (OpenMesh skips the rest of the keyword line)", path);
+    /* The counts on the next line that is not blank; OpenMesh reads them with >>, which skips blanks
+     * but not a comment (a "# c" line there left OpenMesh with no vertex at all). */
+    do {
+        ++*line;
+        got = scn_lex_line(f, buf, sizeof buf);
+        if (got != 0)
+            return hl_fail(err, "%s: line %llu: %s", path, (unsigned long long)*line,
+                           got == -1 ? "OFF header ends without the vertex and face counts" : "bad OFF counts line");
+        k = scn_lex_words(buf, w, OFF_MAX_WORDS);
+    } while (k == 0);
+    if (w[0][0] == '#')
+        return hl_fail(err, "%s: line %llu: a comment before the OFF counts (OpenMesh reads the counts right after the "
+                            "keyword line)", path, (unsigned long long)*line);
+    if (k != 3 || !scn_lex_is_count(w[0]) || !scn_lex_is_count(w[1]) || !scn_lex_is_count(w[2]))
         return hl_fail(err, "%s: line %llu: the OFF counts must be three whole numbers (vertices faces edges)", path,
                        (unsigned long long)*line);
-    *nv = strtoull(w[first], NULL, 10), *nf = strtoull(w[first + 1], NULL, 10);
+    *nv = strtoull(w[0], NULL, 10), *nf = strtoull(w[1], NULL, 10);
     if (*nv * 6 + *nf * 8 > file_size)
         return hl_fail(err, "%s: line %llu: %llu vertices and %llu faces cannot fit in a file of %llu bytes", path,
                        (unsigned long long)*line, (unsigned long long)*nv, (unsigned long long)*nf,

@@ -14,6 +14,7 @@
 #include "scene/lodgen_internal.h"
 
 #include <cjson/cJSON.h>
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -71,7 +72,7 @@ static int glb_read_json(FILE *f, const char *path, uint64_t file_size, char **j
 /* A .gltf: the whole file is its JSON, starting with '{' after an optional byte order mark. */
 static int gltf_read_json(const char *path, char **json, size_t *json_len, struct hl_error *err)
 {
-    if (hl_file_read_all(path, hl_file_max_bytes(), json, json_len, err) != 0)
+    if (hl_file_read_all(path, 0, json, json_len, err) != 0)
         return -1;
     size_t i = 0;
     const unsigned char *t = (const unsigned char *)*json;
@@ -124,8 +125,8 @@ static int gltf_type_components(const cJSON *type)
     return 0;
 }
 
-/* Buffer views inside their buffers; each view's length (or 0 for a bad one, already refused)
- * into view_len[], its stride into view_stride[]. */
+/* Buffer views inside their buffers; each view's length into view_len[], its byteStride (0: none)
+ * into view_stride[]. */
 static int gltf_check_views(const cJSON *root, const char *path, double *view_len, double *view_stride,
                             struct hl_error *err)
 {
@@ -229,7 +230,7 @@ int scn_gltf_check(const char *path, int glb, uint64_t file_size, struct hl_erro
     if (glb) {
         FILE *f = fopen(path, "rb");
         if (!f)
-            return hl_fail(err, "%s: cannot open", path);
+            return hl_fail(err, "%s: cannot open: %s", path, strerror(errno));
         rc = glb_read_json(f, path, file_size, &json, &len, err);
         fclose(f);
     } else {

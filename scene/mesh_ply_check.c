@@ -151,13 +151,17 @@ static const char *ply_header_words(char **w, int k, int n, struct ply_layout *l
 /* OpenMesh skips the rest of a "comment" line but reads an "obj_info" line's words as header keywords,
  * one by one (fuzz_mesh_import: "obj_info … element tristrips \"perty" declared an element whose count
  * failed to read, and its header loop spun for ever). So an obj_info line may not name element,
- * property or end_header before a word "comment" (after which OpenMesh skips the line): the keyword,
- * or NULL. line is the whole line, not yet split. */
+ * property or end_header before a word "comment" (after which OpenMesh skips the line): the keyword
+ * named, or NULL (and for every other line). line is the whole line: scn_lex_words keeps only the
+ * first few words. */
 static const char *ply_obj_info_keyword(const char *line)
 {
     static const char *const keywords[] = {"element", "property", "end_header"};
+    const char *first = line + strspn(line, scn_lex_blanks);
+    if (strncmp(first, "obj_info", 8) || (first[8] && !strchr(scn_lex_blanks, first[8])))
+        return NULL;
     char copy[PLY_LINE_MAX + 1], *save = NULL;
-    snprintf(copy, sizeof copy, "%s", line);
+    snprintf(copy, sizeof copy, "%s", first + 8);
     for (char *w = strtok_r(copy, scn_lex_blanks, &save); w; w = strtok_r(NULL, scn_lex_blanks, &save)) {
         if (!strcmp(w, "comment"))
             return NULL;
@@ -181,13 +185,13 @@ static int ply_read_header(FILE *f, const char *path, struct ply_layout *lay, ui
             return hl_fail(err, "%s: line %d: PLY header line longer than %d bytes", path, n, PLY_LINE_MAX);
         if (got == -3)
             return hl_fail(err, "%s: line %d: NUL byte in the PLY header", path, n);
-        const char *info_keyword = ply_obj_info_keyword(buf); /* before the split writes NULs into buf */
+        const char *info_keyword = ply_obj_info_keyword(buf);
+        if (info_keyword)
+            return hl_fail(err, "%s: line %d: an obj_info line naming '%s' (OpenMesh reads obj_info's words as "
+                           "header keywords)", path, n, info_keyword);
         char *w[PLY_MAX_WORDS + 1];
         int k = scn_lex_words(buf, w, PLY_MAX_WORDS);
         const char *why;
-        if (k > 0 && !strcmp(w[0], "obj_info") && info_keyword)
-            return hl_fail(err, "%s: line %d: an obj_info line naming '%s' (OpenMesh reads obj_info's words as "
-                           "header keywords)", path, n, info_keyword);
         if (n == 1)
             why = k == 1 && !strcmp(w[0], "ply") ? NULL : "not a PLY file (the first line must be \"ply\")";
         else if (k == 0)

@@ -187,7 +187,7 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     }
     int64_t t2 = hl_clock_now_ns();
 
-    struct rnd_draw_stats draw = {{0}, 0};
+    struct rnd_draw_stats draw = {0};
     if (rnd_renderer_draw_stereo(s->renderer, &s->scene, views, a->draw_index, a->draw_lod, n + extra, &draw) != 0)
         return hl_fail(err, "frame %ld: drawing failed", frame);
     int64_t t3 = hl_clock_now_ns();
@@ -249,7 +249,7 @@ int frm_frame_warm_up(struct frm_session *s, struct hl_error *err)
     trk_pose_init_still(&pose, 0.0);
     struct rnd_eye_view views[2];
     eye_views(s, &pose, views);
-    struct rnd_draw_stats draw = {{0}, 0};
+    struct rnd_draw_stats draw = {0};
     if (rnd_renderer_draw_stereo(s->renderer, scene, views, index, lod, n, &draw) != 0) {
         hl_fail(err, "the renderer's warm-up draw failed");
         goto done;
@@ -287,7 +287,7 @@ int frm_frame_reference(struct frm_session *s, struct frm_frame_record *rec, uin
         a->draw_index[k] = a->visible[k];
         a->draw_lod[k] = 0;
     }
-    struct rnd_draw_stats draw = {{0}, 0};
+    struct rnd_draw_stats draw = {0};
     if (rnd_renderer_draw_stereo(s->renderer, &s->scene, s->frame_views, a->draw_index, a->draw_lod, rec->visible,
                                  &draw) != 0)
         return hl_fail(err, "frame %ld: drawing its full-detail reference failed", rec->frame);

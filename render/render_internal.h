@@ -29,6 +29,45 @@ void rnd_window_release_current(void);
  * first EGL display or GLFW start. */
 void rnd_gl_driver_pin(void);
 
+/* ---- the renderer (renderer.c); layers.c draws through it too ---------------------------------- */
+/* The down-blit target of rnd_renderer_mean_luminance: 32×32 per eye, both eyes side by side, so
+ * each destination pixel stands for an equal share of either eye (smaller framebuffers use their
+ * own size and the copy is exact). */
+enum { RND_LUM_W = 64, RND_LUM_H = 32 };
+
+struct rnd_renderer {
+    struct rnd_egl egl;
+    struct rnd_window *window; /* set: drawing in that window's context instead of a headless one */
+    int eye_w, eye_h;
+    unsigned fbo, color_tex, depth_rb; /* colour is a texture: the distortion pass samples it */
+    unsigned program, vao, vbo, ibo;
+    int u_mv, u_proj, u_color, u_light;
+    uint32_t scene_vertices, scene_indices; /* what is uploaded, to catch a mismatched scene */
+    int has_scene;
+    char name[128];
+    /* rnd_renderer_mean_luminance's down-blit target, made on first use; the read-back buffer lives
+     * here so that a per-frame call allocates nothing. */
+    unsigned lum_fbo, lum_rb;
+    int lum_w, lum_h;
+    uint8_t lum_rgba[RND_LUM_W * RND_LUM_H * 4];
+    struct rnd_layer_targets *layers; /* the foveated layers' framebuffers and composite (layers.c), made on first use */
+};
+
+/* Draws the listed instances with one view into the current viewport (the caller has bound the FBO,
+ * program and VAO): entries whose mask[k] & layer_bit is 0 are skipped (mask NULL: none). Returns the
+ * triangles drawn and adds the draw calls to *calls (renderer.c). */
+uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
+                       const uint32_t *index, const uint8_t *lod, const uint8_t *mask, unsigned layer_bit,
+                       size_t count, uint32_t *calls);
+/* Checks a draw list against the uploaded scene (renderer.c): 0, or −1 for a bad entry. */
+int rnd_check_draw(const struct rnd_renderer *r, const struct scn_scene *scene, const uint32_t *index,
+                   const uint8_t *lod, size_t count);
+/* The renderer's context is current (a no-op when it already is): 0 or −1 (renderer.c). */
+int rnd_renderer_current(const struct rnd_renderer *r);
+/* Frees the layers' targets (layers.c), and their GL objects when delete_gl (the renderer's context
+ * is current). NULL: nothing. */
+void rnd_layer_targets_destroy(struct rnd_layer_targets *t, int delete_gl);
+
 /* ---- single-view draws for the offline analysis (renderer.c, used by analyze.c) ----------------
  * rect_px = x, y (from the bottom-left, GL convention), width, height inside the FBO. */
 /* Clears the rectangle and draws one instance of the uploaded scene at one LOD into it with `view`

@@ -8,28 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The down-blit target of rnd_renderer_mean_luminance: 32×32 per eye, both eyes side by side, so
- * each destination pixel stands for an equal share of either eye (smaller framebuffers use their
- * own size and the copy is exact). */
-enum { RND_LUM_W = 64, RND_LUM_H = 32 };
-
-struct rnd_renderer {
-    struct rnd_egl egl;
-    struct rnd_window *window; /* set: drawing in that window's context instead of a headless one */
-    int eye_w, eye_h;
-    GLuint fbo, color_tex, depth_rb; /* colour is a texture: the distortion pass samples it */
-    GLuint program, vao, vbo, ibo;
-    GLint u_mv, u_proj, u_color, u_light;
-    uint32_t scene_vertices, scene_indices; /* what is uploaded, to catch a mismatched scene */
-    int has_scene;
-    char name[128];
-    /* rnd_renderer_mean_luminance's down-blit target, made on first use; the read-back buffer lives
-     * here so that a per-frame call allocates nothing. */
-    GLuint lum_fbo, lum_rb;
-    int lum_w, lum_h;
-    uint8_t lum_rgba[RND_LUM_W * RND_LUM_H * 4];
-};
-
 static const char rnd_vs[] =
     "#version 450 core\n"
     "layout(location = 0) in vec3 a_position;\n"
@@ -106,8 +84,7 @@ static int rnd_renderer_build_fbo(struct rnd_renderer *r, struct hl_error *err)
     return 0;
 }
 
-/* The context this renderer draws in is current (a no-op when it already is). */
-static int rnd_renderer_current(const struct rnd_renderer *r)
+int rnd_renderer_current(const struct rnd_renderer *r)
 {
     return r->window ? rnd_window_make_current(r->window) : rnd_egl_make_current(&r->egl);
 }
@@ -186,7 +163,10 @@ void rnd_renderer_destroy(struct rnd_renderer *r)
         glDeleteRenderbuffers(1, &r->depth_rb);
         glDeleteFramebuffers(1, &r->lum_fbo);
         glDeleteRenderbuffers(1, &r->lum_rb);
+        rnd_layer_targets_destroy(r->layers, 1);
+        r->layers = NULL;
     }
+    rnd_layer_targets_destroy(r->layers, 0); /* no context: the GL objects went with it */
     rnd_egl_destroy(&r->egl);
     free(r);
 }
@@ -260,10 +240,9 @@ static void rnd_model_view(const struct scn_instance *in, const struct rnd_eye_v
     memcpy(out, m, sizeof m);
 }
 
-/* Draws the listed instances with one view into the current viewport; returns the triangles drawn
- * and adds the draw calls to *calls. The caller has bound the FBO, program and VAO. */
-static uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
-                              const uint32_t *index, const uint8_t *lod, size_t count, uint32_t *calls)
+uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
+                       const uint32_t *index, const uint8_t *lod, const uint8_t *mask, unsigned layer_bit,
+                       size_t count, uint32_t *calls)
 {
     float proj[16], mv[16];
     for (int i = 0; i < 16; ++i)
@@ -274,7 +253,7 @@ static uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *sc
     glUniform3f(r->u_light, (float)l.x, (float)l.y, (float)l.z);
     uint64_t tris = 0;
     for (size_t k = 0; k < count; ++k) {
-        if (lod[k] == 255)
+        if (lod[k] == 255 || (mask && !(mask[k] & layer_bit)))
             continue;
         const struct scn_instance *in = &scene->instances[index[k]];
         const struct scn_lod *L = &scene->chains[in->chain].lods[lod[k]];
@@ -291,8 +270,8 @@ static uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *sc
     return tris;
 }
 
-/* Checks a draw list against the uploaded scene, so a bad entry draws nothing rather than half a frame. */
-static int rnd_check_draw(const struct rnd_renderer *r, const struct scn_scene *scene, const uint32_t *index,
+/* A bad entry draws nothing rather than half a frame. */
+int rnd_check_draw(const struct rnd_renderer *r, const struct scn_scene *scene, const uint32_t *index,
                           const uint8_t *lod, size_t count)
 {
     if (!r || !scene || (count > 0 && (!index || !lod)) || !r->has_scene ||
@@ -313,7 +292,7 @@ int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *sce
                              size_t count, struct rnd_draw_stats *stats)
 {
     if (stats)
-        *stats = (struct rnd_draw_stats){{0, 0}, 0};
+        *stats = (struct rnd_draw_stats){{0, 0}, 0, 0, 0, 0.0, 0.0, 0.0};
     if (!views || rnd_check_draw(r, scene, index, lod, count) != 0)
         return -1;
     if (rnd_renderer_current(r) != 0)
@@ -326,7 +305,7 @@ int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *sce
     uint32_t calls = 0;
     for (int eye = 0; eye < 2; ++eye) {
         glViewport(eye * r->eye_w, 0, r->eye_w, r->eye_h);
-        uint64_t tris = rnd_draw_view(r, scene, &views[eye], index, lod, count, &calls);
+        uint64_t tris = rnd_draw_view(r, scene, &views[eye], index, lod, NULL, 0, count, &calls);
         if (stats)
             stats->triangles_per_eye[eye] = tris;
     }
@@ -353,7 +332,7 @@ int rnd_renderer_draw_rect(struct rnd_renderer *r, const struct scn_scene *scene
     glUseProgram(r->program);
     glBindVertexArray(r->vao);
     uint32_t calls = 0;
-    rnd_draw_view(r, scene, view, &instance, &lod, 1, &calls);
+    rnd_draw_view(r, scene, view, &instance, &lod, NULL, 0, 1, &calls);
     glBindVertexArray(0);
     return glGetError() == GL_NO_ERROR ? 0 : -1;
 }

@@ -1,0 +1,377 @@
+/* Foveated layers (render/layers.h): the inset drawn at full resolution under a scissor, the periphery
+ * into a smaller framebuffer, and the composite mesh that upsamples the periphery around the inset's
+ * inner disc. Guenter et al. 2012 (PAPERS.md §6) blend their layers with a smoothstep over a band
+ * and composite in one pass; the mesh here leaves the inner disc out so that its pixels are never
+ * touched (an exact inset) and its fragments are never shaded twice. */
+#include "render/render_internal.h"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Azimuths of the composite's rings: the chords of a 64-gon cut into the inner disc by at most
+ * 1 − cos(π/64) = 0.12 % of its radius, where the band's weight is still ~1e-4 (invisible in 8 bits). */
+enum { RND_LAYER_SEGMENTS = 64 };
+enum { RND_LAYER_RING = RND_LAYER_SEGMENTS + 1 };      /* the strip closes on its first azimuth */
+enum { RND_LAYER_EYE_VERTICES = 4 * RND_LAYER_RING }; /* band strip, then outer strip */
+enum { RND_LAYER_FLOATS = 3 };                         /* NDC x, y; band parameter t */
+
+struct rnd_layer_targets {
+    GLuint fbo, color_tex, depth_rb; /* the periphery: as large as the eyes, drawn in its corner */
+    GLuint program, vao, vbo;
+    GLint u_source, u_origin, u_size, u_tex;
+    float vertices[2 * RND_LAYER_EYE_VERTICES * RND_LAYER_FLOATS];
+};
+
+static const char rnd_layer_vs[] =
+    "#version 450 core\n"
+    "layout(location = 0) in vec2 a_ndc; /* the eye's viewport */\n"
+    "layout(location = 1) in float a_t;  /* 0 at the inset's inner edge, 1 from its outer edge on */\n"
+    "out vec2 v_uv;\n"
+    "out float v_t;\n"
+    "void main() {\n"
+    "    v_uv = a_ndc * 0.5 + 0.5;\n"
+    "    v_t = a_t;\n"
+    "    gl_Position = vec4(a_ndc, 0.0, 1.0);\n"
+    "}\n";
+
+/* The periphery's texel centres are clamped to its own eye's rectangle, so the bilinear filter never
+ * borrows from the other eye or from what lies beyond the drawn corner. */
+static const char rnd_layer_fs[] =
+    "#version 450 core\n"
+    "in vec2 v_uv;\n"
+    "in float v_t;\n"
+    "uniform sampler2D u_source;\n"
+    "uniform vec2 u_origin; /* the eye's periphery in the texture, pixels */\n"
+    "uniform vec2 u_size;\n"
+    "uniform vec2 u_tex;    /* the texture's size, pixels */\n"
+    "out vec4 o_color;\n"
+    "void main() {\n"
+    "    vec2 p = u_origin + clamp(v_uv * u_size, vec2(0.5), u_size - vec2(0.5));\n"
+    "    o_color = vec4(texture(u_source, p / u_tex).rgb, smoothstep(0.0, 1.0, v_t));\n"
+    "}\n";
+
+/* ---- geometry (pure) ------------------------------------------------------------------------ */
+
+static int layers_valid(const struct rnd_layers *l)
+{
+    if (!l || !(l->periphery_scale >= RND_LAYER_SCALE_MIN && l->periphery_scale <= 1.0) ||
+        !(l->inset_radius_deg >= 0.0) || !isfinite(l->inset_radius_deg) || !(l->blend_deg > 0.0) ||
+        !isfinite(l->blend_deg))
+        return 0;
+    for (int e = 0; e < 2; ++e) {
+        const struct hmd_eye *y = &l->eyes[e];
+        if (!(y->tan_left > 0.0 && y->tan_right > 0.0 && y->tan_up > 0.0 && y->tan_down > 0.0) ||
+            !isfinite(y->tan_left + y->tan_right + y->tan_up + y->tan_down))
+            return 0;
+        double n = hl_v3_length(l->centre_eye[e]);
+        if (!(n > 1e-9) || !isfinite(n))
+            return 0;
+    }
+    return 1;
+}
+
+/* An orthonormal frame around the unit centre c: u, v span the plane across it. */
+static void cone_frame(hl_vec3d c, hl_vec3d *u, hl_vec3d *v)
+{
+    hl_vec3d a = fabs(c.x) < 0.9 ? hl_v3(1, 0, 0) : hl_v3(0, 1, 0);
+    *u = hl_v3_normalize(hl_v3_cross(a, c));
+    *v = hl_v3_cross(c, *u);
+}
+
+/* The point radius_deg from the centre at azimuth i, on the eye's image plane in NDC of its viewport
+ * (x right, y up, the frustum's edges at ±1). The cone stays in front of the eye (radius + the
+ * centre's angle < 90°, checked by the caller). */
+static void ring_ndc(const struct hmd_eye *y, hl_vec3d c, hl_vec3d u, hl_vec3d v, double radius_deg, int i,
+                     double out[2])
+{
+    double phi = 2.0 * HL_PI * (double)(i % RND_LAYER_SEGMENTS) / RND_LAYER_SEGMENTS;
+    double r = radius_deg / HL_DEG_PER_RAD;
+    hl_vec3d w = hl_v3_add(hl_v3_scale(u, cos(phi)), hl_v3_scale(v, sin(phi)));
+    hl_vec3d d = hl_v3_add(hl_v3_scale(c, cos(r)), hl_v3_scale(w, sin(r)));
+    double x_t = d.x / -d.z, y_t = d.y / -d.z; /* the image plane at distance 1 */
+    out[0] = 2.0 * (x_t + y->tan_left) / (y->tan_left + y->tan_right) - 1.0;
+    out[1] = 2.0 * (y_t + y->tan_down) / (y->tan_up + y->tan_down) - 1.0;
+}
+
+/* The centre's angle from the eye's axis (−Z), degrees. */
+static double centre_off_axis_deg(hl_vec3d c)
+{
+    return atan2(sqrt(c.x * c.x + c.y * c.y), -c.z) * HL_DEG_PER_RAD;
+}
+
+int rnd_layer_plan_make(const struct rnd_layers *l, int eye_w, int eye_h, struct rnd_layer_plan *out)
+{
+    memset(out, 0, sizeof *out);
+    if (!layers_valid(l) || eye_w < 1 || eye_h < 1)
+        return -1;
+    double s = l->periphery_scale;
+    out->periphery_px[0] = (int)fmax(1.0, lround(s * eye_w));
+    out->periphery_px[1] = (int)fmax(1.0, lround(s * eye_h));
+    for (int e = 0; e < 2; ++e) {
+        int *rect = out->inset_rect_px[e];
+        hl_vec3d c = hl_v3_normalize(l->centre_eye[e]);
+        double outer_deg = l->inset_radius_deg + l->blend_deg;
+        if (s >= 1.0) {
+            continue; /* one layer: no inset */
+        }
+        if (centre_off_axis_deg(c) + outer_deg >= RND_LAYER_MAX_CONE_DEG) {
+            out->covers[e] = 1;
+            rect[0] = rect[1] = 0, rect[2] = eye_w, rect[3] = eye_h;
+            out->inset_px += (double)eye_w * eye_h;
+            continue;
+        }
+        out->periphery_px_total += (double)out->periphery_px[0] * out->periphery_px[1];
+        if (l->inset_radius_deg <= 0.0)
+            continue;
+        hl_vec3d u, v;
+        cone_frame(c, &u, &v);
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (int i = 0; i < RND_LAYER_SEGMENTS; ++i) {
+            double p[2];
+            ring_ndc(&l->eyes[e], c, u, v, outer_deg, i, p);
+            for (int a = 0; a < 2; ++a)
+                lo[a] = fmin(lo[a], p[a]), hi[a] = fmax(hi[a], p[a]);
+        }
+        /* The chords lie inside the circle; a pixel's margin covers their sagitta and the rounding. */
+        double size[2] = {eye_w, eye_h};
+        int r0[2], r1[2];
+        for (int a = 0; a < 2; ++a) {
+            double p0 = floor((lo[a] * 0.5 + 0.5) * size[a]) - 1.0, p1 = ceil((hi[a] * 0.5 + 0.5) * size[a]) + 1.0;
+            r0[a] = (int)fmin(fmax(p0, 0.0), size[a]);
+            r1[a] = (int)fmin(fmax(p1, 0.0), size[a]);
+        }
+        if (r1[0] > r0[0] && r1[1] > r0[1]) {
+            rect[0] = r0[0], rect[1] = r0[1], rect[2] = r1[0] - r0[0], rect[3] = r1[1] - r0[1];
+            out->inset_px += (double)rect[2] * rect[3];
+        }
+    }
+    return 0;
+}
+
+/* The composite's mesh for one eye: the band strip (inner ring t = 0, outer ring t = 1), then the
+ * outer strip from the outer ring to far outside the viewport (t = 1). The three rings of an azimuth
+ * lie on one line through the centre's image (they share the plane of the centre and that azimuth,
+ * which holds the eye), so the strips never fold. Without an inset: one quad over the viewport. */
+static int composite_mesh(const struct rnd_layers *l, int e, float *out)
+{
+    hl_vec3d c = hl_v3_normalize(l->centre_eye[e]);
+    if (l->inset_radius_deg <= 0.0) {
+        static const float quad[4][3] = {{-1, -1, 1}, {1, -1, 1}, {-1, 1, 1}, {1, 1, 1}};
+        memcpy(out, quad, sizeof quad);
+        return 4;
+    }
+    hl_vec3d u, v;
+    cone_frame(c, &u, &v);
+    double centre[2];
+    ring_ndc(&l->eyes[e], c, u, v, 0.0, 0, centre);
+    float *band = out, *outer = out + 2 * RND_LAYER_RING * RND_LAYER_FLOATS;
+    for (int i = 0; i < RND_LAYER_RING; ++i) {
+        double p[2], q[2];
+        ring_ndc(&l->eyes[e], c, u, v, l->inset_radius_deg, i, p);
+        ring_ndc(&l->eyes[e], c, u, v, l->inset_radius_deg + l->blend_deg, i, q);
+        double dx = q[0] - centre[0], dy = q[1] - centre[1], n = hypot(dx, dy);
+        double far_x = centre[0] + 8.0 * dx / n, far_y = centre[1] + 8.0 * dy / n; /* NDC spans 2 */
+        float *b = band + 6 * i, *o = outer + 6 * i;
+        b[0] = (float)p[0], b[1] = (float)p[1], b[2] = 0.0f;
+        b[3] = (float)q[0], b[4] = (float)q[1], b[5] = 1.0f;
+        o[0] = (float)q[0], o[1] = (float)q[1], o[2] = 1.0f;
+        o[3] = (float)far_x, o[4] = (float)far_y, o[5] = 1.0f;
+    }
+    return RND_LAYER_EYE_VERTICES;
+}
+
+/* ---- GL ------------------------------------------------------------------------------------- */
+
+void rnd_layer_targets_destroy(struct rnd_layer_targets *t, int delete_gl)
+{
+    if (!t)
+        return;
+    if (delete_gl) {
+        glDeleteFramebuffers(1, &t->fbo);
+        glDeleteTextures(1, &t->color_tex);
+        glDeleteRenderbuffers(1, &t->depth_rb);
+        glDeleteProgram(t->program);
+        glDeleteVertexArrays(1, &t->vao);
+        glDeleteBuffers(1, &t->vbo);
+    }
+    free(t);
+}
+
+static int layer_targets_make(struct rnd_renderer *r)
+{
+    if (r->layers)
+        return 0;
+    struct rnd_layer_targets *t = calloc(1, sizeof *t);
+    if (!t)
+        return -1;
+    struct hl_error err;
+    t->program = rnd_gl_program_build(rnd_layer_vs, rnd_layer_fs, "layer composite", &err);
+    if (!t->program) {
+        free(t);
+        return -1;
+    }
+    t->u_source = glGetUniformLocation(t->program, "u_source");
+    t->u_origin = glGetUniformLocation(t->program, "u_origin");
+    t->u_size = glGetUniformLocation(t->program, "u_size");
+    t->u_tex = glGetUniformLocation(t->program, "u_tex");
+    glGenTextures(1, &t->color_tex);
+    glBindTexture(GL_TEXTURE_2D, t->color_tex);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, 2 * r->eye_w, r->eye_h);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glGenRenderbuffers(1, &t->depth_rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, t->depth_rb);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, 2 * r->eye_w, r->eye_h);
+    glGenFramebuffers(1, &t->fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->color_tex, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t->depth_rb);
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glGenVertexArrays(1, &t->vao);
+    glGenBuffers(1, &t->vbo);
+    glBindVertexArray(t->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, t->vbo);
+    glBufferData(GL_ARRAY_BUFFER, sizeof t->vertices, NULL, GL_STREAM_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, RND_LAYER_FLOATS * sizeof(float), (const void *)0);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, RND_LAYER_FLOATS * sizeof(float),
+                          (const void *)(2 * sizeof(float)));
+    glBindVertexArray(0);
+    if (status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
+        rnd_layer_targets_destroy(t, 1);
+        return -1;
+    }
+    r->layers = t;
+    return 0;
+}
+
+/* Step 1: the insets, full resolution, each under its scissor, into the renderer's FBO. */
+static void draw_insets(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view views[2],
+                        const struct rnd_layer_plan *plan, const uint32_t *index, const uint8_t *lod,
+                        const uint8_t *mask, size_t count, struct rnd_draw_stats *st)
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    glEnable(GL_SCISSOR_TEST);
+    for (int e = 0; e < 2; ++e) {
+        const int *rect = plan->inset_rect_px[e];
+        if (rect[2] < 1 || rect[3] < 1)
+            continue;
+        glViewport(e * r->eye_w, 0, r->eye_w, r->eye_h);
+        glScissor(e * r->eye_w + rect[0], rect[1], rect[2], rect[3]);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        uint64_t tris = rnd_draw_view(r, scene, &views[e], index, lod, plan->covers[e] ? NULL : mask, RND_LAYER_INSET,
+                                      count, &st->draw_calls);
+        st->triangles_per_eye[e] += tris;
+        st->inset_triangles += tris;
+    }
+    glDisable(GL_SCISSOR_TEST);
+}
+
+/* Step 2: the peripheries, s·width × s·height each, side by side in the layer FBO's corner. */
+static void draw_peripheries(struct rnd_renderer *r, const struct scn_scene *scene,
+                             const struct rnd_eye_view views[2], const struct rnd_layer_plan *plan,
+                             const uint32_t *index, const uint8_t *lod, const uint8_t *mask, size_t count,
+                             struct rnd_draw_stats *st)
+{
+    int pw = plan->periphery_px[0], ph = plan->periphery_px[1];
+    glBindFramebuffer(GL_FRAMEBUFFER, r->layers->fbo);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(0, 0, 2 * pw, ph);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glDisable(GL_SCISSOR_TEST);
+    for (int e = 0; e < 2; ++e) {
+        if (plan->covers[e])
+            continue;
+        glViewport(e * pw, 0, pw, ph);
+        uint64_t tris = rnd_draw_view(r, scene, &views[e], index, lod, mask, RND_LAYER_PERIPHERY, count, &st->draw_calls);
+        st->triangles_per_eye[e] += tris;
+        st->periphery_triangles += tris;
+    }
+}
+
+/* Step 3: the periphery upsampled over each eye, around the inset's inner disc. */
+static void composite(struct rnd_renderer *r, const struct rnd_layers *l, const struct rnd_layer_plan *plan,
+                      struct rnd_draw_stats *st)
+{
+    struct rnd_layer_targets *t = r->layers;
+    int counts[2] = {0, 0};
+    for (int e = 0; e < 2; ++e)
+        if (!plan->covers[e])
+            counts[e] = composite_mesh(l, e, t->vertices + (size_t)e * RND_LAYER_EYE_VERTICES * RND_LAYER_FLOATS);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    glUseProgram(t->program);
+    glBindVertexArray(t->vao);
+    glBindBuffer(GL_ARRAY_BUFFER, t->vbo);
+    glBufferData(GL_ARRAY_BUFFER, sizeof t->vertices, t->vertices, GL_STREAM_DRAW); /* orphans last frame's */
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, t->color_tex);
+    glUniform1i(t->u_source, 0);
+    glUniform2f(t->u_size, (float)plan->periphery_px[0], (float)plan->periphery_px[1]);
+    glUniform2f(t->u_tex, (float)(2 * r->eye_w), (float)r->eye_h);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_CULL_FACE);
+    /* Only colour follows the weight; the target's alpha stays 1. */
+    glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+    for (int e = 0; e < 2; ++e) {
+        if (!counts[e])
+            continue;
+        glViewport(e * r->eye_w, 0, r->eye_w, r->eye_h);
+        glUniform2f(t->u_origin, (float)(e * plan->periphery_px[0]), 0.0f);
+        GLint first = e * RND_LAYER_EYE_VERTICES;
+        if (counts[e] == 4) { /* no inset: the periphery is the eye */
+            glDrawArrays(GL_TRIANGLE_STRIP, first, 4);
+        } else {
+            glEnable(GL_BLEND);
+            glDrawArrays(GL_TRIANGLE_STRIP, first, 2 * RND_LAYER_RING);
+            glDisable(GL_BLEND); /* beyond the band the weight is 1: plain writes */
+            glDrawArrays(GL_TRIANGLE_STRIP, first + 2 * RND_LAYER_RING, 2 * RND_LAYER_RING);
+        }
+        st->draw_calls += counts[e] == 4 ? 1 : 2;
+        /* What it shades: the eye less the inner disc's rectangle share, an estimate for the record. */
+        double inner = l->inset_radius_deg > 0.0
+                           ? (double)plan->inset_rect_px[e][2] * plan->inset_rect_px[e][3] *
+                                 pow(l->inset_radius_deg / (l->inset_radius_deg + l->blend_deg), 2.0) * (HL_PI / 4.0)
+                           : 0.0;
+        st->composite_px += (double)r->eye_w * r->eye_h - inner;
+    }
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_CULL_FACE);
+    glBindVertexArray(0);
+    glBindTexture(GL_TEXTURE_2D, 0);
+}
+
+int rnd_renderer_draw_layers(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view views[2],
+                             const struct rnd_layers *layers, const uint32_t *index, const uint8_t *lod,
+                             const uint8_t *mask, size_t count, struct rnd_draw_stats *stats)
+{
+    if (!layers || layers->periphery_scale >= 1.0)
+        return rnd_renderer_draw_stereo(r, scene, views, index, lod, count, stats);
+    struct rnd_draw_stats st = {{0, 0}, 0, 0, 0, 0.0, 0.0, 0.0};
+    if (stats)
+        *stats = st;
+    struct rnd_layer_plan plan;
+    if (!views || !r || rnd_layer_plan_make(layers, r->eye_w, r->eye_h, &plan) != 0 ||
+        rnd_check_draw(r, scene, index, lod, count) != 0 || rnd_renderer_current(r) != 0)
+        return -1;
+    if (layer_targets_make(r) != 0)
+        return -1;
+    glUseProgram(r->program);
+    glBindVertexArray(r->vao);
+    draw_insets(r, scene, views, &plan, index, lod, mask, count, &st);
+    draw_peripheries(r, scene, views, &plan, index, lod, mask, count, &st);
+    glBindVertexArray(0);
+    composite(r, layers, &plan, &st);
+    glFinish(); /* the caller's timer covers the GPU work */
+    st.inset_px = plan.inset_px;
+    st.periphery_px = plan.periphery_px_total;
+    if (stats)
+        *stats = st;
+    return glGetError() == GL_NO_ERROR ? 0 : -1;
+}

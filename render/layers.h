@@ -1,0 +1,58 @@
+/* render/layers.h: foveated layers (Guenter et al. 2012, two of their three; PAPERS.md §6). Per eye a
+ * full-resolution INSET around a centre direction (the lens centre, or the measured gaze) and the
+ * PERIPHERY at a linear scale s of the eye's resolution, composited with a smooth radial blend.
+ *
+ * How a foveated frame is drawn (rnd_renderer_draw_layers):
+ *   1. inset — into the renderer's own framebuffer, with the eye's own viewport and projection and a
+ *      scissor on the inset's bounding rectangle (the blend band's outer edge): inside it every pixel
+ *      is the full-resolution render's, bit for bit, because the rasterisation is the same and only
+ *      the scissor differs (a sub-frustum projection would move vertices by float rounding);
+ *   2. periphery — into a second framebuffer at s·width × s·height per eye, same projection;
+ *   3. composite — the periphery, bilinearly upsampled, drawn over the eye as a mesh that leaves out
+ *      the inset's inner disc: across the blend band (inner radius → outer radius, in degrees from
+ *      the centre) its weight rises as smoothstep, beyond it the periphery replaces what is there.
+ *      Inside the inner disc nothing is drawn, so the inset's pixels stay as they are.
+ * The caller says which objects each layer draws (a mask per draw entry): the frame culls each
+ * layer against its part of the view (DESIGN.md: render never decides what to draw).
+ * s = 1 draws the plain stereo frame (rnd_renderer_draw_stereo): one layer. An inset radius of 0
+ * draws the periphery alone, upsampled: global dynamic resolution. Part of render/render.h. */
+#ifndef HMDLOD_RENDER_LAYERS_H
+#define HMDLOD_RENDER_LAYERS_H
+
+#include "base/base.h"
+#include "hmd/hmd.h"
+
+/* Draw-entry mask bits: which layers draw the entry (both eyes). */
+enum { RND_LAYER_INSET = 1, RND_LAYER_PERIPHERY = 2, RND_LAYER_BOTH = 3 };
+
+/* The periphery's scale range, and the widest inset: the outer edge (radius + blend band) plus the
+ * centre's angle from the eye's axis must stay under RND_LAYER_MAX_CONE_DEG so the band projects
+ * onto the image plane; an inset that would reach past it covers the eye (rnd_layer_plan.covers). */
+#define RND_LAYER_SCALE_MIN 0.125
+#define RND_LAYER_MAX_CONE_DEG 80.0
+
+struct rnd_layers {
+    double periphery_scale;  /* s in [RND_LAYER_SCALE_MIN, 1]; 1 = no layers (the plain frame) */
+    double inset_radius_deg; /* the inner disc, full resolution, ≥ 0; 0 = no inset (global scale) */
+    double blend_deg;        /* the band beyond it where the periphery fades in, > 0 */
+    hl_vec3d centre_eye[2];  /* per eye: the inset's centre, a direction in the eye frame (−Z ahead) */
+    struct hmd_eye eyes[2];  /* per eye: the frustum's four tangents (offset_x_m unused) */
+};
+
+/* What a layer setting draws, per eye, in pixels of that eye's image (x from the left, y from the
+ * bottom as GL counts): the inset's rectangle (0 wide when there is none), the periphery's size, and
+ * covers = 1 when the inset's outer edge would not project (RND_LAYER_MAX_CONE_DEG) — that eye is
+ * then drawn as one full-resolution inset. */
+struct rnd_layer_plan {
+    int inset_rect_px[2][4];  /* x, y, width, height */
+    int periphery_px[2];      /* width, height (the same for both eyes) */
+    int covers[2];
+    double inset_px, periphery_px_total; /* pixels the two layers shade, both eyes */
+};
+
+/* The plan for eye images of eye_w × eye_h pixels. 0, or −1 when the layer setting is out of range
+ * (scale outside [RND_LAYER_SCALE_MIN, 1], negative or non-finite radius, blend ≤ 0, a zero centre,
+ * a non-positive tangent). Pure: no GL. */
+int rnd_layer_plan_make(const struct rnd_layers *l, int eye_w_px, int eye_h_px, struct rnd_layer_plan *out);
+
+#endif

@@ -43,6 +43,21 @@ void acu_limits_init(struct acu_limits *lim, double xi_cpd, double scale);
 double acu_limit_cpd(const struct acu_limits *lim, double velocity_degps, double eccentricity_deg,
                      uint64_t *model_evaluations);
 
+/* ---- the resolution ceiling (acuity/resolution.c) ---------------------------------------------
+ * The eccentricity beyond which nothing above target_cpd is visible, for an image region whose
+ * content moves at velocity_degps on the retina: where an image may be drawn at a resolution that
+ * displays target_cpd (a foveated periphery at scale s displays s·ξ) and lose nothing visible.
+ * Under the contrast criterion for content of band contrast `contrast` (1 = full contrast, the
+ * conservative value where the content is not known): the largest over bands ρ in [target, ξ·s] of
+ * the E where c·S(ρ/s, ρ/s·v, E)·k falls to 1 (the CSF's eccentricity factor is exponential, so each
+ * band's E is closed-form), bands sampled 8 per octave as the table's nodes. Under the acuity
+ * criterion: where min(H(v, E), ξ)·s falls to the target (Reddy eqs. 1–3). 0 when the target is
+ * at or above what the display shows (or contrast 0); +∞ when the model ignores eccentricity and
+ * the detail is seen at the gaze, or the target is ≤ 0. Inputs not NaN (checked at the boundary). */
+double acu_contrast_resolution_eccentricity_deg(const struct acu_contrast_limits *lim, double contrast,
+                                                double velocity_degps, double target_cpd);
+double acu_resolution_eccentricity_deg(const struct acu_limits *lim, double velocity_degps, double target_cpd);
+
 /* ---- viewing geometry, batched --------------------------------------------------------------
  * The viewer: cyclopean eye position and gaze in world space, the eye's angular and linear velocity
  * (acu_gaze_viewer fills it for a gaze model).

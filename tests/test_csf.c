@@ -434,6 +434,65 @@ static void test_octaves(void)
     CHECK(acu_csf_band_visible_log10(1e-310, 300.0, 1.0, 0.0) == acu_csf_band_visible(1e-310, 1e300, 1.0)); /* subnormal c */
 }
 
+/* The resolution ceiling (acuity/resolution.c) against a brute-force scan of the same criterion:
+ * at the returned eccentricity no band in [target, ξ·s] of contrast c is visible (a dense scan of ρ,
+ * 64 per octave), and 0.5° nearer the gaze one is (unless 0 was returned). Castle and stela, still
+ * and moving, full and low contrast. And the acuity criterion's against H(v, E) directly. */
+static void test_resolution_ceiling(void)
+{
+    static struct acu_csf_table table;
+    struct acu_contrast_limits lim;
+    int checked = 0;
+    for (int m = 0; m < 2; ++m) {
+        acu_csf_table_fill_cycles(&table, m ? ACU_CSF_STELA : ACU_CSF_CASTLE, 20.0, ACU_CSF_GABOR_CYCLES);
+        acu_contrast_limits_init(&lim, &table, 5.5, 1.0, 2.0); /* a Vive's ξ, the default k */
+        const double contrasts[] = {1.0, 0.2, 0.03}, speeds[] = {0.0, 3.0, 30.0}, scales[] = {0.75, 0.5, 0.35, 0.25};
+        for (int c = 0; c < 3; ++c)
+            for (int v = 0; v < 3; ++v)
+                for (int k = 0; k < 4; ++k) {
+                    double target = scales[k] * lim.xi_cpd;
+                    double e = acu_contrast_resolution_eccentricity_deg(&lim, contrasts[c], speeds[v], target);
+                    CHECK(e >= 0.0 && isfinite(e));
+                    int visible_at = 0, visible_nearer = 0;
+                    for (double rho = target; rho <= lim.xi_cpd; rho *= exp2(1.0 / 64.0)) {
+                        double s_at = acu_contrast_band_sensitivity(&lim, rho, speeds[v], e + 1e-9);
+                        double s_near = acu_contrast_band_sensitivity(&lim, rho, speeds[v], fmax(0.0, e - 0.5));
+                        /* between sampled bands S may rise a little: allow 2 % of threshold */
+                        visible_at += contrasts[c] * s_at * lim.k_scale >= 1.02;
+                        visible_nearer += acu_csf_band_visible(contrasts[c], s_near, lim.k_scale);
+                    }
+                    CHECK(visible_at == 0);
+                    CHECK(e == 0.0 || visible_nearer > 0);
+                    ++checked;
+                    if (m == 0 && v == 0 && c != 1)
+                        printf("resolution ceiling (castle, 20 cd/m2, k 2, still, c %.2f): %.2f cpd invisible beyond %.1f deg\n",
+                               contrasts[c], target, e);
+                }
+        /* Monotone: a coarser target needs a wider inset; more contrast too. */
+        CHECK(acu_contrast_resolution_eccentricity_deg(&lim, 1.0, 0.0, 1.4) >=
+              acu_contrast_resolution_eccentricity_deg(&lim, 1.0, 0.0, 2.8));
+        CHECK(acu_contrast_resolution_eccentricity_deg(&lim, 1.0, 0.0, 2.8) >=
+              acu_contrast_resolution_eccentricity_deg(&lim, 0.1, 0.0, 2.8));
+        CHECK(acu_contrast_resolution_eccentricity_deg(&lim, 1.0, 0.0, 5.5) == 0.0); /* ξ: nothing above */
+        CHECK(acu_contrast_resolution_eccentricity_deg(&lim, 0.0, 0.0, 1.0) == 0.0);
+        CHECK(isinf(acu_contrast_resolution_eccentricity_deg(&lim, 1.0, 0.0, 0.0)));
+        lim.use_eccentricity = 0;
+        CHECK(isinf(acu_contrast_resolution_eccentricity_deg(&lim, 1.0, 0.0, 2.0)));
+    }
+    struct acu_limits al;
+    acu_limits_init(&al, 30.0, 1.0);
+    const double speeds[] = {0.0, 5.0, 40.0};
+    for (int v = 0; v < 3; ++v)
+        for (double target = 2.0; target < 30.0; target *= 1.5) {
+            double e = acu_resolution_eccentricity_deg(&al, speeds[v], target);
+            CHECK(e >= 0.0 && isfinite(e));
+            CHECK(acu_acuity_cpd(speeds[v], e + 1e-6) <= target * (1.0 + 1e-9));
+            CHECK(e <= 5.79 || acu_acuity_cpd(speeds[v], e - 0.5) > target);
+            ++checked;
+        }
+    printf("resolution ceiling: %d cases checked against the criterion\n", checked);
+}
+
 int main(void)
 {
     test_names();
@@ -442,6 +501,7 @@ int main(void)
     test_octaves();
     print_cutoffs();
     print_fill_time();
+    test_resolution_ceiling();
     int castle = test_reference("data/csf/castle.csv", ACU_CSF_CASTLE);
     int stela = test_reference("data/csf/stela.csv", ACU_CSF_STELA);
     if (castle < 0 || stela < 0) {

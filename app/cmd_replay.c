@@ -16,7 +16,8 @@ static const char replay_usage[] =
     "                     [--cost-correction on|ratio|affine|off] [--gaze MODEL] [--vor-gain G]\n"
     "                     [--vor-latency-ms T] [--fixation-m D] [--saccade-onset-degps V]\n"
     "                     [--reference EVERY] [--velocity-term on|off] [--eccentricity-term on|off]\n"
-    "                     [--mb-simplify K]\n"
+    "                     [--mb-simplify K] [--foveation off|fixed|gaze] [--periphery-scale S]\n"
+    "                     [--inset-deg R] [--blend-deg B]\n"
     "  Replays a head-motion trace on a virtual clock through a scene, rendering both eyes headless.\n"
     "  --trace FILE       hmdlod CSV (t_s,qw,qx,qy,qz[,px,py,pz][,gx,gy,gz]), a Corbillon MMSys'18\n"
     "                     quaternion file, a Nasrabadi MMSys'19 CSV or an EDVAM eye-tracker log (gaze and\n"
@@ -92,6 +93,7 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, lo
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
         long n = 0;
         double d = 0.0;
+        int bad = 0;
         if (!strcmp(opt, "--quiet")) {
             o->frame.quiet = 1;
             continue;
@@ -236,6 +238,9 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, lo
             if (app_parse_double(opt, val, &d))
                 return 1;
             o->frame.render_scale = d;
+        } else if (app_parse_layer_option(opt, val, &o->frame, &bad)) {
+            if (bad)
+                return 1;
         } else {
             fprintf(stderr, "hmdlod: unknown option '%s'\n%s", opt, usage);
             return 1;
@@ -262,6 +267,7 @@ int cmd_replay(int argc, char **argv)
 {
     if (app_wants_help(argc, argv)) {
         fputs(replay_usage, stdout);
+        fputs(app_layer_usage, stdout);
         return 0;
     }
     struct rpl_options o;

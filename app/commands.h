@@ -39,5 +39,12 @@ int cmd_calibrate(int argc, char **argv); /* app/cmd_calibrate.c: machine cost m
 int app_parse_double(const char *option, const char *text, double *out);
 int app_parse_long(const char *option, const char *text, long min, long max, long *out);
 int app_wants_help(int argc, char **argv);
+/* The foveated layers' options, shared by replay, live and bench (frame/layers.h): --foveation,
+ * --periphery-scale, --inset-deg, --blend-deg. 1 when opt is one of them (its value parsed into o;
+ * *bad set to 1 with a message on stderr when the value is not a number), 0 otherwise. Ranges are
+ * frm_options_check's. */
+struct frm_options;
+int app_parse_layer_option(const char *opt, const char *val, struct frm_options *o, int *bad);
+extern const char app_layer_usage[];
 
 #endif

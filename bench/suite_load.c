@@ -151,7 +151,7 @@ static int load_frames(const char *dir, struct bch_result *r, struct hl_error *e
     for (const char *p = text; *p; ++p)
         rows += *p == '\n';
     rows = rows > 0 ? rows - 1 : 0;
-    int where[64]; /* CSV column → index into columns, or −1 */
+    int where[128]; /* CSV column → index into columns, or −1 */
     int n_fields = 0;
     char *line_end = strchr(text, '\n');
     if (!line_end) {
@@ -159,7 +159,7 @@ static int load_frames(const char *dir, struct bch_result *r, struct hl_error *e
         return hl_fail(err, "%s: no header line", path);
     }
     *line_end = '\0';
-    for (char *field = text; field && n_fields < 64; ++n_fields) {
+    for (char *field = text; field && n_fields < 128; ++n_fields) {
         char *comma = strchr(field, ',');
         if (comma)
             *comma = '\0';

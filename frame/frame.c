@@ -107,6 +107,17 @@ static void acuity_eyes(const struct frm_session *s, const struct rnd_eye_view v
     }
 }
 
+/* Each eye's frustum and the world gaze in its frame, as render's image measures take them. */
+static void frame_eye_gaze(const struct frm_session *s, const struct rnd_eye_view views[2], hl_vec3d gaze_world,
+                           struct rnd_eye_gaze gaze[2])
+{
+    for (int e = 0; e < 2; ++e) {
+        hl_vec3d g = hl_q_rotate(hl_q_conj(views[e].orientation), gaze_world);
+        gaze[e] = (struct rnd_eye_gaze){s->eyes[e].tan_left, s->eyes[e].tan_right, s->eyes[e].tan_up,
+                                        s->eyes[e].tan_down, {g.x, g.y, g.z}};
+    }
+}
+
 const double frm_retinal_band_lower_degps[FRM_RETINAL_BANDS] = {0.0, 2.0, 10.0, 30.0};
 
 int frm_band_of(const double *lower, int count, double value)
@@ -175,6 +186,14 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
                                  &s->limits, s->chains, eyes, vis->table ? &vis->limits : NULL};
     rec->adapting_luminance_cdm2 = vis->table ? vis->adapting_luminance_cdm2 : NAN;
     size_t extra = 0;
+    if (s->layers.mode != FRM_FOVEATION_OFF) { /* the layer candidates, priced by the selection */
+        int w, h;
+        rnd_renderer_size(s->renderer, &w, &h);
+        double xi = s->limits.xi_cpd * fmin(1.0, 0.5 * w / s->display.eye_width_px); /* what the image shows */
+        struct frm_layers_view lv = {&viewer, pose.orientation, s->eyes, w / 2, h, 0.5 * s->display.ipd_m};
+        frm_layers_plan(&s->layers, &lv, &s->limits, vis->table ? &vis->limits : NULL, xi, s->scene.center_m,
+                        s->scene.radius_m, a->visible, n, a->velocity_degps);
+    }
     frm_select_frame(&s->select, &s->scene, &in, a->lod, a->draw_index + n, a->draw_lod + n, &extra, &rec->sel);
     rec->acuity_evaluations = rec->sel.acuity_evaluations;
     for (uint32_t k = 0; k < n; ++k) {
@@ -188,15 +207,36 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     int64_t t2 = hl_clock_now_ns();
 
     struct rnd_draw_stats draw = {0};
-    if (rnd_renderer_draw_stereo(s->renderer, &s->scene, views, a->draw_index, a->draw_lod, n + extra, &draw) != 0)
+    struct rnd_layers setting;
+    const struct rnd_layers *layers = NULL;
+    if (s->layers.mode != FRM_FOVEATION_OFF) {
+        const hl_quatd orientation[2] = {views[0].orientation, views[1].orientation};
+        frm_layers_setting(&s->layers, s->eyes, orientation, &setting);
+        frm_layers_masks(&s->layers, n, extra);
+        layers = &setting;
+    }
+    if (rnd_renderer_draw_layers(s->renderer, &s->scene, views, layers, a->draw_index, a->draw_lod,
+                                 layers ? s->layers.mask : NULL, n + extra, &draw) != 0)
         return hl_fail(err, "frame %ld: drawing failed", frame);
     int64_t t3 = hl_clock_now_ns();
+    /* The layers' composite is the compositor's work, timed apart (render/render.h, docs/foveation.md). */
+    if (rnd_renderer_composite_layers(s->renderer, &rec->composite_px) != 0)
+        return hl_fail(err, "frame %ld: compositing the layers failed", frame);
+    int64_t t3c = hl_clock_now_ns();
+    rec->composite_ms = (double)(t3c - t3) * 1e-6;
     if (s->visibility.table) { /* the eye adapts to what it saw: next frame's luminance (frame/visibility.c) */
         double mean = NAN;
         struct hl_error read_err;
         if (rnd_renderer_mean_luminance(s->renderer, &mean, &read_err) != 0)
             return hl_fail(err, "frame %ld: reading the mean luminance failed: %s", frame, read_err.msg);
         frm_visibility_adapt(&s->visibility, mean);
+    }
+    if (s->layers.mode != FRM_FOVEATION_OFF) { /* what the content needs: next frame's ceilings (frame/layers.h) */
+        struct rnd_eye_gaze gaze[2];
+        frame_eye_gaze(s, views, viewer.gaze_dir, gaze);
+        struct hl_error read_err;
+        if (rnd_renderer_ring_contrast(s->renderer, gaze, &s->layers.rings, &read_err) != 0)
+            return hl_fail(err, "frame %ld: reading the content's contrast failed: %s", frame, read_err.msg);
     }
     int64_t t4 = hl_clock_now_ns();
     struct rusage usage1;
@@ -205,20 +245,64 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     rec->minor_faults = usage1.ru_minflt - usage0.ru_minflt;
 
     rec->triangles_per_eye = draw.triangles_per_eye[0];
+    rec->draw = draw;
     rec->acuity_us = (double)(t1 - t0) * 1e-3;
     rec->select_us = (double)(t2 - t1) * 1e-3 - rec->sel.lp_us;
     rec->draw_ms = (double)(t3 - t2) * 1e-6;
-    rec->luminance_us = (double)(t4 - t3) * 1e-3;
+    rec->luminance_us = (double)(t4 - t3c) * 1e-3;
     /* The adaptation is part of the frame for the selectors it steers; for none, static and feedback
      * it serves only the predicted visible error, a measurement taken outside the frame's time. */
     int64_t frame_end = frm_selector_uses_ceiling(s->selector) ? t4 : t3;
-    rec->frame_ms = (double)(frame_end - t0) * 1e-6 - rec->sel.lp_us * 1e-3;
+    rec->frame_ms = (double)(frame_end - t0) * 1e-6 - rec->sel.lp_us * 1e-3 - (frame_end > t3 ? rec->composite_ms : 0.0);
     rec->deadline_met = rec->frame_ms <= s->select.budget_ms;
     frm_select_measured(&s->select, &rec->sel, rec->draw_ms, rec->frame_ms);
     rec->visible_error = frm_select_visible_error(&s->select, &s->scene, &in, a->lod); /* after the timing */
     count_in_bands(s, a, n, rec);
     s->frame_views[0] = views[0], s->frame_views[1] = views[1];
     s->frame_gaze_dir = viewer.gaze_dir;
+    return 0;
+}
+
+static int compare_ms(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The layers' own cost per scale (frame/layers.h): empty frames with the layers (an inset of 20°
+ * on the lens centre) against empty plain frames, alternated, medians of FRM_LAYER_OVERHEAD_FRAMES
+ * each — the clears, which no object pays (the composite is the compositor's, timed apart). Before
+ * the clock starts; also makes the layers' framebuffer and program and runs the composite once
+ * (their first use costs tens of ms on llvmpipe). The difference can be negative (the layers clear
+ * less than the whole eye): it is kept, so a candidate's overhead is what it saves or adds. */
+enum { FRM_LAYER_OVERHEAD_FRAMES = 7 };
+static int measure_layer_overheads(struct frm_session *s, const struct rnd_eye_view views[2], struct hl_error *err)
+{
+    double plain[FRM_LAYER_OVERHEAD_FRAMES], layered[FRM_LAYER_OVERHEAD_FRAMES];
+    struct rnd_layers l = {.inset_radius_deg = 20.0, .blend_deg = s->layers.blend_deg,
+                           .centre_eye = {hl_v3(0, 0, -1), hl_v3(0, 0, -1)}, .eyes = {s->eyes[0], s->eyes[1]}};
+    uint32_t none_index = 0;
+    uint8_t none_lod = 0;
+    s->layers.overhead_ms[0] = 0.0;
+    for (int i = 1; i < FRM_LAYER_SCALES; ++i) {
+        l.periphery_scale = frm_layer_scales[i];
+        for (int rep = -1; rep < FRM_LAYER_OVERHEAD_FRAMES; ++rep) { /* rep −1: untimed first use */
+            int64_t t0 = hl_clock_now_ns();
+            if (rnd_renderer_draw_stereo(s->renderer, &s->scene, views, &none_index, &none_lod, 0, NULL) != 0)
+                return hl_fail(err, "the renderer's empty warm-up frame failed");
+            int64_t t1 = hl_clock_now_ns();
+            if (rnd_renderer_draw_layers(s->renderer, &s->scene, views, &l, &none_index, &none_lod, NULL, 0, NULL) != 0)
+                return hl_fail(err, "the layers' warm-up frame failed (scale %g)", l.periphery_scale);
+            int64_t t2 = hl_clock_now_ns();
+            if (rep >= 0)
+                plain[rep] = (double)(t1 - t0) * 1e-6, layered[rep] = (double)(t2 - t1) * 1e-6;
+            if (rnd_renderer_composite_layers(s->renderer, NULL) != 0) /* first use here, not in frame 0 */
+                return hl_fail(err, "the layers' warm-up composite failed (scale %g)", l.periphery_scale);
+        }
+        qsort(plain, FRM_LAYER_OVERHEAD_FRAMES, sizeof *plain, compare_ms);
+        qsort(layered, FRM_LAYER_OVERHEAD_FRAMES, sizeof *layered, compare_ms);
+        s->layers.overhead_ms[i] = layered[FRM_LAYER_OVERHEAD_FRAMES / 2] - plain[FRM_LAYER_OVERHEAD_FRAMES / 2];
+    }
     return 0;
 }
 
@@ -253,6 +337,13 @@ int frm_frame_warm_up(struct frm_session *s, struct hl_error *err)
     if (rnd_renderer_draw_stereo(s->renderer, scene, views, index, lod, n, &draw) != 0) {
         hl_fail(err, "the renderer's warm-up draw failed");
         goto done;
+    }
+    if (s->layers.mode != FRM_FOVEATION_OFF) {
+        struct rnd_eye_gaze gaze[2];
+        struct rnd_ring_contrast rings; /* discarded: the first frame's content is not known yet */
+        frame_eye_gaze(s, views, hl_q_rotate(pose.orientation, hl_v3(0, 0, -1)), gaze);
+        if (measure_layer_overheads(s, views, err) != 0 || rnd_renderer_ring_contrast(s->renderer, gaze, &rings, err) != 0)
+            goto done;
     }
     /* The contrast criterion's read-back makes its small framebuffer and blit path on first use
      * (about 80 ms on llvmpipe): here, not in frame 0. The value is discarded. */
@@ -294,11 +385,7 @@ int frm_frame_reference(struct frm_session *s, struct frm_frame_record *rec, uin
     if (rnd_renderer_read_rgba(s->renderer, ref, err) != 0)
         return -1;
     struct rnd_eye_gaze gaze[2];
-    for (int e = 0; e < 2; ++e) {
-        hl_vec3d g = hl_q_rotate(hl_q_conj(s->frame_views[e].orientation), s->frame_gaze_dir);
-        gaze[e] = (struct rnd_eye_gaze){s->eyes[e].tan_left, s->eyes[e].tan_right, s->eyes[e].tan_up,
-                                        s->eyes[e].tan_down, {g.x, g.y, g.z}};
-    }
+    frame_eye_gaze(s, s->frame_views, s->frame_gaze_dir, gaze);
     int width, height;
     rnd_renderer_size(s->renderer, &width, &height);
     if (rnd_image_error_compute(w, test, ref, width, height, 2, gaze, reddy_weight, NULL, &rec->image, err) != 0)

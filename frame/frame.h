@@ -63,6 +63,13 @@ struct frm_options {
     int velocity_term_off;   /* 1: acu_limits.use_velocity = 0 (bench gaze: what the velocity term saves) */
     int eccentricity_term_off; /* 1: acu_limits.use_eccentricity = 0 (Reddy's study: size + velocity) */
     int mb_simplify;         /* mb: Nirenstein et al.'s hierarchy simplification applied 0 (default) … 8 times */
+    /* Foveated layers (frame/layers.h, docs/foveation.md): "off" (default: the frame as before),
+     * "fixed" (inset on the lens centre) or "gaze" (on the gaze model's gaze, the measured one under
+     * tracked); --periphery-scale fixes s (one of frm_layer_scales; 0 = chosen per frame), --inset-deg
+     * the inset's radius (< 0 = the resolution ceiling's; 0 = no inset: global dynamic resolution),
+     * --blend-deg the band (0 = FRM_LAYER_BLEND_DEG_DEFAULT). */
+    const char *foveation;
+    double periphery_scale, inset_deg, blend_deg;
     const char *source_name; /* the pose source in messages ("--gaze tracked: NAME has no gaze columns") */
 };
 void frm_options_defaults(struct frm_options *o);
@@ -70,6 +77,8 @@ void frm_options_defaults(struct frm_options *o);
  * with err naming the option. */
 int frm_options_check(const struct frm_options *o, enum frm_selector *selector, enum frm_freq_reading *reading,
                       struct hl_error *err);
+/* The layer options alone (frm_options_check calls it): mode, scale, inset, band. */
+int frm_layers_options_check(const struct frm_options *o, struct hl_error *err);
 /* 1 when a --scene value names a scene file (docs/scene-format.md): it ends in .json or is an
  * existing regular file; otherwise it is a built-in scene's name. */
 int frm_scene_is_file(const char *scene);
@@ -161,6 +170,7 @@ struct frm_session {
     /* The last frame's eyes and world gaze, for its full-detail reference (frm_frame_reference). */
     struct rnd_eye_view frame_views[2];
     hl_vec3d frame_gaze_dir;
+    struct frm_layers layers; /* foveated layers (frame/layers.h); mode off: the plain frame */
 };
 
 /* Opening a session, in two steps so that its runner makes the pose source between them (replay
@@ -217,6 +227,9 @@ struct frm_frame_record {
     double flip_ppd;
     double adapting_luminance_cdm2; /* the contrast criterion's this frame; NaN under acuity */
     double luminance_us;            /* reading the frame's mean luminance back (contrast), in frame_ms */
+    struct rnd_draw_stats draw;     /* the draw's counts, with the layers' pixels (render/render.h) */
+    double composite_ms, composite_px; /* the layers' composite (0 for a plain frame): the compositor's
+                                        * pass, timed apart and not in frame_ms (docs/foveation.md) */
 };
 
 /* Before the visible set: moves the scene to time t_s (scene/motion.h): instance poses, bounding-

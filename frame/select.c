@@ -131,13 +131,35 @@ void frm_select_free(struct frm_select *s)
     s->mb = NULL;
 }
 
+/* The candidate's inset pixels per visible object, once per candidate and frame (frame/layers.h). */
+static void layer_prepare(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
+                          const struct frm_layer_candidate *layer)
+{
+    if (!layer || layer->scale >= 1.0)
+        return;
+    int c = (int)(layer - s->layers->cand);
+    if (s->layers->inset_px_of != c)
+        frm_layers_inset_pixels(s->layers, c, scene, in->eyes, in->visible, in->count, s->pixels_px);
+}
+
+/* Object k at a level under a layer candidate (NULL or scale 1: the plain frame). */
+static double layer_cost_ms(const struct frm_select *s, const struct frm_layer_candidate *layer,
+                            const struct scn_chain *ch, int level, size_t k)
+{
+    if (!layer || layer->scale >= 1.0)
+        return frm_level_cost_ms(&s->cost, ch, level, s->pixels_px[k], s->boxed[k]);
+    return frm_layers_level_cost_ms(s->layers, layer, &s->cost, ch, level, s->pixels_px[k], s->boxed[k], k);
+}
+
 /* The frame's problem over the visible objects: per object its levels coarsest first (the null
  * impostor before them where the chain allows drawing nothing), priced and valued, then reduced to
  * the convex hull. */
 static struct lod_problem build_problem(struct frm_select *s, const struct scn_scene *scene,
-                                        const struct frm_view_inputs *in, double budget_ms)
+                                        const struct frm_view_inputs *in, double budget_ms,
+                                        const struct frm_layer_candidate *layer)
 {
     double image_px = 0.0, kept_ms = 0.0;
+    layer_prepare(s, scene, in, layer);
     for (int e = 0; e < 2; ++e)
         image_px += in->eyes[e].width_px * in->eyes[e].height_px;
     uint32_t c = 0;
@@ -154,7 +176,7 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
         }
         for (int l = s->chain_lod_count[scene->chain_of_instance[inst]] - 1; l >= 0; --l, ++c) {
             s->cand_level[c] = (uint8_t)l;
-            s->cand_cost_ms[c] = frm_level_cost_ms(&s->cost, ch, l, s->pixels_px[k], s->boxed[k]);
+            s->cand_cost_ms[c] = layer_cost_ms(s, layer, ch, l, k);
             s->cand_samples[c] = ch->lods[l].vertex_count; /* Gouraud: m = 2 (§5) */
         }
         s->count[k] = (uint8_t)(c - s->first[k]);
@@ -172,6 +194,12 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
         for (size_t k = 0; k < in->count; ++k)
             for (uint32_t j = s->first[k]; j < s->first[k] + s->count[k]; ++j)
                 s->cand_benefit[j] *= scene->importance[in->visible[k]];
+    if (layer && layer->loses) /* what a coarser periphery than the ceiling takes away (frame/layers.h) */
+        for (size_t k = 0; k < in->count; ++k) {
+            double share = frm_layers_benefit_share(s->layers, layer, k);
+            for (uint32_t j = s->first[k]; j < s->first[k] + s->count[k]; ++j)
+                s->cand_benefit[j] *= share;
+        }
     lod_hull_reduce(in->count, s->first, s->count, s->cand_cost_ms, s->cand_benefit, s->cand_level, budget_ms,
                     (int64_t *)s->scratch); /* before the optimizer: the scratch is free */
     return (struct lod_problem){in->count, in->visible, s->first, s->count, s->cand_cost_ms, s->cand_benefit,
@@ -179,17 +207,94 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
 }
 
 /* c0 + Σ predicted cost of what is drawn, for any selector. */
-static double predicted_ms(const struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
-                           const uint8_t *lod)
+static double predicted_ms(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
+                           const uint8_t *lod, const struct frm_layer_candidate *layer)
 {
-    double sum = s->cost.c0_ms;
+    layer_prepare(s, scene, in, layer);
+    double sum = s->cost.c0_ms + (layer ? layer->overhead_ms : 0.0);
     for (size_t k = 0; k < in->count; ++k) {
         if (lod[k] == LOD_DROP)
             continue;
         const struct scn_chain *ch = &scene->chains[scene->chain_of_instance[in->visible[k]]];
-        sum += frm_level_cost_ms(&s->cost, ch, lod[k], s->pixels_px[k], s->boxed[k]);
+        sum += layer_cost_ms(s, layer, ch, lod[k], k);
     }
     return sum;
+}
+
+/* The selectors that do not price pixels take the cheapest candidate that loses nothing: the
+ * resolution ceiling, as reddy takes the LOD ceiling. */
+static void choose_layers_lossless(struct frm_select *s, const struct scn_scene *scene,
+                                   const struct frm_view_inputs *in, const uint8_t *lod)
+{
+    struct frm_layers *l = s->layers;
+    double best = INFINITY;
+    for (int c = 0; c < l->cand_count; ++c) {
+        if (l->cand[c].loses && l->cand_count > 1)
+            continue;
+        double ms = predicted_ms(s, scene, in, lod, &l->cand[c]);
+        if (ms < best)
+            best = ms, l->chosen = c;
+    }
+}
+
+/* The estimated pixels of the objects a choice drops. */
+static double dropped_pixels(const struct frm_select *s, const struct lod_problem *p, const uint8_t *choice)
+{
+    double px = 0.0;
+    for (size_t k = 0; k < p->object_count; ++k)
+        if (choice[k] == LOD_DROPPED || (p->count[k] > 0 && p->level[p->first[k] + choice[k]] == LOD_DROP))
+            px += s->pixels_px[k]; /* dropped by the optimizer, or its null impostor chosen */
+    return px;
+}
+
+/* fs with layers: one knapsack per candidate setting, each with its own overhead out of the budget;
+ * the highest benefit wins, the cheaper on a tie (frame/layers.h). lod_out gets the winner's levels. */
+static void solve_fs_layers(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
+                            double budget, uint8_t *lod_out, struct frm_select_record *rec, struct lod_result *best)
+{
+    struct frm_layers *l = s->layers;
+    double best_cost = INFINITY, best_dropped_px = INFINITY, margin = s->fs_margin_value, lp = -INFINITY;
+    double lp_us = 0.0, opt_us = 0.0;
+    uint32_t iterations = 0;
+    int have = 0;
+    for (int c = 0; c < l->cand_count; ++c) {
+        const struct frm_layer_candidate *cand = &l->cand[c];
+        struct lod_problem p = build_problem(s, scene, in, fmax(0.0, budget - cand->overhead_ms), cand);
+        struct lod_result r;
+        lod_choice_start(&p, s->previous_level, s->choice);
+        lod_optimize_fs(&p, s->opt_limit_us, s->scratch, s->choice, &r);
+        opt_us += r.elapsed_us;
+        iterations += r.iterations;
+        double cost = r.cost_ms + cand->overhead_ms;
+        double dropped_px = dropped_pixels(s, &p, s->choice);
+        double tie = 1e-9 * fmax(1.0, fabs(r.benefit));
+        /* Dropping is the last resort: fewer dropped pixels first, then benefit, then cost. */
+        int fewer = dropped_px < best_dropped_px - 0.5, same = fabs(dropped_px - best_dropped_px) <= 0.5;
+        if (!have || fewer ||
+            (same && (r.benefit > best->benefit + tie || (fabs(r.benefit - best->benefit) <= tie && cost < best_cost)))) {
+            have = 1;
+            best_dropped_px = dropped_px;
+            *best = r;
+            best_cost = cost;
+            l->chosen = c;
+            margin = r.margin_value;
+            lod_level_of_choice(&p, s->choice, lod_out);
+            rec->underused_drop = lod_choice_underused_drop(&p, s->choice, FRM_UNDERUSED_FRACTION);
+            rec->optimizer_budget_ms = p.budget_ms;
+        }
+        int64_t lp_start = hl_clock_now_ns(); /* measurement only, as below */
+        lp = fmax(lp, lod_lp_bound(&p, NULL));
+        lp_us += (double)(hl_clock_now_ns() - lp_start) * 1e-3;
+        l->evaluated = c + 1;
+        /* The lossy fallback only when nothing lossless holds every object within the budget. */
+        if (c + 1 == l->first_loss && best_dropped_px <= 0.0 && !best->over_budget)
+            break;
+    }
+    s->fs_margin_value = margin;
+    best->elapsed_us = opt_us;
+    best->iterations = iterations;
+    rec->lp_bound = lp; /* the layer choice's bound: the best candidate's bound bounds the union */
+    rec->lp_us = lp_us;
 }
 
 /* Popping: levels that changed for objects drawn in both frames; then this frame becomes "last". */
@@ -240,6 +345,7 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
                       struct frm_select_record *rec)
 {
     memset(rec, 0, sizeof *rec);
+    rec->layer_scale = 1.0;
     *extra_count = 0;
     rec->budget_ms = s->budget_ms;
     rec->lp_bound = NAN;
@@ -274,9 +380,19 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
                 budget = lod_cost_correction_budget_ms(&s->correction, budget);
             budget = fmax(0.0, budget - s->cost.c0_ms);
         }
-        struct lod_problem p = build_problem(s, scene, in, budget);
-        rec->optimizer_budget_ms = p.budget_ms; /* raised to hold the kept objects, if they need it */
         struct lod_result r;
+        if (s->selector == FRM_SELECT_FS && s->layers && s->layers->mode != FRM_FOVEATION_OFF) {
+            solve_fs_layers(s, scene, in, budget, lod_out, rec, &r);
+            rec->iterations = r.iterations;
+            rec->dropped = r.dropped;
+            rec->truncated = r.truncated;
+            rec->over_budget = r.over_budget;
+            rec->optimizer_us = r.elapsed_us;
+            rec->benefit = r.benefit;
+            break;
+        }
+        struct lod_problem p = build_problem(s, scene, in, budget, NULL);
+        rec->optimizer_budget_ms = p.budget_ms; /* raised to hold the kept objects, if they need it */
         if (s->selector == FRM_SELECT_MB) { /* Mason & Blake on the visible part of the hierarchy */
             frm_mb_select(s->mb, scene, &p, &s->cost, &s->benefit, in->eyes, s->opt_limit_us, lod_out, extra_index,
                           extra_level, extra_count, &r);
@@ -302,7 +418,17 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
         break;
     }
     }
-    rec->predicted_ms = predicted_ms(s, scene, in, lod_out);
+    const struct frm_layer_candidate *layer = NULL;
+    if (s->layers && s->layers->mode != FRM_FOVEATION_OFF) {
+        if (!(s->selector == FRM_SELECT_FS))
+            choose_layers_lossless(s, scene, in, lod_out);
+        layer = &s->layers->cand[s->layers->chosen];
+        rec->layer_scale = layer->scale;
+        rec->inset_radius_deg = layer->inset_radius_deg;
+        rec->layer_loses = layer->loses;
+        rec->layer_candidates = s->layers->cand_count;
+    }
+    rec->predicted_ms = predicted_ms(s, scene, in, lod_out, layer);
     double visible_px = 0.0, dropped_px = 0.0;
     for (size_t k = 0; k < in->count; ++k) {
         visible_px += s->pixels_px[k];

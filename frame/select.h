@@ -7,6 +7,7 @@
 #include "acuity/acuity.h"
 #include "lod/lod.h"
 #include "scene/scene.h"
+#include "frame/layers.h"
 
 /* How fs and mb correct their budget from measured draw times (lod.h): not at all, by the smoothed
  * measured/predicted ratio, or by the affine fit measured = a + b·x (the default: it learns the
@@ -104,6 +105,7 @@ struct frm_select {
                                  * perceptual_benefit and the frame has contrast limits */
     int visible_loss_valid;     /* this frame's visible_loss was computed */
     struct frm_saccade saccade;
+    struct frm_layers *layers; /* the session's foveated layers (frame/layers.h); NULL or mode off: none */
 };
 
 /* Issue 30's check on fs and mb: a frame that drops objects must not end under this share of its
@@ -129,6 +131,10 @@ struct frm_select_record {
      * objects are refined, the objects drawn coarser than their ceiling (pending) and those among them
      * whose refinement the budget's slack would have paid for; miss = such objects past the deadline */
     int saccade_active, saccade_phase, saccade_started;
+    /* foveated layers (frame/layers.h): the chosen periphery scale (1: none) and inset radius, whether
+     * it is coarser than the resolution ceiling, and how many settings were candidates */
+    double layer_scale, inset_radius_deg;
+    int layer_loses, layer_candidates;
     double gaze_speed_degps;
     uint32_t refine_pending, refine_unbudgeted;
     int refine_miss, refine_missed_saccade; /* this frame missed; first missed frame of its saccade */

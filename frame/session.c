@@ -27,6 +27,8 @@ void frm_options_defaults(struct frm_options *o)
     o->gaze = "auto";
     o->vor_gain = -1.0;
     o->vor_latency_ms = -1.0;
+    o->foveation = "off";
+    o->inset_deg = -1.0; /* the resolution ceiling's */
 }
 
 int frm_scene_is_file(const char *scene)
@@ -71,6 +73,25 @@ int frm_options_check(const struct frm_options *o, enum frm_selector *selector, 
         return hl_fail(err, "--vor-latency-ms: %g ms is outside [0, 100]", o->vor_latency_ms);
     if (!(o->fixation_m <= 1e6) || isnan(o->fixation_m))
         return hl_fail(err, "--fixation-m: %g m is outside (0, 1e6]", o->fixation_m);
+    return frm_layers_options_check(o, err);
+}
+
+int frm_layers_options_check(const struct frm_options *o, struct hl_error *err)
+{
+    enum frm_foveation_mode mode;
+    if (frm_foveation_parse(o->foveation, &mode, err) != 0)
+        return -1;
+    int known = o->periphery_scale == 0.0;
+    for (int i = 0; i < FRM_LAYER_SCALES; ++i)
+        known |= o->periphery_scale == frm_layer_scales[i];
+    if (!known)
+        return hl_fail(err, "--periphery-scale: %g is not one of 1, 0.75, 0.5, 0.35, 0.25", o->periphery_scale);
+    if (isnan(o->inset_deg) || o->inset_deg > 60.0)
+        return hl_fail(err, "--inset-deg: %g is outside [0, 60]", o->inset_deg);
+    if (!(o->blend_deg >= 0.0 && o->blend_deg <= 20.0))
+        return hl_fail(err, "--blend-deg: %g is outside (0, 20]", o->blend_deg);
+    if (mode == FRM_FOVEATION_OFF && (o->periphery_scale != 0.0 || o->inset_deg >= 0.0 || o->blend_deg != 0.0))
+        return hl_fail(err, "--periphery-scale, --inset-deg and --blend-deg need --foveation fixed or gaze");
     return 0;
 }
 
@@ -225,6 +246,12 @@ int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, s
     if (frm_cost_model_load(o->cost_profile, &s->select.cost, s->cost_label, sizeof s->cost_label, err) != 0 ||
         frm_select_init(&s->select, &s->scene, err) != 0)
         return -1;
+    enum frm_foveation_mode foveation;
+    if (frm_foveation_parse(o->foveation, &foveation, err) != 0 ||
+        frm_layers_init(&s->layers, foveation, o->blend_deg, o->periphery_scale, o->inset_deg, n,
+                        s->scene.group_count, err) != 0)
+        return -1;
+    s->select.layers = &s->layers;
 
     int eye_w = (int)lround(s->display.eye_width_px * o->render_scale);
     int eye_h = (int)lround(s->display.eye_height_px * o->render_scale);
@@ -260,5 +287,6 @@ void frm_session_close(struct frm_session *s)
     free(s->arrays.draw_index);
     free(s->arrays.draw_lod);
     frm_select_free(&s->select);
+    frm_layers_free(&s->layers);
     memset(s, 0, sizeof *s);
 }

@@ -23,6 +23,10 @@ struct rnd_layer_targets {
     GLuint program, vao, vbo;
     GLint u_source, u_origin, u_size, u_tex;
     float vertices[2 * RND_LAYER_EYE_VERTICES * RND_LAYER_FLOATS];
+    /* the last rnd_renderer_draw_layers, for rnd_renderer_composite_layers */
+    struct rnd_layers setting;
+    struct rnd_layer_plan plan;
+    int pending;
 };
 
 static const char rnd_layer_vs[] =
@@ -297,10 +301,10 @@ static void draw_peripheries(struct rnd_renderer *r, const struct scn_scene *sce
 }
 
 /* Step 3: the periphery upsampled over each eye, around the inset's inner disc. */
-static void composite(struct rnd_renderer *r, const struct rnd_layers *l, const struct rnd_layer_plan *plan,
-                      struct rnd_draw_stats *st)
+static double composite(struct rnd_renderer *r, const struct rnd_layers *l, const struct rnd_layer_plan *plan)
 {
     struct rnd_layer_targets *t = r->layers;
+    double shaded_px = 0.0;
     int counts[2] = {0, 0};
     for (int e = 0; e < 2; ++e)
         if (!plan->covers[e])
@@ -333,27 +337,29 @@ static void composite(struct rnd_renderer *r, const struct rnd_layers *l, const 
             glDisable(GL_BLEND); /* beyond the band the weight is 1: plain writes */
             glDrawArrays(GL_TRIANGLE_STRIP, first + 2 * RND_LAYER_RING, 2 * RND_LAYER_RING);
         }
-        st->draw_calls += counts[e] == 4 ? 1 : 2;
         /* What it shades: the eye less the inner disc's rectangle share, an estimate for the record. */
         double inner = l->inset_radius_deg > 0.0
                            ? (double)plan->inset_rect_px[e][2] * plan->inset_rect_px[e][3] *
                                  pow(l->inset_radius_deg / (l->inset_radius_deg + l->blend_deg), 2.0) * (HL_PI / 4.0)
                            : 0.0;
-        st->composite_px += (double)r->eye_w * r->eye_h - inner;
+        shaded_px += (double)r->eye_w * r->eye_h - inner;
     }
     glEnable(GL_DEPTH_TEST);
     glEnable(GL_CULL_FACE);
     glBindVertexArray(0);
     glBindTexture(GL_TEXTURE_2D, 0);
+    return shaded_px;
 }
 
 int rnd_renderer_draw_layers(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view views[2],
                              const struct rnd_layers *layers, const uint32_t *index, const uint8_t *lod,
                              const uint8_t *mask, size_t count, struct rnd_draw_stats *stats)
 {
+    if (r && r->layers)
+        r->layers->pending = 0;
     if (!layers || layers->periphery_scale >= 1.0)
         return rnd_renderer_draw_stereo(r, scene, views, index, lod, count, stats);
-    struct rnd_draw_stats st = {{0, 0}, 0, 0, 0, 0.0, 0.0, 0.0};
+    struct rnd_draw_stats st = {0};
     if (stats)
         *stats = st;
     struct rnd_layer_plan plan;
@@ -367,11 +373,31 @@ int rnd_renderer_draw_layers(struct rnd_renderer *r, const struct scn_scene *sce
     draw_insets(r, scene, views, &plan, index, lod, mask, count, &st);
     draw_peripheries(r, scene, views, &plan, index, lod, mask, count, &st);
     glBindVertexArray(0);
-    composite(r, layers, &plan, &st);
     glFinish(); /* the caller's timer covers the GPU work */
     st.inset_px = plan.inset_px;
     st.periphery_px = plan.periphery_px_total;
     if (stats)
         *stats = st;
+    if (glGetError() != GL_NO_ERROR)
+        return -1;
+    r->layers->setting = *layers;
+    r->layers->plan = plan;
+    r->layers->pending = 1;
+    return 0;
+}
+
+int rnd_renderer_composite_layers(struct rnd_renderer *r, double *composite_px)
+{
+    if (composite_px)
+        *composite_px = 0.0;
+    if (!r || !r->layers || !r->layers->pending)
+        return 0; /* a plain frame: nothing to composite */
+    if (rnd_renderer_current(r) != 0)
+        return -1;
+    double shaded_px = composite(r, &r->layers->setting, &r->layers->plan);
+    glFinish();
+    r->layers->pending = 0;
+    if (composite_px)
+        *composite_px = shaded_px;
     return glGetError() == GL_NO_ERROR ? 0 : -1;
 }

@@ -55,4 +55,29 @@ struct rnd_layer_plan {
  * a non-positive tangent). Pure: no GL. */
 int rnd_layer_plan_make(const struct rnd_layers *l, int eye_w_px, int eye_h_px, struct rnd_layer_plan *out);
 
+/* ---- what the content needs (ring_contrast.c) ------------------------------------------------
+ * The band-limited contrast (Peli 1990) of the last frame by eccentricity: the FBO box-filtered to
+ * 1/RND_RING_DOWNSAMPLE of its size per axis (a linear down-blit per eye), read back, and for each
+ * pixel its finest band over the local mean, |Y − blur(Y)| / blur(Y) (Y linear luminance, blur 3×3
+ * binomial); the largest in each RND_CONTRAST_RING_DEG-wide ring of angle from the eye's gaze (the
+ * last ring takes everything beyond). The measured band lies at a quarter to a half of the reduced
+ * image's Nyquist frequency — below the frequencies a periphery at s ≥ 0.25 loses — so using it for
+ * those assumes band contrast does not grow with frequency above it: true of the edges and shading
+ * ramps these renders hold (a step's band contrast is the same in every band) and of natural images
+ * (amplitude ∝ 1/f); a fine texture seen only above the band would be missed (docs/foveation.md).
+ * Tursun et al. 2019 likewise predict what a region needs from a low-resolution version of the
+ * frame. Allocates its target and buffers on first use (warm-up), nothing after. */
+enum { RND_RING_DOWNSAMPLE = 8, RND_CONTRAST_RINGS = 18 };
+#define RND_CONTRAST_RING_DEG 5.0
+struct rnd_ring_contrast {
+    double max_contrast[RND_CONTRAST_RINGS]; /* ring k: [5k, 5k + 5) degrees from the gaze */
+    uint32_t pixels[RND_CONTRAST_RINGS];     /* reduced-image pixels that fell in it (0: none seen) */
+    int valid;
+};
+struct rnd_renderer;
+struct rnd_eye_gaze;
+/* gaze: two, per eye its frustum's tangents and gaze direction in the eye frame (render/image_error.h). */
+int rnd_renderer_ring_contrast(struct rnd_renderer *r, const struct rnd_eye_gaze *gaze,
+                               struct rnd_ring_contrast *out, struct hl_error *err);
+
 #endif

@@ -29,9 +29,9 @@ struct rnd_draw_stats {
     uint64_t triangles_per_eye[2]; /* every layer's, for a foveated frame */
     uint32_t draw_calls;
     /* A foveated frame (rnd_renderer_draw_layers; 0 for a plain one): triangles each layer drew (both
-     * eyes), and the pixels it shaded: the insets' rectangles, the peripheries, the composite's mesh. */
+     * eyes), and the pixels it shaded: the insets' rectangles, the peripheries. */
     uint64_t inset_triangles, periphery_triangles;
-    double inset_px, periphery_px, composite_px;
+    double inset_px, periphery_px;
 };
 
 /* Clears and draws the listed instances (index[k], at LOD lod[k]; lod 255 = skip) into both eyes:
@@ -45,14 +45,19 @@ int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *sce
 /* ---- foveated layers (render/layers.h) ---- */
 #include "render/layers.h"
 /* Draws the listed instances in layers (render/layers.h): entry k into the layers its mask[k] names
- * (RND_LAYER_INSET, RND_LAYER_PERIPHERY; mask NULL: both), then composites them into the FBO that
- * rnd_renderer_read_rgba, the mean luminance and the distortion pass read. layers NULL or a scale of
- * 1: rnd_renderer_draw_stereo (masks ignored). The periphery's framebuffer and the composite's
- * program are made on the first foveated frame. Waits for the GPU like rnd_renderer_draw_stereo.
+ * (RND_LAYER_INSET, RND_LAYER_PERIPHERY; mask NULL: both) — the insets into the FBO, the peripheries
+ * into the layers' own framebuffer (made on the first foveated frame). Waits for the GPU like
+ * rnd_renderer_draw_stereo. layers NULL or a scale of 1: rnd_renderer_draw_stereo (masks ignored).
  * −1 on a bad list or layer setting (nothing drawn) or a GL error. */
 int rnd_renderer_draw_layers(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view views[2],
                              const struct rnd_layers *layers, const uint32_t *index, const uint8_t *lod,
                              const uint8_t *mask, size_t count, struct rnd_draw_stats *stats);
+/* Composites the last rnd_renderer_draw_layers into the FBO that rnd_renderer_read_rgba, the mean
+ * luminance and the distortion pass read, and waits for it; a no-op (0) after a plain frame. Apart
+ * from the draw because it is the compositor's work: a headset runtime composites submitted layers
+ * in its distortion pass, which a plain frame also pays for (docs/foveation.md "What a frame pays").
+ * *composite_px (may be NULL): the pixels it shaded. 0, or −1 on a GL error. */
+int rnd_renderer_composite_layers(struct rnd_renderer *r, double *composite_px);
 
 /* Reads the FBO into rgba (2·eye_width·height·4 bytes), rows top to bottom. */
 int rnd_renderer_read_rgba(struct rnd_renderer *r, uint8_t *rgba, struct hl_error *err);

@@ -51,6 +51,7 @@ struct rnd_renderer {
     int lum_w, lum_h;
     uint8_t lum_rgba[RND_LUM_W * RND_LUM_H * 4];
     struct rnd_layer_targets *layers; /* the foveated layers' framebuffers and composite (layers.c), made on first use */
+    struct rnd_ring_target *rings;    /* the contrast read-back's target and buffers (ring_contrast.c), on first use */
 };
 
 /* Draws the listed instances with one view into the current viewport (the caller has bound the FBO,
@@ -67,6 +68,9 @@ int rnd_renderer_current(const struct rnd_renderer *r);
 /* Frees the layers' targets (layers.c), and their GL objects when delete_gl (the renderer's context
  * is current). NULL: nothing. */
 void rnd_layer_targets_destroy(struct rnd_layer_targets *t, int delete_gl);
+
+/* Frees the contrast read-back's target (ring_contrast.c), its GL objects when delete_gl. */
+void rnd_ring_target_destroy(struct rnd_ring_target *t, int delete_gl);
 
 /* ---- single-view draws for the offline analysis (renderer.c, used by analyze.c) ----------------
  * rect_px = x, y (from the bottom-left, GL convention), width, height inside the FBO. */

@@ -164,9 +164,12 @@ void rnd_renderer_destroy(struct rnd_renderer *r)
         glDeleteFramebuffers(1, &r->lum_fbo);
         glDeleteRenderbuffers(1, &r->lum_rb);
         rnd_layer_targets_destroy(r->layers, 1);
+        rnd_ring_target_destroy(r->rings, 1);
         r->layers = NULL;
+        r->rings = NULL;
     }
     rnd_layer_targets_destroy(r->layers, 0); /* no context: the GL objects went with it */
+    rnd_ring_target_destroy(r->rings, 0);
     rnd_egl_destroy(&r->egl);
     free(r);
 }
@@ -292,7 +295,7 @@ int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *sce
                              size_t count, struct rnd_draw_stats *stats)
 {
     if (stats)
-        *stats = (struct rnd_draw_stats){{0, 0}, 0, 0, 0, 0.0, 0.0, 0.0};
+        *stats = (struct rnd_draw_stats){{0, 0}, 0, 0, 0, 0.0, 0.0};
     if (!views || rnd_check_draw(r, scene, index, lod, count) != 0)
         return -1;
     if (rnd_renderer_current(r) != 0)

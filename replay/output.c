@@ -21,8 +21,9 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
         fprintf(o->csv, ",lod%d", k);
     fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
           "over_budget,underused_drop,dropped_px_share,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,visible_error,adapting_luminance_cdm2,"
-          "psnr_db,ssim,ssim_rgb,fssim,fssim_e0,fssim_e1,fssim_e2,fssim_e3,px_over_32,flip_mean,flip_median,flip_max,acuity_us,select_us,"
-          "optimizer_us,draw_ms,frame_ms,deadline_met,minor_faults,luminance_us\n", o->csv);
+          "psnr_db,ssim,ssim_rgb,fssim,fssim_e0,fssim_e1,fssim_e2,fssim_e3,px_over_32,flip_mean,flip_median,flip_max,"
+          "layer_scale,inset_radius_deg,layer_loses,inset_px,periphery_px,acuity_us,select_us,"
+          "optimizer_us,draw_ms,frame_ms,deadline_met,minor_faults,luminance_us,composite_ms\n", o->csv);
     return 0;
 }
 
@@ -78,10 +79,13 @@ void rpl_output_row(struct rpl_output *o, const struct frm_frame_record *r, int 
     fprintf(o->csv, ",%.6f", r->visible_error);
     write_optional(o->csv, ",%.3f", r->adapting_luminance_cdm2); /* empty under --visibility acuity */
     write_image_error(o->csv, r);
+    /* The foveated layers (frame/layers.h): scale 1 and radius 0 when there are none. */
+    fprintf(o->csv, ",%.2f,%.3f,%d,%.0f,%.0f", q->layer_scale, q->inset_radius_deg, q->layer_loses, r->draw.inset_px,
+            r->draw.periphery_px);
     /* The timings last: everything before them is deterministic (the optimizer's budget aside, which
      * follows the measured overhead and correction). */
-    fprintf(o->csv, ",%.2f,%.2f,%.2f,%.3f,%.3f,%d,%ld,%.2f\n", r->acuity_us, r->select_us, q->optimizer_us, r->draw_ms,
-            r->frame_ms, r->deadline_met, r->minor_faults, r->luminance_us);
+    fprintf(o->csv, ",%.2f,%.2f,%.2f,%.3f,%.3f,%d,%ld,%.2f,%.3f\n", r->acuity_us, r->select_us, q->optimizer_us,
+            r->draw_ms, r->frame_ms, r->deadline_met, r->minor_faults, r->luminance_us, r->composite_ms);
 }
 
 int rpl_output_close(struct rpl_output *o, struct hl_error *err)

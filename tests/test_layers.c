@@ -79,6 +79,9 @@ static void test_composite(struct rnd_renderer *r, const struct scn_scene *s, co
     CHECK(rnd_renderer_draw_stereo(r, s, v, index, lod, s->instance_count, NULL) == 0);
     CHECK(rnd_renderer_read_rgba(r, full, &err) == 0);
     CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, NULL, s->instance_count, &st) == 0);
+    double composite_px = 0.0;
+    CHECK(rnd_renderer_composite_layers(r, &composite_px) == 0);
+    CHECK(composite_px > 0.5 * 2 * EW * EH && composite_px < 2.0 * EW * EH);
     CHECK(rnd_renderer_read_rgba(r, fov, &err) == 0);
     CHECK(st.inset_triangles > 0 && st.periphery_triangles > 0 && st.periphery_px > 0 && st.inset_px > 0);
     hl_vec3d c = hl_v3_normalize(centre);
@@ -128,6 +131,7 @@ static void test_step_detected(struct rnd_renderer *r, const struct scn_scene *s
     CHECK(rnd_renderer_draw_stereo(r, s, v, index, lod, s->instance_count, NULL) == 0);
     CHECK(rnd_renderer_read_rgba(r, full, &err) == 0);
     CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, NULL, s->instance_count, NULL) == 0);
+    CHECK(rnd_renderer_composite_layers(r, NULL) == 0);
     CHECK(rnd_renderer_read_rgba(r, fov, &err) == 0);
     int n = 0;
     double m_fov = straddle_mad(fov, 0, &l.eyes[0], ahead, 15.005, &n);
@@ -160,6 +164,8 @@ static void test_global_and_masks(struct rnd_renderer *r, const struct scn_scene
     l.periphery_scale = 1.0;
     CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, mask, s->instance_count, &st) == 0);
     CHECK(st.triangles_per_eye[0] > 0 && st.inset_px == 0 && st.periphery_px == 0);
+    double px = -1.0;
+    CHECK(rnd_renderer_composite_layers(r, &px) == 0 && px == 0.0); /* a plain frame: nothing to composite */
     /* Bad settings: nothing drawn, −1. */
     struct rnd_layers bad = l;
     bad.periphery_scale = 0.1;

@@ -29,7 +29,7 @@ static void strip_timing_columns(char *csv)
         char *end = strchr(line, '\n');
         size_t len = end ? (size_t)(end - line) : strlen(line);
         size_t keep = len;
-        for (int commas = 0; keep > 0 && commas < 8; --keep) /* acuity_us … luminance_us */
+        for (int commas = 0; keep > 0 && commas < 9; --keep) /* acuity_us … composite_ms */
             if (line[keep - 1] == ',')
                 ++commas;
         memmove(out, line, keep);

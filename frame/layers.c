@@ -1,0 +1,316 @@
+/* Resolution as a representation (frame/layers.h): the layer candidates of a frame, what an object
+ * costs and keeps under each, and the chosen setting and masks for render. Arrays are sized when the
+ * scene loads; a frame allocates nothing. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "frame/frame.h"
+
+const double frm_layer_scales[FRM_LAYER_SCALES] = {1.0, 0.75, 0.5, 0.35, 0.25};
+const double frm_layer_loss_radii_deg[FRM_LAYER_LOSS_RADII] = {20.0, 15.0, 10.0, 5.0};
+
+static const char *const foveation_names[] = {"off", "fixed", "gaze"};
+
+int frm_foveation_parse(const char *name, enum frm_foveation_mode *out, struct hl_error *err)
+{
+    const char *n = name ? name : "off";
+    for (int k = 0; k < 3; ++k)
+        if (!strcmp(n, foveation_names[k])) {
+            *out = (enum frm_foveation_mode)k;
+            return 0;
+        }
+    return hl_fail(err, "--foveation: unknown mode '%s' (known: off, fixed, gaze)", n);
+}
+
+const char *frm_foveation_name(enum frm_foveation_mode mode)
+{
+    return mode >= 0 && mode < 3 ? foveation_names[mode] : "?";
+}
+
+int frm_layers_init(struct frm_layers *l, enum frm_foveation_mode mode, double blend_deg, double forced_scale,
+                    double forced_radius_deg, uint32_t instances, uint32_t groups, struct hl_error *err)
+{
+    memset(l, 0, sizeof *l);
+    l->mode = mode;
+    l->blend_deg = blend_deg > 0.0 ? blend_deg : FRM_LAYER_BLEND_DEG_DEFAULT;
+    l->forced_scale = forced_scale;
+    l->forced_radius_deg = forced_radius_deg;
+    l->cand_count = 1;
+    l->cand[0].scale = 1.0;
+    if (mode == FRM_FOVEATION_OFF)
+        return 0;
+    size_t n = instances ? instances : 1;
+    l->centre_angle_deg = calloc(n, sizeof(double));
+    l->radius_deg = calloc(n, sizeof(double));
+    l->mask = calloc((size_t)instances + groups + 1, 1);
+    l->lod_scratch = calloc(n, 1);
+    l->inset_px = calloc(n, sizeof(double));
+    if (!l->centre_angle_deg || !l->radius_deg || !l->mask || !l->lod_scratch || !l->inset_px)
+        return hl_fail(err, "out of memory for the layers of %u objects", instances);
+    return 0;
+}
+
+void frm_layers_free(struct frm_layers *l)
+{
+    free(l->centre_angle_deg);
+    free(l->radius_deg);
+    free(l->mask);
+    free(l->lod_scratch);
+    free(l->inset_px);
+    memset(l, 0, sizeof *l);
+}
+
+static double angle_deg(hl_vec3d a, hl_vec3d b)
+{
+    return atan2(hl_v3_length(hl_v3_cross(a, b)), hl_v3_dot(a, b)) * HL_DEG_PER_RAD; /* DESIGN.md: not acos */
+}
+
+/* The eccentricity beyond which content of contrast c loses nothing visible at scale s. */
+static double needed_eccentricity_deg(const struct frm_layers *l, const struct acu_limits *acuity,
+                                      const struct acu_contrast_limits *contrast, double xi_cpd, double scale, double c)
+{
+    double target = scale * xi_cpd;
+    return contrast ? acu_contrast_resolution_eccentricity_deg(contrast, c, l->slowest_degps, target)
+                    : acu_resolution_eccentricity_deg(acuity, l->slowest_degps, target);
+}
+
+/* The content's contrast in ring k: the last frame's, or full contrast where none is known. The
+ * acuity criterion takes every loss at full contrast (Reddy's H). */
+static double ring_contrast(const struct frm_layers *l, int k)
+{
+    return l->rings.valid && l->rings.pixels[k] > 0 ? l->rings.max_contrast[k] : 1.0;
+}
+
+/* The inset a scale needs, from the gaze: each ring whose content would show the loss at its inner
+ * edge must be covered up to where it stops showing (or the ring's outer edge). */
+static double ceiling_radius_deg(const struct frm_layers *l, const struct acu_limits *acuity,
+                                 const struct acu_contrast_limits *contrast, double xi_cpd, double scale)
+{
+    double radius = 0.0;
+    for (int k = 0; k < RND_CONTRAST_RINGS; ++k) {
+        double inner = k * RND_CONTRAST_RING_DEG;
+        double outer = k + 1 < RND_CONTRAST_RINGS ? inner + RND_CONTRAST_RING_DEG : INFINITY;
+        double e = needed_eccentricity_deg(l, acuity, contrast, xi_cpd, scale, contrast ? ring_contrast(l, k) : 1.0);
+        if (e > inner)
+            radius = fmax(radius, fmin(e, outer));
+    }
+    return radius + l->centre_offset_deg;
+}
+
+/* Per ring, the coarsest scale that loses nothing visible there (1 when none does). */
+static void fill_needed_scales(struct frm_layers *l, const struct acu_limits *acuity,
+                               const struct acu_contrast_limits *contrast, double xi_cpd)
+{
+    for (int k = 0; k < RND_CONTRAST_RINGS; ++k) {
+        double c = contrast ? ring_contrast(l, k) : 1.0;
+        l->needed_scale[k] = 1.0;
+        for (int i = FRM_LAYER_SCALES - 1; i >= 1; --i)
+            if (needed_eccentricity_deg(l, acuity, contrast, xi_cpd, frm_layer_scales[i], c) <=
+                k * RND_CONTRAST_RING_DEG) {
+                l->needed_scale[k] = frm_layer_scales[i];
+                break;
+            }
+    }
+}
+
+/* render's setting for a scale and radius around the frame's centre (frm_layers_setting's, per candidate). */
+static void setting_of(const struct frm_layers *l, double scale, double radius_deg, const struct hmd_eye *eyes,
+                       hl_quatd orientation, struct rnd_layers *out)
+{
+    memset(out, 0, sizeof *out);
+    out->periphery_scale = scale;
+    out->inset_radius_deg = radius_deg;
+    out->blend_deg = l->blend_deg;
+    for (int e = 0; e < 2; ++e) {
+        out->centre_eye[e] = hl_q_rotate(hl_q_conj(orientation), l->centre_world);
+        out->eyes[e] = eyes[e];
+    }
+}
+
+static void add_candidate(struct frm_layers *l, const struct frm_layers_view *view, double scale, double radius_deg,
+                          double ceiling_deg, int scale_index)
+{
+    struct rnd_layers setting;
+    setting_of(l, scale, radius_deg, view->eyes, view->head_orientation, &setting);
+    struct rnd_layer_plan plan;
+    if (rnd_layer_plan_make(&setting, view->eye_w_px, view->eye_h_px, &plan) != 0 || plan.covers[0] || plan.covers[1])
+        return; /* an inset covering an eye is no cheaper than the plain frame */
+    struct frm_layer_candidate *c = &l->cand[l->cand_count++];
+    c->plan = plan;
+    c->scale = scale;
+    c->inset_radius_deg = radius_deg;
+    c->ceiling_radius_deg = ceiling_deg;
+    c->overhead_ms = scale_index >= 0 ? l->overhead_ms[scale_index] : 0.0;
+    c->loses = radius_deg < ceiling_deg;
+}
+
+void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, const struct acu_limits *acuity,
+                     const struct acu_contrast_limits *contrast, double xi_cpd, const double *center_m,
+                     const double *radius_m, const uint32_t *visible, size_t count, const double *velocity_degps)
+{
+    const struct acu_viewer *viewer = view->viewer;
+    hl_vec3d head_forward = hl_q_rotate(view->head_orientation, hl_v3(0, 0, -1));
+    double half_ipd_m = view->half_ipd_m;
+    l->cand_count = 1;
+    l->first_loss = 1;
+    l->chosen = 0;
+    l->evaluated = 0;
+    l->inset_px_of = -1;
+    memset(&l->cand[0], 0, sizeof l->cand[0]);
+    l->cand[0].scale = 1.0;
+    if (l->mode == FRM_FOVEATION_OFF)
+        return;
+    /* Gaze foveation follows the gaze model's gaze (the measured one under tracked); fixed stays on
+     * the lens centre, and pays for the eye looking elsewhere with a wider inset. */
+    l->centre_world = l->mode == FRM_FOVEATION_GAZE ? viewer->gaze_dir : head_forward;
+    l->centre_offset_deg = angle_deg(l->centre_world, viewer->gaze_dir);
+    double slowest = INFINITY;
+    for (size_t k = 0; k < count; ++k) {
+        const double *c = &center_m[3 * (size_t)visible[k]];
+        hl_vec3d d = hl_v3(c[0] - viewer->eye_position_m.x, c[1] - viewer->eye_position_m.y,
+                           c[2] - viewer->eye_position_m.z);
+        double dist = hl_v3_length(d), r = radius_m[visible[k]];
+        l->centre_angle_deg[k] = angle_deg(d, l->centre_world);
+        /* The sphere's angular radius from the cyclopean eye, widened by what either eye sees more. */
+        double reach = dist > r + half_ipd_m ? asin((r + half_ipd_m) / dist) * HL_DEG_PER_RAD : 180.0;
+        l->radius_deg[k] = reach;
+        slowest = fmin(slowest, velocity_degps[k]);
+    }
+    l->slowest_degps = isfinite(slowest) ? slowest : 0.0;
+    fill_needed_scales(l, acuity, contrast, xi_cpd);
+    l->ceiling_scale = 1.0;
+    double ceilings[FRM_LAYER_SCALES] = {0.0};
+    for (int i = 1; i < FRM_LAYER_SCALES; ++i)
+        ceilings[i] = ceiling_radius_deg(l, acuity, contrast, xi_cpd, frm_layer_scales[i]);
+    if (l->forced_scale > 0.0) { /* --periphery-scale: this setting alone (the plain frame if it covers an eye) */
+        for (int i = 1; i < FRM_LAYER_SCALES; ++i)
+            if (fabs(frm_layer_scales[i] - l->forced_scale) <= 1e-9) {
+                double radius = l->forced_radius_deg >= 0.0 ? l->forced_radius_deg : ceilings[i];
+                l->cand_count = 0;
+                add_candidate(l, view, frm_layer_scales[i], radius, ceilings[i], i);
+                if (l->cand_count == 0)
+                    l->cand_count = 1; /* cand[0] is still the plain frame */
+            }
+        l->first_loss = l->cand_count;
+        return;
+    }
+    /* First what loses nothing (each scale at its ceiling, or at --inset-deg), then the fallback:
+     * each scale with the grid's smaller insets, tried only when no lossless setting holds every
+     * object (frame/select.c). */
+    for (int i = 1; i < FRM_LAYER_SCALES; ++i) {
+        double radius = l->forced_radius_deg >= 0.0 ? l->forced_radius_deg : ceilings[i];
+        int before = l->cand_count;
+        add_candidate(l, view, frm_layer_scales[i], radius, ceilings[i], i);
+        if (l->cand_count > before && !(radius < ceilings[i]))
+            l->ceiling_scale = frm_layer_scales[i];
+    }
+    l->first_loss = l->cand_count;
+    if (l->forced_radius_deg >= 0.0)
+        return;
+    for (int i = 1; i < FRM_LAYER_SCALES; ++i)
+        for (int g = 0; g < FRM_LAYER_LOSS_RADII; ++g)
+            if (frm_layer_loss_radii_deg[g] < ceilings[i] - 0.5 * FRM_LAYER_LOSS_STEP_DEG)
+                add_candidate(l, view, frm_layer_scales[i], frm_layer_loss_radii_deg[g], ceilings[i], i);
+}
+
+/* The share of an object's disc (by diameter) nearer the centre than radius_deg. */
+static double share_within(double centre_deg, double half_deg, double radius_deg)
+{
+    if (half_deg <= 0.0)
+        return centre_deg < radius_deg ? 1.0 : 0.0;
+    double s = (radius_deg - (centre_deg - half_deg)) / (2.0 * half_deg);
+    return s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
+}
+
+void frm_layers_inset_pixels(struct frm_layers *l, int c, const struct scn_scene *scene, const struct acu_eye *eyes,
+                             const uint32_t *visible, size_t count, const double *pixels_px)
+{
+    const struct frm_layer_candidate *cand = &l->cand[c];
+    l->inset_px_of = c;
+    if (cand->scale >= 1.0 || cand->inset_radius_deg <= 0.0) {
+        memset(l->inset_px, 0, count * sizeof *l->inset_px);
+        return;
+    }
+    /* Each eye's inset rectangle as an image of its own: the same eye, the window's tangents. */
+    struct acu_eye inset[2];
+    int n = 0;
+    for (int e = 0; e < 2; ++e) {
+        const int *rect = cand->plan.inset_rect_px[e];
+        if (rect[2] < 1 || rect[3] < 1)
+            continue;
+        const struct acu_eye *y = &eyes[e];
+        double tx = (y->tan_left + y->tan_right) / y->width_px, ty = (y->tan_up + y->tan_down) / y->height_px;
+        inset[n] = *y;
+        inset[n].tan_left = y->tan_left - rect[0] * tx;
+        inset[n].tan_right = -y->tan_left + (rect[0] + rect[2]) * tx;
+        inset[n].tan_down = y->tan_down - rect[1] * ty;
+        inset[n].tan_up = -y->tan_down + (rect[1] + rect[3]) * ty;
+        inset[n].width_px = rect[2], inset[n].height_px = rect[3];
+        ++n;
+    }
+    double outer = cand->inset_radius_deg + l->blend_deg;
+    for (size_t k = 0; k < count; ++k) {
+        double theta = l->centre_angle_deg[k], half = l->radius_deg[k];
+        if (theta - half >= outer || n == 0)
+            l->inset_px[k] = 0.0;
+        else if (theta + half <= outer && half < 90.0)
+            l->inset_px[k] = pixels_px[k]; /* wholly inside the disc, so inside the rectangles */
+        else
+            frm_coverage_compute(scene, inset, n, &visible[k], 1, &l->inset_px[k], NULL);
+    }
+}
+
+double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_layer_candidate *c,
+                                const struct lod_cost_model *m, const struct scn_chain *ch, int level,
+                                double pixels_px, int boxed, size_t k)
+{
+    if (c->scale >= 1.0)
+        return frm_level_cost_ms(m, ch, level, pixels_px, boxed);
+    double theta = l->centre_angle_deg[k], half = l->radius_deg[k];
+    double outer = c->inset_radius_deg + l->blend_deg;
+    double cost = 0.0;
+    if (c->inset_radius_deg > 0.0 && theta - half < outer) /* the inset draws the band too */
+        cost += frm_level_cost_ms(m, ch, level, l->inset_px[k], boxed);
+    if (theta + half > c->inset_radius_deg)
+        cost += frm_level_cost_ms(m, ch, level, pixels_px * c->scale * c->scale, boxed);
+    return cost;
+}
+
+double frm_layers_benefit_share(const struct frm_layers *l, const struct frm_layer_candidate *c, size_t k)
+{
+    if (c->scale >= 1.0 || !c->loses)
+        return 1.0;
+    double theta = l->centre_angle_deg[k], half = l->radius_deg[k];
+    double inset = share_within(theta, half, c->inset_radius_deg + 0.5 * l->blend_deg);
+    /* The finest scale the object's eccentricity needs: its ring's, counted from the gaze. */
+    double from_gaze = fmax(0.0, theta - l->centre_offset_deg);
+    int ring = (int)(from_gaze / RND_CONTRAST_RING_DEG);
+    double needed = l->needed_scale[ring < RND_CONTRAST_RINGS ? ring : RND_CONTRAST_RINGS - 1];
+    double kept = needed <= c->scale ? 1.0 : (c->scale / needed) * (c->scale / needed);
+    return inset + (1.0 - inset) * kept;
+}
+
+void frm_layers_setting(const struct frm_layers *l, const struct hmd_eye eyes[2], const hl_quatd orientation[2],
+                        struct rnd_layers *out)
+{
+    const struct frm_layer_candidate *c = &l->cand[l->chosen];
+    setting_of(l, c->scale, c->inset_radius_deg, eyes, orientation[0], out);
+    out->centre_eye[1] = hl_q_rotate(hl_q_conj(orientation[1]), l->centre_world);
+}
+
+void frm_layers_masks(struct frm_layers *l, size_t count, size_t extra)
+{
+    const struct frm_layer_candidate *c = &l->cand[l->chosen];
+    double outer = c->inset_radius_deg + l->blend_deg;
+    for (size_t k = 0; k < count; ++k) {
+        double theta = l->centre_angle_deg[k], half = l->radius_deg[k];
+        uint8_t m = 0;
+        if (c->inset_radius_deg > 0.0 && theta - half < outer)
+            m |= RND_LAYER_INSET;
+        if (theta + half > c->inset_radius_deg)
+            m |= RND_LAYER_PERIPHERY;
+        l->mask[k] = m;
+    }
+    memset(l->mask + count, RND_LAYER_BOTH, extra); /* group impostors: not planned per layer */
+}

@@ -1,0 +1,129 @@
+/* frame/layers.h (part of frame/frame.h): resolution as a representation (issue 32). Each frame the
+ * foveated layers (render/layers.h) get a setting — the periphery's scale s and the inset's radius —
+ * from the same cost-bounded choice as the objects' levels:
+ *   - the resolution ceiling (acuity/resolution.c): for each scale s the inset radius R_s beyond which
+ *     nothing above s·ξ is visible, at the slowest retinal speed among the visible objects and at the
+ *     content's contrast ring by ring — the last frame's band contrast by eccentricity
+ *     (rnd_renderer_ring_contrast; full contrast before the first frame) — widened by the inset
+ *     centre's angle from the gaze (under fixed foveation the eye need not look at the lens centre);
+ *   - candidates: s = 1 (no layers), and for each coarser s the ceiling's inset (loses nothing); then,
+ *     for fs when none of those holds every object, each s with smaller insets from a grid (they lose
+ *     what lies between; their benefit says how much);
+ *   - fs solves its knapsack once per candidate, each object priced per layer (the inset's pixels at
+ *     full resolution, the periphery's at s², its geometry in every layer it touches) with the
+ *     candidate's own measured overhead (clears and composite) taken from the budget, and keeps the
+ *     candidate of highest benefit; the other selectors keep their levels and take the cheapest
+ *     candidate that loses nothing (the ceiling, as reddy takes the LOD ceiling).
+ * An object's benefit under a candidate is scaled by the share of its visible spectrum the layer
+ * keeps — (s / s_needed)² for its part in the periphery, s_needed the finest scale its eccentricity
+ * needs (a flat spectrum's share of the disc of frequencies up to s_needed·ξ) — so a scale coarser
+ * than the ceiling costs benefit and a finer one earns nothing. docs/foveation.md. */
+#ifndef HMDLOD_FRAME_LAYERS_H
+#define HMDLOD_FRAME_LAYERS_H
+
+#include "acuity/acuity.h"
+#include "lod/lod.h"
+#include "render/render.h"
+
+enum frm_foveation_mode { FRM_FOVEATION_OFF = 0, FRM_FOVEATION_FIXED = 1, FRM_FOVEATION_GAZE = 2 };
+/* "off" | "fixed" | "gaze" (NULL = off) → the mode; −1 naming the option otherwise. */
+int frm_foveation_parse(const char *name, enum frm_foveation_mode *out, struct hl_error *err);
+const char *frm_foveation_name(enum frm_foveation_mode mode);
+
+/* The periphery's scales (issue 32): 1 is the plain frame. */
+enum { FRM_LAYER_SCALES = 5 };
+extern const double frm_layer_scales[FRM_LAYER_SCALES];
+/* The fallback insets, smaller than the ceiling's, tried with every scale when nothing lossless
+ * holds every object (degrees; each is used where it is at least FRM_LAYER_LOSS_STEP_DEG / 2 under
+ * the scale's ceiling). */
+enum { FRM_LAYER_LOSS_RADII = 4 };
+extern const double frm_layer_loss_radii_deg[FRM_LAYER_LOSS_RADII];
+#define FRM_LAYER_LOSS_STEP_DEG 5.0
+enum { FRM_LAYER_CANDIDATES_MAX = FRM_LAYER_SCALES + (FRM_LAYER_SCALES - 1) * FRM_LAYER_LOSS_RADII };
+/* The blend band's width by default: wide enough that the step between a 4× coarser periphery and
+ * the inset spreads over ~50 pixels of a Vive's eye (test_layers: no step across its edges). */
+#define FRM_LAYER_BLEND_DEG_DEFAULT 5.0
+
+struct frm_layer_candidate {
+    double scale, inset_radius_deg;
+    struct rnd_layer_plan plan; /* what render will draw for it: the insets' rectangles, the sizes */
+    double ceiling_radius_deg; /* R_s (+ the centre's offset): the inset that loses nothing at this s */
+    double overhead_ms;        /* the layers' own cost (clears, composite), measured at warm-up */
+    int loses;                 /* 1: inset_radius_deg < ceiling_radius_deg */
+};
+
+struct frm_layers {
+    enum frm_foveation_mode mode;
+    double blend_deg;          /* > 0 */
+    double forced_scale;       /* > 0: --periphery-scale fixes s */
+    double forced_radius_deg;  /* ≥ 0: --inset-deg fixes the radius; < 0: from the ceiling */
+    double overhead_ms[FRM_LAYER_SCALES]; /* per scale, measured at warm-up (0 for s = 1) */
+    /* this frame */
+    struct frm_layer_candidate cand[FRM_LAYER_CANDIDATES_MAX];
+    int cand_count, chosen, evaluated; /* evaluated: candidates fs solved */
+    int first_loss;                    /* cand[first_loss …] lose visible detail (the fallback) */
+    hl_vec3d centre_world;      /* the inset's centre, unit world direction */
+    double centre_offset_deg;   /* its angle from the gaze model's gaze */
+    double slowest_degps;       /* the slowest visible object's retinal speed */
+    double ceiling_scale;       /* the coarsest scale whose ceiling inset fits (RND_LAYER_MAX_CONE_DEG) */
+    /* what the content needs: the last frame's band contrast by ring of eccentricity around its gaze
+     * (render/layers.h; not valid before the first frame: full contrast), and per ring the coarsest
+     * scale that loses nothing visible there */
+    struct rnd_ring_contrast rings;
+    double needed_scale[RND_CONTRAST_RINGS];
+    /* per visible object (capacity: the scene's instances) */
+    double *centre_angle_deg;   /* its centre's angle from the inset centre */
+    double *radius_deg;         /* half its angular diameter, plus the eyes' parallax */
+    double *inset_px;           /* the pixels it covers inside the current candidate's inset rectangles */
+    int inset_px_of;            /* the candidate inset_px was computed for (−1: none yet this frame) */
+    uint8_t *mask;              /* per draw entry (capacity: instances + groups + 1): RND_LAYER_* */
+    uint8_t *lod_scratch;       /* per visible object: a candidate's levels while fs compares them */
+};
+
+/* Allocates the per-object arrays for `instances` objects and `groups` group impostors; mode and
+ * the forced values from the options. 0, or −1 (out of memory). */
+int frm_layers_init(struct frm_layers *l, enum frm_foveation_mode mode, double blend_deg, double forced_scale,
+                    double forced_radius_deg, uint32_t instances, uint32_t groups, struct hl_error *err);
+void frm_layers_free(struct frm_layers *l);
+
+/* This frame's candidates (before selection): the inset centre (the lens centre, or under gaze
+ * foveation the gaze model's gaze), each visible object's angle from it, the slowest retinal speed,
+ * the ceiling radius per scale under the session's criterion (contrast: NULL → acuity's), and the
+ * candidate list. eye_position and head_forward are world; xi_cpd the rendered image's. */
+struct frm_layers_view {
+    const struct acu_viewer *viewer;
+    hl_quatd head_orientation;           /* the eyes' (both look the head's way) */
+    const struct hmd_eye *eyes;          /* two: the frusta */
+    int eye_w_px, eye_h_px;              /* the rendered eye images */
+    double half_ipd_m;
+};
+void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, const struct acu_limits *acuity,
+                     const struct acu_contrast_limits *contrast, double xi_cpd, const double *center_m,
+                     const double *radius_m, const uint32_t *visible, size_t count, const double *velocity_degps);
+/* The pixels each visible object covers inside candidate c's inset rectangles (l->inset_px), by the
+ * coverage estimate the cost model prices with (frm_coverage_compute) on each eye's rectangle as an
+ * image of its own: objects wholly inside the inset disc keep pixels_px, objects wholly outside get
+ * 0, only those across its edge are projected. eyes: the frame's two (acu_eye). */
+struct scn_scene;
+void frm_layers_inset_pixels(struct frm_layers *l, int c, const struct scn_scene *scene, const struct acu_eye *eyes,
+                             const uint32_t *visible, size_t count, const double *pixels_px);
+
+/* An object's cost under a candidate (both eyes, cost-profile units): frm_level_cost_ms for its
+ * pixels in the inset rectangles (frm_layers_inset_pixels, computed for c first) at full resolution
+ * plus, where it reaches past the inner disc, its whole image at s² in the periphery (the periphery
+ * draws the whole eye), each layer paying the geometry. */
+struct lod_cost_model;
+struct scn_chain;
+double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_layer_candidate *c,
+                                const struct lod_cost_model *m, const struct scn_chain *ch, int level,
+                                double pixels_px, int boxed, size_t k);
+/* The share of object k's benefit a candidate keeps, in (0, 1]. */
+double frm_layers_benefit_share(const struct frm_layers *l, const struct frm_layer_candidate *c, size_t k);
+
+/* After selection: the chosen candidate as render's setting for these eye views (orientation per
+ * eye), and each draw entry's mask (visible objects, then n_extra group impostors: both layers). */
+void frm_layers_setting(const struct frm_layers *l, const struct hmd_eye eyes[2], const hl_quatd orientation[2],
+                        struct rnd_layers *out);
+void frm_layers_masks(struct frm_layers *l, size_t count, size_t extra);
+
+#endif

@@ -1,0 +1,158 @@
+/* The content's contrast by eccentricity (render/layers.h "What the content needs"): the last frame,
+ * box-filtered down to a quarter of its size on the GPU, read back, and on the CPU the band-limited
+ * contrast of its finest band (Peli 1990: the band image over the local mean, PAPERS.md §6) — the
+ * largest in each ring of eccentricity around each eye's gaze. Tursun et al. 2019 predict the
+ * resolution a region needs from a low-resolution version of the frame in the same way. */
+#include "render/render_internal.h"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Linear luminance below this (the display's black, about a 1/300 of its white after the sRGB
+ * EOTF of code value 3) counts as this in the local mean: the contrast of a step from black stays
+ * finite, and a dark region's noise is not read as contrast. */
+#define RING_MEAN_FLOOR 0.001
+
+struct rnd_ring_target {
+    unsigned fbo, rb;
+    int w, h; /* both eyes side by side */
+    uint8_t *rgba;
+    float *y; /* linear luminance, then scratch */
+};
+
+void rnd_ring_target_destroy(struct rnd_ring_target *t, int delete_gl)
+{
+    if (!t)
+        return;
+    if (delete_gl) {
+        glDeleteFramebuffers(1, &t->fbo);
+        glDeleteRenderbuffers(1, &t->rb);
+    }
+    free(t->rgba);
+    free(t->y);
+    free(t);
+}
+
+static int ring_target_make(struct rnd_renderer *r, struct hl_error *err)
+{
+    if (r->rings)
+        return 0;
+    struct rnd_ring_target *t = calloc(1, sizeof *t);
+    if (!t)
+        return hl_fail(err, "renderer: out of memory for the contrast read-back");
+    t->w = 2 * (r->eye_w / RND_RING_DOWNSAMPLE > 0 ? r->eye_w / RND_RING_DOWNSAMPLE : 1);
+    t->h = r->eye_h / RND_RING_DOWNSAMPLE > 0 ? r->eye_h / RND_RING_DOWNSAMPLE : 1;
+    t->rgba = malloc((size_t)t->w * t->h * 4);
+    t->y = malloc((size_t)t->w * t->h * 2 * sizeof(float));
+    glGenFramebuffers(1, &t->fbo);
+    glGenRenderbuffers(1, &t->rb);
+    glBindRenderbuffer(GL_RENDERBUFFER, t->rb);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, t->w, t->h);
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t->rb);
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    if (!t->rgba || !t->y || status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
+        rnd_ring_target_destroy(t, 1);
+        return hl_fail(err, "renderer: contrast read-back target %d×%d incomplete", 2 * r->eye_w / RND_RING_DOWNSAMPLE,
+                       r->eye_h / RND_RING_DOWNSAMPLE);
+    }
+    r->rings = t;
+    return 0;
+}
+
+/* 3×3 binomial blur of one eye's luminance (clamped at its edges): src → dst, w × h, row stride. */
+static void blur3(const float *src, float *dst, int w, int h, int stride)
+{
+    for (int y = 0; y < h; ++y) {
+        const float *up = src + (size_t)(y > 0 ? y - 1 : y) * stride, *mid = src + (size_t)y * stride;
+        const float *dn = src + (size_t)(y + 1 < h ? y + 1 : y) * stride;
+        float *out = dst + (size_t)y * stride;
+        for (int x = 0; x < w; ++x) {
+            int l = x > 0 ? x - 1 : x, r = x + 1 < w ? x + 1 : x;
+            float row_up = up[l] + 2.0f * up[x] + up[r], row_mid = mid[l] + 2.0f * mid[x] + mid[r];
+            float row_dn = dn[l] + 2.0f * dn[x] + dn[r];
+            out[x] = (row_up + 2.0f * row_mid + row_dn) * (1.0f / 16.0f);
+        }
+    }
+}
+
+int rnd_renderer_ring_contrast(struct rnd_renderer *r, const struct rnd_eye_gaze *gaze,
+                               struct rnd_ring_contrast *out, struct hl_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (!r || !gaze)
+        return hl_fail(err, "renderer: no renderer or gaze");
+    if (rnd_renderer_current(r) != 0)
+        return hl_fail(err, "renderer: cannot make the context current");
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    if (ring_target_make(r, err) != 0)
+        return -1;
+    struct rnd_ring_target *t = r->rings;
+    GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
+    glDisable(GL_SCISSOR_TEST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, r->fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t->fbo);
+    /* Each eye on its own, so no destination pixel mixes the two. */
+    int ew = t->w / 2;
+    for (int e = 0; e < 2; ++e)
+        glBlitFramebuffer(e * r->eye_w, 0, (e + 1) * r->eye_w, r->eye_h, e * ew, 0, (e + 1) * ew, t->h,
+                          GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, t->fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, t->w, t->h, GL_RGBA, GL_UNSIGNED_BYTE, t->rgba);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    if (scissor)
+        glEnable(GL_SCISSOR_TEST);
+    GLenum e_gl = glGetError();
+    if (e_gl != GL_NO_ERROR)
+        return hl_fail(err, "renderer: contrast down-blit or read-back failed: GL error 0x%x", (unsigned)e_gl);
+
+    const double *lin = rnd_srgb_decode_table();
+    size_t n = (size_t)t->w * t->h;
+    float *y = t->y, *blur = t->y + n;
+    for (size_t i = 0; i < n; ++i) {
+        const uint8_t *p = t->rgba + 4 * i;
+        y[i] = (float)(0.2126 * lin[p[0]] + 0.7152 * lin[p[1]] + 0.0722 * lin[p[2]]);
+    }
+    /* Ring thresholds as cosines: a pixel's ring is found by comparing its direction's dot product
+     * with the gaze against them, one square root per pixel and no trigonometry. */
+    double cos_edge[RND_CONTRAST_RINGS];
+    for (int k = 0; k < RND_CONTRAST_RINGS; ++k)
+        cos_edge[k] = cos((k + 1) * RND_CONTRAST_RING_DEG * HL_RAD_PER_DEG);
+    for (int e = 0; e < 2; ++e) {
+        float *ye = y + e * ew, *be = blur + e * ew;
+        blur3(ye, be, ew, t->h, t->w);
+        const struct rnd_eye_gaze *g = &gaze[e];
+        double gn = sqrt(g->gaze_eye[0] * g->gaze_eye[0] + g->gaze_eye[1] * g->gaze_eye[1] + g->gaze_eye[2] * g->gaze_eye[2]);
+        if (!(gn > 0.0))
+            return hl_fail(err, "renderer: eye %d has no gaze direction", e);
+        double gx = g->gaze_eye[0] / gn, gy = g->gaze_eye[1] / gn, gz = g->gaze_eye[2] / gn;
+        double sx = (g->tan_left + g->tan_right) / ew, sy = (g->tan_up + g->tan_down) / t->h;
+        for (int row = 1; row + 1 < t->h; ++row) {
+            double yt = -g->tan_down + (row + 0.5) * sy; /* GL rows: bottom up */
+            for (int x = 1; x + 1 < ew; ++x) {
+                size_t i = (size_t)row * t->w + (size_t)x;
+                /* The finest band over the local mean (Peli 1990): |Y − blur(Y)| / blur(Y). */
+                double local = be[i] > RING_MEAN_FLOOR ? be[i] : RING_MEAN_FLOOR;
+                double contrast = fabs((double)ye[i] - be[i]) / local;
+                double xt = -g->tan_left + (x + 0.5) * sx;
+                double dot = (xt * gx + yt * gy - gz) / sqrt(xt * xt + yt * yt + 1.0);
+                int k = 0;
+                while (k + 1 < RND_CONTRAST_RINGS && dot < cos_edge[k])
+                    ++k;
+                if (contrast > out->max_contrast[k])
+                    out->max_contrast[k] = contrast;
+                out->pixels[k]++;
+            }
+        }
+    }
+    out->valid = 1;
+    return 0;
+}

@@ -222,8 +222,8 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     /* The layers' composite is the compositor's work, timed apart (render/render.h, docs/foveation.md). */
     if (rnd_renderer_composite_layers(s->renderer, &rec->composite_px) != 0)
         return hl_fail(err, "frame %ld: compositing the layers failed", frame);
-    int64_t t3c = hl_clock_now_ns();
-    rec->composite_ms = (double)(t3c - t3) * 1e-6;
+    int64_t t3c = layers ? hl_clock_now_ns() : t3;
+    rec->composite_ms = (double)(t3c - t3) * 1e-6; /* exactly 0 for a plain frame */
     if (s->visibility.table) { /* the eye adapts to what it saw: next frame's luminance (frame/visibility.c) */
         double mean = NAN;
         struct hl_error read_err;

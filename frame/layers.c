@@ -134,7 +134,21 @@ static void add_candidate(struct frm_layers *l, const struct frm_layers_view *vi
     struct rnd_layers setting;
     setting_of(l, scale, radius_deg, view->eyes, view->head_orientation, &setting);
     struct rnd_layer_plan plan;
-    if (rnd_layer_plan_make(&setting, view->eye_w_px, view->eye_h_px, &plan) != 0 || plan.covers[0] || plan.covers[1])
+    /* The insets' rectangles depend on the radius only: another scale's plan of the same radius
+     * serves, with this scale's periphery. */
+    int same = -1;
+    for (int k = 1; k < l->cand_count && same < 0; ++k)
+        if (l->cand[k].inset_radius_deg == radius_deg)
+            same = k;
+    if (same >= 0) {
+        plan = l->cand[same].plan;
+        plan.periphery_px[0] = (int)fmax(1.0, lround(scale * view->eye_w_px));
+        plan.periphery_px[1] = (int)fmax(1.0, lround(scale * view->eye_h_px));
+        plan.periphery_px_total = 2.0 * plan.periphery_px[0] * plan.periphery_px[1];
+    } else if (rnd_layer_plan_make(&setting, view->eye_w_px, view->eye_h_px, &plan) != 0) {
+        return;
+    }
+    if (plan.covers[0] || plan.covers[1])
         return; /* an inset covering an eye is no cheaper than the plain frame */
     struct frm_layer_candidate *c = &l->cand[l->cand_count++];
     c->plan = plan;

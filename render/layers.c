@@ -85,19 +85,27 @@ static void cone_frame(hl_vec3d c, hl_vec3d *u, hl_vec3d *v)
     *v = hl_v3_cross(c, *u);
 }
 
-/* The point radius_deg from the centre at azimuth i, on the eye's image plane in NDC of its viewport
- * (x right, y up, the frustum's edges at ±1). The cone stays in front of the eye (radius + the
- * centre's angle < 90°, checked by the caller). */
-static void ring_ndc(const struct hmd_eye *y, hl_vec3d c, hl_vec3d u, hl_vec3d v, double radius_deg, int i,
-                     double out[2])
+/* The ring radius_deg around the centre at the RND_LAYER_RING azimuths (the last repeats the first),
+ * on the eye's image plane in NDC of its viewport (x right, y up, the frustum's edges at ±1). The
+ * azimuths turn by a fixed rotation, so a ring costs four trigonometric calls. The cone stays in
+ * front of the eye (radius + the centre's angle < 90°, checked by the caller). */
+static void ring_ndc(const struct hmd_eye *y, hl_vec3d c, hl_vec3d u, hl_vec3d v, double radius_deg,
+                     double out[RND_LAYER_RING][2])
 {
-    double phi = 2.0 * HL_PI * (double)(i % RND_LAYER_SEGMENTS) / RND_LAYER_SEGMENTS;
-    double r = radius_deg / HL_DEG_PER_RAD;
-    hl_vec3d w = hl_v3_add(hl_v3_scale(u, cos(phi)), hl_v3_scale(v, sin(phi)));
-    hl_vec3d d = hl_v3_add(hl_v3_scale(c, cos(r)), hl_v3_scale(w, sin(r)));
-    double x_t = d.x / -d.z, y_t = d.y / -d.z; /* the image plane at distance 1 */
-    out[0] = 2.0 * (x_t + y->tan_left) / (y->tan_left + y->tan_right) - 1.0;
-    out[1] = 2.0 * (y_t + y->tan_down) / (y->tan_up + y->tan_down) - 1.0;
+    double r = radius_deg / HL_DEG_PER_RAD, cr = cos(r), sr = sin(r);
+    double step_c = cos(2.0 * HL_PI / RND_LAYER_SEGMENTS), step_s = sin(2.0 * HL_PI / RND_LAYER_SEGMENTS);
+    double cp = 1.0, sp = 0.0;
+    for (int i = 0; i < RND_LAYER_RING; ++i) {
+        if (i == RND_LAYER_SEGMENTS)
+            cp = 1.0, sp = 0.0; /* close exactly on the first point */
+        hl_vec3d w = hl_v3_add(hl_v3_scale(u, cp), hl_v3_scale(v, sp));
+        hl_vec3d d = hl_v3_add(hl_v3_scale(c, cr), hl_v3_scale(w, sr));
+        double x_t = d.x / -d.z, y_t = d.y / -d.z; /* the image plane at distance 1 */
+        out[i][0] = 2.0 * (x_t + y->tan_left) / (y->tan_left + y->tan_right) - 1.0;
+        out[i][1] = 2.0 * (y_t + y->tan_down) / (y->tan_up + y->tan_down) - 1.0;
+        double next_c = cp * step_c - sp * step_s;
+        sp = sp * step_c + cp * step_s, cp = next_c;
+    }
 }
 
 /* The centre's angle from the eye's axis (−Z), degrees. */
@@ -133,12 +141,11 @@ int rnd_layer_plan_make(const struct rnd_layers *l, int eye_w, int eye_h, struct
         hl_vec3d u, v;
         cone_frame(c, &u, &v);
         double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-        for (int i = 0; i < RND_LAYER_SEGMENTS; ++i) {
-            double p[2];
-            ring_ndc(&l->eyes[e], c, u, v, outer_deg, i, p);
+        double ring[RND_LAYER_RING][2];
+        ring_ndc(&l->eyes[e], c, u, v, outer_deg, ring);
+        for (int i = 0; i < RND_LAYER_SEGMENTS; ++i)
             for (int a = 0; a < 2; ++a)
-                lo[a] = fmin(lo[a], p[a]), hi[a] = fmax(hi[a], p[a]);
-        }
+                lo[a] = fmin(lo[a], ring[i][a]), hi[a] = fmax(hi[a], ring[i][a]);
         /* The chords lie inside the circle; a pixel's margin covers their sagitta and the rounding. */
         double size[2] = {eye_w, eye_h};
         int r0[2], r1[2];
@@ -169,15 +176,15 @@ static int composite_mesh(const struct rnd_layers *l, int e, float *out)
     }
     hl_vec3d u, v;
     cone_frame(c, &u, &v);
-    double centre[2];
-    ring_ndc(&l->eyes[e], c, u, v, 0.0, 0, centre);
+    double centre[RND_LAYER_RING][2], inner[RND_LAYER_RING][2], edge[RND_LAYER_RING][2];
+    ring_ndc(&l->eyes[e], c, u, v, 0.0, centre);
+    ring_ndc(&l->eyes[e], c, u, v, l->inset_radius_deg, inner);
+    ring_ndc(&l->eyes[e], c, u, v, l->inset_radius_deg + l->blend_deg, edge);
     float *band = out, *outer = out + 2 * RND_LAYER_RING * RND_LAYER_FLOATS;
     for (int i = 0; i < RND_LAYER_RING; ++i) {
-        double p[2], q[2];
-        ring_ndc(&l->eyes[e], c, u, v, l->inset_radius_deg, i, p);
-        ring_ndc(&l->eyes[e], c, u, v, l->inset_radius_deg + l->blend_deg, i, q);
-        double dx = q[0] - centre[0], dy = q[1] - centre[1], n = hypot(dx, dy);
-        double far_x = centre[0] + 8.0 * dx / n, far_y = centre[1] + 8.0 * dy / n; /* NDC spans 2 */
+        const double *p = inner[i], *q = edge[i];
+        double dx = q[0] - centre[0][0], dy = q[1] - centre[0][1], n = hypot(dx, dy);
+        double far_x = centre[0][0] + 8.0 * dx / n, far_y = centre[0][1] + 8.0 * dy / n; /* NDC spans 2 */
         float *b = band + 6 * i, *o = outer + 6 * i;
         b[0] = (float)p[0], b[1] = (float)p[1], b[2] = 0.0f;
         b[3] = (float)q[0], b[4] = (float)q[1], b[5] = 1.0f;

@@ -11,8 +11,8 @@ static const char live_usage[] =
     "usage: hmdlod live --display NAME|FILE --device auto|PATH|none --scene NAME|FILE [--monitor NAME|INDEX]\n"
     "                   [--windowed] [--selector NAME] [--budget-ms T] [--frames N] [--capture FILE]\n"
     "                   [--record FILE] [--yaw-degps V] [--rate HZ] [--render-scale F] [--window-size WxH]\n"
-    "                   [--objects N] [--log FILE] [--gaze MODEL]"
-    " [--quiet]\n"
+    "                   [--objects N] [--log FILE] [--gaze MODEL] [--foveation off|fixed|gaze]\n"
+    "                   [--periphery-scale S] [--inset-deg R] [--blend-deg B] [--quiet]\n"
     "       hmdlod live --list-monitors\n"
     "  A live session: both eyes drawn by the same frame function as replay, then the lens distortion\n"
     "  pass (the profile's PanoTools coefficients with chromatic aberration; undistorted when it has\n"
@@ -104,6 +104,7 @@ int cmd_live(int argc, char **argv)
 {
     if (app_wants_help(argc, argv)) {
         fputs(live_usage, stdout);
+        fputs(app_layer_usage, stdout);
         return 0;
     }
     struct frm_options so;
@@ -132,6 +133,7 @@ int cmd_live(int argc, char **argv)
         }
         ++i;
         double d = 0.0;
+        int bad = 0;
         if (!strcmp(opt, "--display"))
             so.display = val;
         else if (!strcmp(opt, "--device"))
@@ -185,6 +187,9 @@ int cmd_live(int argc, char **argv)
             so.object_count = (int)n;
         } else if (!strcmp(opt, "--render-scale")) {
             if (app_parse_double(opt, val, &so.render_scale))
+                return 1;
+        } else if (app_parse_layer_option(opt, val, &so, &bad)) {
+            if (bad)
                 return 1;
         } else {
             fprintf(stderr, "hmdlod: unknown option '%s'\n%s", opt, live_usage);

@@ -212,6 +212,9 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     if (s->layers.mode != FRM_FOVEATION_OFF) {
         const hl_quatd orientation[2] = {views[0].orientation, views[1].orientation};
         frm_layers_setting(&s->layers, s->eyes, orientation, &setting);
+        hl_vec3d c = hl_q_rotate(hl_q_conj(pose.orientation), s->layers.centre_world);
+        rec->inset_x_deg = atan2(c.x, -c.z) * HL_DEG_PER_RAD;
+        rec->inset_y_deg = atan2(c.y, -c.z) * HL_DEG_PER_RAD;
         frm_layers_masks(&s->layers, n, extra);
         layers = &setting;
     }

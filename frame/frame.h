@@ -228,6 +228,8 @@ struct frm_frame_record {
     double adapting_luminance_cdm2; /* the contrast criterion's this frame; NaN under acuity */
     double luminance_us;            /* reading the frame's mean luminance back (contrast), in frame_ms */
     struct rnd_draw_stats draw;     /* the draw's counts, with the layers' pixels (render/render.h) */
+    double inset_x_deg, inset_y_deg;   /* the inset's centre in the head frame: right and up of ahead
+                                        * (atan2 of x and y over −z); 0, 0 without layers */
     double composite_ms, composite_px; /* the layers' composite (0 for a plain frame): the compositor's
                                         * pass, timed apart and not in frame_ms (docs/foveation.md) */
 };

@@ -22,7 +22,7 @@ int rpl_output_open(struct rpl_output *o, const char *dir, int max_lods, struct 
     fputs(",dropped,predicted_ms,optimizer_budget_ms,benefit,lp_bound,lp_gap,lod_changes,iterations,truncated,"
           "over_budget,underused_drop,dropped_px_share,eye_speed_degps,gaze_speed_degps,saccade_phase,refine_pending,refine_miss,visible_error,adapting_luminance_cdm2,"
           "psnr_db,ssim,ssim_rgb,fssim,fssim_e0,fssim_e1,fssim_e2,fssim_e3,px_over_32,flip_mean,flip_median,flip_max,"
-          "layer_scale,inset_radius_deg,layer_loses,inset_px,periphery_px,acuity_us,select_us,"
+          "layer_scale,inset_radius_deg,inset_x_deg,inset_y_deg,layer_loses,inset_px,periphery_px,acuity_us,select_us,"
           "optimizer_us,draw_ms,frame_ms,deadline_met,minor_faults,luminance_us,composite_ms\n", o->csv);
     return 0;
 }
@@ -80,8 +80,8 @@ void rpl_output_row(struct rpl_output *o, const struct frm_frame_record *r, int 
     write_optional(o->csv, ",%.3f", r->adapting_luminance_cdm2); /* empty under --visibility acuity */
     write_image_error(o->csv, r);
     /* The foveated layers (frame/layers.h): scale 1 and radius 0 when there are none. */
-    fprintf(o->csv, ",%.2f,%.3f,%d,%.0f,%.0f", q->layer_scale, q->inset_radius_deg, q->layer_loses, r->draw.inset_px,
-            r->draw.periphery_px);
+    fprintf(o->csv, ",%.2f,%.3f,%.3f,%.3f,%d,%.0f,%.0f", q->layer_scale, q->inset_radius_deg, r->inset_x_deg,
+            r->inset_y_deg, q->layer_loses, r->draw.inset_px, r->draw.periphery_px);
     /* The timings last: everything before them is deterministic (the optimizer's budget aside, which
      * follows the measured overhead and correction). */
     fprintf(o->csv, ",%.2f,%.2f,%.2f,%.3f,%.3f,%d,%ld,%.2f,%.3f\n", r->acuity_us, r->select_us, q->optimizer_us,
@@ -229,6 +229,11 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct frm_frame_record *r)
     a->over_budget_frames += q->over_budget;
     a->underused_drop_frames += q->underused_drop;
     a->dropped_sum += q->dropped;
+    for (int i = 0; i < FRM_LAYER_SCALES; ++i)
+        a->scale_frames[i] += fabs(q->layer_scale - frm_layer_scales[i]) < 1e-9;
+    a->lossy_frames += q->layer_loses;
+    if (q->layer_scale < 1.0)
+        a->inset_radius_sum += q->inset_radius_deg, a->composite_ms_sum += r->composite_ms;
     a->dropped_px_share_sum += q->dropped_px_share;
     a->dropped_px_share_max = fmax(a->dropped_px_share_max, q->dropped_px_share);
     a->lod_changes_sum += q->lod_changes;
@@ -322,6 +327,12 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     s->over_budget_fraction = (double)a->over_budget_frames / n;
     s->underused_drops = a->underused_drop_frames;
     s->dropped_mean = a->dropped_sum / n;
+    long layered = 0;
+    for (int i = 0; i < FRM_LAYER_SCALES; ++i)
+        s->scale_frames[i] = a->scale_frames[i], layered += i > 0 ? a->scale_frames[i] : 0;
+    s->lossy_frames = a->lossy_frames;
+    s->inset_radius_deg_mean = layered ? a->inset_radius_sum / (double)layered : NAN;
+    s->composite_ms_mean = layered ? a->composite_ms_sum / (double)layered : NAN;
     s->dropped_px_share_mean = a->dropped_px_share_sum / n;
     s->dropped_px_share_max = a->dropped_px_share_max;
     s->optimizer_us_mean = a->optimizer_us_sum / n;
@@ -488,6 +499,23 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddNumberToObject(root, "optimizer_truncated_fraction", s->truncated_fraction);
     cJSON_AddNumberToObject(root, "over_budget_fraction", s->over_budget_fraction);
     cJSON_AddNumberToObject(root, "dropped_mean", s->dropped_mean);
+    cJSON *layers = cJSON_AddObjectToObject(root, "layers"); /* docs/replay-output.md "layers" */
+    cJSON_AddStringToObject(layers, "foveation", s->foveation);
+    cJSON *scales = cJSON_AddArrayToObject(layers, "frames_per_scale");
+    for (int i = 0; i < FRM_LAYER_SCALES; ++i) {
+        cJSON *e = cJSON_CreateObject();
+        cJSON_AddNumberToObject(e, "scale", frm_layer_scales[i]);
+        cJSON_AddNumberToObject(e, "frames", (double)s->scale_frames[i]);
+        cJSON_AddItemToArray(scales, e);
+    }
+    cJSON_AddNumberToObject(layers, "lossy_frames", (double)s->lossy_frames);
+    if (isfinite(s->inset_radius_deg_mean)) {
+        cJSON_AddNumberToObject(layers, "inset_radius_deg_mean", s->inset_radius_deg_mean);
+        cJSON_AddNumberToObject(layers, "composite_ms_mean", s->composite_ms_mean);
+    } else {
+        cJSON_AddNullToObject(layers, "inset_radius_deg_mean");
+        cJSON_AddNullToObject(layers, "composite_ms_mean");
+    }
     cJSON_AddNumberToObject(root, "underused_drops", (double)s->underused_drops);
     cJSON_AddNumberToObject(root, "dropped_px_share_mean", s->dropped_px_share_mean);
     cJSON_AddNumberToObject(root, "dropped_px_share_max", s->dropped_px_share_max);
@@ -642,6 +670,18 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
                 "objects dropped / frame", s->dropped_mean, s->visible_mean, 100.0 * s->dropped_px_share_mean,
                 100.0 * s->dropped_px_share_max);
         fprintf(f, "  %-34s %10ld frames\n", "dropped while 30 % stayed unused", s->underused_drops);
+    }
+    if (strcmp(s->foveation, "off") != 0) {
+        char used[160] = "";
+        size_t len = 0;
+        for (int i = 0; i < FRM_LAYER_SCALES; ++i)
+            if (s->scale_frames[i] > 0 && len < sizeof used)
+                len += (size_t)snprintf(used + len, sizeof used - len, "%s%g: %ld", len ? ", " : "", frm_layer_scales[i],
+                                        s->scale_frames[i]);
+        fprintf(f, "  %-34s %10s; frames per periphery scale %s\n", "foveated layers", s->foveation, used);
+        if (isfinite(s->inset_radius_deg_mean))
+            fprintf(f, "  %-34s %10.1f deg inset mean, %ld frames lossy, composite %.2f ms (not in the frame time)\n",
+                    "layered frames", s->inset_radius_deg_mean, s->lossy_frames, s->composite_ms_mean);
     }
     if (isfinite(s->benefit_share_of_lp_mean))
         fprintf(f, "  %-34s %10.4f mean, %.4f min\n", "benefit / LP bound", s->benefit_share_of_lp_mean,

@@ -231,6 +231,7 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     rpl_resident_memory(&summary->vm_hwm_kib, &summary->vm_rss_kib);
     snprintf(summary->display, sizeof summary->display, "%s", s.display.name);
     snprintf(summary->gaze, sizeof summary->gaze, "%s", acu_gaze_model_name(s.gaze));
+    snprintf(summary->foveation, sizeof summary->foveation, "%s", frm_foveation_name(s.layers.mode));
     snprintf(summary->visibility, sizeof summary->visibility, "%s", frm_visibility_name(s.visibility.criterion));
     snprintf(summary->csf, sizeof summary->csf, "%s", acu_csf_model_name(s.visibility.csf));
     summary->csf_scale = o->frame.csf_scale;

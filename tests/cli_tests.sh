@@ -573,6 +573,57 @@ for edvam in "${HMDLOD_SOURCE:-.}/tests/data/edvam_small.csv" "$shared/data/trac
   rm -rf "$tmp/edvam"
 done
 
+# Foveated layers (docs/foveation.md): bad values are refused with one message and no output; off
+# draws what the plain frame draws (reddy's deterministic columns identical); fixed on the auditorium
+# lays the periphery at a scale under 1 and says so; under --foveation gaze --gaze tracked the inset
+# follows a gaze that jumps 20° to the right, and is on the new gaze in the first frame after the
+# saccade (issue 32 item 7).
+expect_error "replay bad --foveation" "--foveation: unknown mode 'sideways'" -- "$bin" replay --foveation sideways \
+  --out "$tmp/fv"
+expect_error "replay bad --periphery-scale" "--periphery-scale: 0.3 is not one of" -- "$bin" replay --foveation fixed \
+  --periphery-scale 0.3 --out "$tmp/fv"
+expect_error "replay bad --inset-deg" "--inset-deg: 70 is outside \[0, 60\]" -- "$bin" replay --foveation fixed \
+  --inset-deg 70 --out "$tmp/fv"
+expect_error "replay bad --blend-deg" "--blend-deg: 0 is not a positive width" -- "$bin" replay --foveation fixed \
+  --blend-deg 0 --out "$tmp/fv"
+expect_error "replay layer option without foveation" "need --foveation fixed or gaze" -- "$bin" replay \
+  --inset-deg 10 --out "$tmp/fv"
+[ ! -e "$tmp/fv" ] || fail "a refused layer option left its output folder"
+for fov in none off; do
+  args=(); [ "$fov" = off ] && args=(--foveation off)
+  "$bin" replay --scene auditorium --display vive --selector reddy --frames 40 --render-scale 0.25 --quiet \
+    "${args[@]}" --out "$tmp/fv-$fov" 2>"$tmp/err" || fail "foveation $fov: $(cat "$tmp/err")"
+done
+deterministic() { cut -d, -f1-"$(($(head -1 "$1" | tr ',' '\n' | grep -n '^acuity_us$' | cut -d: -f1) - 1))" "$1"; }
+[ "$(deterministic "$tmp/fv-none/frames.csv")" = "$(deterministic "$tmp/fv-off/frames.csv")" ] \
+  || fail "--foveation off changed the frames"
+expect_ok "replay --foveation fixed" "foveated layers +fixed; frames per periphery scale" -- "$bin" replay \
+  --scene auditorium --display vive --selector fs --foveation fixed --frames 60 --render-scale 0.5 --out "$tmp/fv-fixed"
+python3 - "$tmp/fv-fixed/frames.csv" <<'PY' || fail "--foveation fixed: no layered frame, or a bad layer column"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+layered = [r for r in rows if float(r["layer_scale"]) < 1.0]
+assert layered, "no layered frame"
+for r in layered:
+    assert float(r["layer_scale"]) in (0.75, 0.5, 0.35, 0.25), r["layer_scale"]
+    assert float(r["periphery_px"]) > 0 and float(r["composite_ms"]) > 0, r
+    assert abs(float(r["inset_x_deg"])) < 1e-6 and abs(float(r["inset_y_deg"])) < 1e-6, "fixed: the lens centre"
+PY
+printf 't_s,qw,qx,qy,qz,gx,gy,gz\n0,1,0,0,0,0,0,-1\n1.0,1,0,0,0,0,0,-1\n1.02,1,0,0,0,0.342020,0,-0.939693\n3,1,0,0,0,0.342020,0,-0.939693\n' \
+  >"$tmp/gaze-jump.csv"
+"$bin" replay --trace "$tmp/gaze-jump.csv" --scene auditorium --display vive --selector fs --foveation gaze \
+  --gaze tracked --frames 140 --render-scale 0.25 --quiet --out "$tmp/fv-gaze" 2>"$tmp/err" || fail "gaze jump: $(cat "$tmp/err")"
+python3 - "$tmp/fv-gaze/frames.csv" <<'PY' || fail "--foveation gaze: the inset did not follow the gaze"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+phase = [int(r["saccade_phase"]) for r in rows]
+start = phase.index(1)                     # the saccade
+end = next(i for i in range(start, len(rows)) if phase[i] != 1)  # the first frame after it
+assert all(abs(float(r["inset_x_deg"])) < 0.01 for r in rows[:start]), "before: ahead"
+assert abs(float(rows[end]["inset_x_deg"]) - 20.0) < 0.05, rows[end]["inset_x_deg"]
+assert all(abs(float(r["inset_y_deg"])) < 0.01 for r in rows)
+PY
+
 # Live: --help and bad arguments need no display (tests/live_tests.sh runs sessions under xvfb-run).
 expect_ok "live --help" "usage: hmdlod live" -- "$bin" live --help
 expect_error "live bad device" "--device: 'hidraw3' is not" -- "$bin" live --device hidraw3

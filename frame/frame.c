@@ -192,7 +192,7 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
         double xi = s->limits.xi_cpd * fmin(1.0, 0.5 * w / s->display.eye_width_px); /* what the image shows */
         struct frm_layers_view lv = {&viewer, pose.orientation, s->eyes, w / 2, h, 0.5 * s->display.ipd_m};
         frm_layers_plan(&s->layers, &lv, &s->limits, vis->table ? &vis->limits : NULL, xi, s->scene.center_m,
-                        s->scene.radius_m, a->visible, n, a->velocity_degps);
+                        s->scene.radius_m, a->visible, n, a->eccentricity_deg, a->velocity_degps);
     }
     frm_select_frame(&s->select, &s->scene, &in, a->lod, a->draw_index + n, a->draw_lod + n, &extra, &rec->sel);
     rec->acuity_evaluations = rec->sel.acuity_evaluations;

@@ -8,7 +8,7 @@
 #include "frame/frame.h"
 
 const double frm_layer_scales[FRM_LAYER_SCALES] = {1.0, 0.75, 0.5, 0.35, 0.25};
-const double frm_layer_loss_radii_deg[FRM_LAYER_LOSS_RADII] = {20.0, 15.0, 10.0, 5.0};
+const double frm_layer_loss_radii_deg[FRM_LAYER_LOSS_RADII] = {20.0, 15.0, 10.0};
 
 static const char *const foveation_names[] = {"off", "fixed", "gaze"};
 
@@ -46,7 +46,8 @@ int frm_layers_init(struct frm_layers *l, enum frm_foveation_mode mode, double b
     l->mask = calloc((size_t)instances + groups + 1, 1);
     l->lod_scratch = calloc(n, 1);
     l->inset_px = calloc(n, sizeof(double));
-    if (!l->centre_angle_deg || !l->radius_deg || !l->mask || !l->lod_scratch || !l->inset_px)
+    l->resolution_loss = calloc(n * FRM_LAYER_SCALES, sizeof(double));
+    if (!l->centre_angle_deg || !l->radius_deg || !l->mask || !l->lod_scratch || !l->inset_px || !l->resolution_loss)
         return hl_fail(err, "out of memory for the layers of %u objects", instances);
     return 0;
 }
@@ -58,6 +59,7 @@ void frm_layers_free(struct frm_layers *l)
     free(l->mask);
     free(l->lod_scratch);
     free(l->inset_px);
+    free(l->resolution_loss);
     memset(l, 0, sizeof *l);
 }
 
@@ -159,9 +161,37 @@ static void add_candidate(struct frm_layers *l, const struct frm_layers_view *vi
     c->loses = radius_deg < ceiling_deg;
 }
 
+/* D of each scale on object k (frame/layers.h): the octave bands ξ, ξ/2, … above s·ξ that the
+ * periphery cannot show, each adding max(0, c·S·k − 1) (contrast criterion) or 1 where Reddy's
+ * min(H, ξ)·s resolves it (acuity criterion). */
+static void fill_resolution_loss(struct frm_layers *l, const struct acu_limits *acuity,
+                                 const struct acu_contrast_limits *contrast, double xi_cpd, size_t k,
+                                 double eccentricity_deg, double velocity_degps)
+{
+    double *row = l->resolution_loss + k * FRM_LAYER_SCALES;
+    double from_gaze = fmax(0.0, l->centre_angle_deg[k] - l->centre_offset_deg);
+    int ring = (int)(from_gaze / RND_CONTRAST_RING_DEG);
+    double c = contrast ? ring_contrast(l, ring < RND_CONTRAST_RINGS ? ring : RND_CONTRAST_RINGS - 1) : 1.0;
+    double limit_cpd = contrast ? 0.0 : acu_limit_cpd(acuity, velocity_degps, eccentricity_deg, NULL);
+    row[0] = 0.0;
+    for (int i = 1; i < FRM_LAYER_SCALES; ++i) {
+        double d = 0.0;
+        for (double rho = xi_cpd; rho > frm_layer_scales[i] * xi_cpd * (1.0 + 1e-9); rho *= 0.5) {
+            if (contrast) {
+                double sens = acu_contrast_band_sensitivity(contrast, rho, velocity_degps, eccentricity_deg);
+                d += fmax(0.0, c * sens * contrast->k_scale - 1.0);
+            } else {
+                d += rho <= limit_cpd ? 1.0 : 0.0;
+            }
+        }
+        row[i] = d;
+    }
+}
+
 void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, const struct acu_limits *acuity,
                      const struct acu_contrast_limits *contrast, double xi_cpd, const double *center_m,
-                     const double *radius_m, const uint32_t *visible, size_t count, const double *velocity_degps)
+                     const double *radius_m, const uint32_t *visible, size_t count, const double *eccentricity_deg,
+                     const double *velocity_degps)
 {
     const struct acu_viewer *viewer = view->viewer;
     hl_vec3d head_forward = hl_q_rotate(view->head_orientation, hl_v3(0, 0, -1));
@@ -193,6 +223,8 @@ void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, c
     }
     l->slowest_degps = isfinite(slowest) ? slowest : 0.0;
     fill_needed_scales(l, acuity, contrast, xi_cpd);
+    for (size_t k = 0; k < count; ++k)
+        fill_resolution_loss(l, acuity, contrast, xi_cpd, k, eccentricity_deg[k], velocity_degps[k]);
     l->ceiling_scale = 1.0;
     double ceilings[FRM_LAYER_SCALES] = {0.0};
     for (int i = 1; i < FRM_LAYER_SCALES; ++i)
@@ -295,14 +327,12 @@ double frm_layers_benefit_share(const struct frm_layers *l, const struct frm_lay
 {
     if (c->scale >= 1.0 || !c->loses)
         return 1.0;
+    int i = 1;
+    while (i + 1 < FRM_LAYER_SCALES && fabs(frm_layer_scales[i] - c->scale) > 1e-9)
+        ++i;
     double theta = l->centre_angle_deg[k], half = l->radius_deg[k];
-    double inset = share_within(theta, half, c->inset_radius_deg + 0.5 * l->blend_deg);
-    /* The finest scale the object's eccentricity needs: its ring's, counted from the gaze. */
-    double from_gaze = fmax(0.0, theta - l->centre_offset_deg);
-    int ring = (int)(from_gaze / RND_CONTRAST_RING_DEG);
-    double needed = l->needed_scale[ring < RND_CONTRAST_RINGS ? ring : RND_CONTRAST_RINGS - 1];
-    double kept = needed <= c->scale ? 1.0 : (c->scale / needed) * (c->scale / needed);
-    return inset + (1.0 - inset) * kept;
+    double periphery = 1.0 - share_within(theta, half, c->inset_radius_deg + 0.5 * l->blend_deg);
+    return 1.0 / (1.0 + periphery * l->resolution_loss[k * FRM_LAYER_SCALES + i]);
 }
 
 void frm_layers_setting(const struct frm_layers *l, const struct hmd_eye eyes[2], const hl_quatd orientation[2],

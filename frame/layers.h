@@ -14,10 +14,12 @@
  *     candidate's own measured overhead (clears and composite) taken from the budget, and keeps the
  *     candidate of highest benefit; the other selectors keep their levels and take the cheapest
  *     candidate that loses nothing (the ceiling, as reddy takes the LOD ceiling).
- * An object's benefit under a candidate is scaled by the share of its visible spectrum the layer
- * keeps — (s / s_needed)² for its part in the periphery, s_needed the finest scale its eccentricity
- * needs (a flat spectrum's share of the disc of frequencies up to s_needed·ξ) — so a scale coarser
- * than the ceiling costs benefit and a finer one earns nothing. docs/foveation.md. */
+ * An object's benefit under a lossy candidate is scaled by 1 / (1 + f·D), D the visible loss of the
+ * periphery's scale on it in threshold units — Σ over the octave bands the scale cannot show of
+ * max(0, c·S·k − 1), c its ring's content contrast, S at its eccentricity and retinal speed: the units
+ * of the perceptual benefit's lost LOD detail (lod_visible_loss_contrast) — and f the share of it in
+ * the periphery: a scale coarser than the ceiling costs benefit where it shows, a finer one earns
+ * nothing. docs/foveation.md. */
 #ifndef HMDLOD_FRAME_LAYERS_H
 #define HMDLOD_FRAME_LAYERS_H
 
@@ -36,7 +38,7 @@ extern const double frm_layer_scales[FRM_LAYER_SCALES];
 /* The fallback insets, smaller than the ceiling's, tried with every scale when nothing lossless
  * holds every object (degrees; each is used where it is at least FRM_LAYER_LOSS_STEP_DEG / 2 under
  * the scale's ceiling). */
-enum { FRM_LAYER_LOSS_RADII = 4 };
+enum { FRM_LAYER_LOSS_RADII = 3 };
 extern const double frm_layer_loss_radii_deg[FRM_LAYER_LOSS_RADII];
 #define FRM_LAYER_LOSS_STEP_DEG 5.0
 enum { FRM_LAYER_CANDIDATES_MAX = FRM_LAYER_SCALES + (FRM_LAYER_SCALES - 1) * FRM_LAYER_LOSS_RADII };
@@ -75,6 +77,7 @@ struct frm_layers {
     double *centre_angle_deg;   /* its centre's angle from the inset centre */
     double *radius_deg;         /* half its angular diameter, plus the eyes' parallax */
     double *inset_px;           /* the pixels it covers inside the current candidate's inset rectangles */
+    double *resolution_loss;    /* [k·FRM_LAYER_SCALES + i]: D of scale i on it (0 for i = 0) */
     int inset_px_of;            /* the candidate inset_px was computed for (−1: none yet this frame) */
     uint8_t *mask;              /* per draw entry (capacity: instances + groups + 1): RND_LAYER_* */
     uint8_t *lod_scratch;       /* per visible object: a candidate's levels while fs compares them */
@@ -99,7 +102,8 @@ struct frm_layers_view {
 };
 void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, const struct acu_limits *acuity,
                      const struct acu_contrast_limits *contrast, double xi_cpd, const double *center_m,
-                     const double *radius_m, const uint32_t *visible, size_t count, const double *velocity_degps);
+                     const double *radius_m, const uint32_t *visible, size_t count, const double *eccentricity_deg,
+                     const double *velocity_degps);
 /* The pixels each visible object covers inside candidate c's inset rectangles (l->inset_px), by the
  * coverage estimate the cost model prices with (frm_coverage_compute) on each eye's rectangle as an
  * image of its own: objects wholly inside the inset disc keep pixels_px, objects wholly outside get

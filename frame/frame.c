@@ -216,10 +216,12 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
         rec->inset_x_deg = atan2(c.x, -c.z) * HL_DEG_PER_RAD;
         rec->inset_y_deg = atan2(c.y, -c.z) * HL_DEG_PER_RAD;
         frm_layers_masks(&s->layers, n, extra);
+        frm_layers_periphery_levels(&s->layers, a->draw_lod, n, extra);
         layers = &setting;
     }
     if (rnd_renderer_draw_layers(s->renderer, &s->scene, views, layers, a->draw_index, a->draw_lod,
-                                 layers ? s->layers.mask : NULL, n + extra, &draw) != 0)
+                                 layers ? s->layers.periphery_lod : NULL, layers ? s->layers.mask : NULL, n + extra,
+                                 &draw) != 0)
         return hl_fail(err, "frame %ld: drawing failed", frame);
     int64_t t3 = hl_clock_now_ns();
     /* The layers' composite is the compositor's work, timed apart (render/render.h, docs/foveation.md). */
@@ -294,7 +296,7 @@ static int measure_layer_overheads(struct frm_session *s, const struct rnd_eye_v
             if (rnd_renderer_draw_stereo(s->renderer, &s->scene, views, &none_index, &none_lod, 0, NULL) != 0)
                 return hl_fail(err, "the renderer's empty warm-up frame failed");
             int64_t t1 = hl_clock_now_ns();
-            if (rnd_renderer_draw_layers(s->renderer, &s->scene, views, &l, &none_index, &none_lod, NULL, 0, NULL) != 0)
+            if (rnd_renderer_draw_layers(s->renderer, &s->scene, views, &l, &none_index, &none_lod, NULL, NULL, 0, NULL) != 0)
                 return hl_fail(err, "the layers' warm-up frame failed (scale %g)", l.periphery_scale);
             int64_t t2 = hl_clock_now_ns();
             if (rep >= 0)

@@ -47,7 +47,10 @@ int frm_layers_init(struct frm_layers *l, enum frm_foveation_mode mode, double b
     l->lod_scratch = calloc(n, 1);
     l->inset_px = calloc(n, sizeof(double));
     l->resolution_loss = calloc(n * FRM_LAYER_SCALES, sizeof(double));
-    if (!l->centre_angle_deg || !l->radius_deg || !l->mask || !l->lod_scratch || !l->inset_px || !l->resolution_loss)
+    l->periphery_lod = calloc((size_t)instances + groups + 1, 1);
+    l->periphery_ceiling = calloc(n * FRM_LAYER_SCALES, 1);
+    if (!l->centre_angle_deg || !l->radius_deg || !l->mask || !l->lod_scratch || !l->inset_px || !l->resolution_loss ||
+        !l->periphery_lod || !l->periphery_ceiling)
         return hl_fail(err, "out of memory for the layers of %u objects", instances);
     return 0;
 }
@@ -60,6 +63,8 @@ void frm_layers_free(struct frm_layers *l)
     free(l->lod_scratch);
     free(l->inset_px);
     free(l->resolution_loss);
+    free(l->periphery_lod);
+    free(l->periphery_ceiling);
     memset(l, 0, sizeof *l);
 }
 
@@ -194,6 +199,7 @@ void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, c
                      const double *velocity_degps)
 {
     const struct acu_viewer *viewer = view->viewer;
+    l->xi_cpd = xi_cpd;
     hl_vec3d head_forward = hl_q_rotate(view->head_orientation, hl_v3(0, 0, -1));
     double half_ipd_m = view->half_ipd_m;
     l->cand_count = 1;
@@ -269,6 +275,22 @@ static double share_within(double centre_deg, double half_deg, double radius_deg
     return s < 0.0 ? 0.0 : s > 1.0 ? 1.0 : s;
 }
 
+/* The level the periphery draws an object at under candidate c: its level, or its periphery ceiling
+ * at c's scale where that is coarser. */
+static int scale_index(double scale)
+{
+    int i = 0;
+    while (i + 1 < FRM_LAYER_SCALES && fabs(frm_layer_scales[i] - scale) > 1e-9)
+        ++i;
+    return i;
+}
+
+static int periphery_level(const struct frm_layers *l, const struct frm_layer_candidate *c, int level, size_t k)
+{
+    int ceiling = l->periphery_ceiling[k * FRM_LAYER_SCALES + scale_index(c->scale)];
+    return ceiling > level ? ceiling : level;
+}
+
 void frm_layers_inset_pixels(struct frm_layers *l, int c, const struct scn_scene *scene, const struct acu_eye *eyes,
                              const uint32_t *visible, size_t count, const double *pixels_px)
 {
@@ -318,8 +340,9 @@ double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_lay
     double cost = 0.0;
     if (c->inset_radius_deg > 0.0 && theta - half < outer) /* the inset draws the band too */
         cost += frm_level_cost_ms(m, ch, level, l->inset_px[k], boxed);
-    if (theta + half > c->inset_radius_deg)
-        cost += frm_level_cost_ms(m, ch, level, pixels_px * c->scale * c->scale, boxed);
+    int periphery = periphery_level(l, c, level, k);
+    if (theta + half > c->inset_radius_deg && periphery != LOD_DROP) /* DROP: invisible at that scale */
+        cost += frm_level_cost_ms(m, ch, periphery, pixels_px * c->scale * c->scale, boxed);
     return cost;
 }
 
@@ -327,12 +350,11 @@ double frm_layers_benefit_share(const struct frm_layers *l, const struct frm_lay
 {
     if (c->scale >= 1.0 || !c->loses)
         return 1.0;
-    int i = 1;
-    while (i + 1 < FRM_LAYER_SCALES && fabs(frm_layer_scales[i] - c->scale) > 1e-9)
-        ++i;
+    int i = scale_index(c->scale);
     double theta = l->centre_angle_deg[k], half = l->radius_deg[k];
     double periphery = 1.0 - share_within(theta, half, c->inset_radius_deg + 0.5 * l->blend_deg);
-    return 1.0 / (1.0 + periphery * l->resolution_loss[k * FRM_LAYER_SCALES + i]);
+    /* The inset's part keeps its detail; the periphery's part is worth 1 / (1 + D) of it. */
+    return (1.0 - periphery) + periphery / (1.0 + l->resolution_loss[k * FRM_LAYER_SCALES + i]);
 }
 
 void frm_layers_setting(const struct frm_layers *l, const struct hmd_eye eyes[2], const hl_quatd orientation[2],
@@ -357,4 +379,43 @@ void frm_layers_masks(struct frm_layers *l, size_t count, size_t extra)
         l->mask[k] = m;
     }
     memset(l->mask + count, RND_LAYER_BOTH, extra); /* group impostors: not planned per layer */
+}
+
+void frm_layers_periphery_levels(struct frm_layers *l, const uint8_t *lod, size_t count, size_t extra)
+{
+    const struct frm_layer_candidate *c = &l->cand[l->chosen];
+    for (size_t k = 0; k < count; ++k)
+        l->periphery_lod[k] = lod[k] == LOD_DROP ? lod[k] : (uint8_t)periphery_level(l, c, lod[k], k);
+    memcpy(l->periphery_lod + count, lod + count, extra);
+}
+
+void frm_layers_periphery_ceilings(struct frm_layers *l, const struct acu_contrast_limits *contrast,
+                                   const struct acu_limits *acuity, const struct lod_chain *chains,
+                                   const uint32_t *chain_of_object, const uint32_t *visible, size_t count,
+                                   const double *eccentricity_deg, const double *velocity_degps,
+                                   const double *diameter_deg, const uint8_t *ceiling_level)
+{
+    double xi_cpd = l->xi_cpd;
+    for (size_t k = 0; k < count; ++k)
+        l->periphery_ceiling[k * FRM_LAYER_SCALES] = ceiling_level[k];
+    for (int i = 1; i < FRM_LAYER_SCALES; ++i) {
+        uint8_t *out = l->lod_scratch;
+        struct lod_select_stats stats = {0};
+        if (contrast) {
+            struct acu_contrast_limits at_scale = *contrast;
+            at_scale.xi_cpd = frm_layer_scales[i] * xi_cpd;
+            lod_select_contrast(&at_scale, acuity, chains, chain_of_object, visible, count, eccentricity_deg,
+                                velocity_degps, diameter_deg, out, &stats);
+        } else {
+            struct acu_limits at_scale = *acuity;
+            acu_limits_init(&at_scale, frm_layer_scales[i] * xi_cpd, acuity->scale);
+            at_scale.use_velocity = acuity->use_velocity, at_scale.use_eccentricity = acuity->use_eccentricity;
+            lod_select_reddy(&at_scale, chains, chain_of_object, visible, count, eccentricity_deg, velocity_degps,
+                             diameter_deg, out, NULL, &stats);
+        }
+        for (size_t k = 0; k < count; ++k) {
+            uint8_t coarser = out[k] > ceiling_level[k] ? out[k] : ceiling_level[k];
+            l->periphery_ceiling[k * FRM_LAYER_SCALES + i] = coarser;
+        }
+    }
 }

@@ -14,12 +14,14 @@
  *     candidate's own measured overhead (clears and composite) taken from the budget, and keeps the
  *     candidate of highest benefit; the other selectors keep their levels and take the cheapest
  *     candidate that loses nothing (the ceiling, as reddy takes the LOD ceiling).
- * An object's benefit under a lossy candidate is scaled by 1 / (1 + f·D), D the visible loss of the
+ * The periphery draws each object no finer than its LOD ceiling at s·ξ (periphery_ceiling): detail
+ * the periphery's pixels cannot show costs geometry for nothing; the inset draws the chosen level.
+ * An object's benefit under a lossy candidate is scaled by (1 − f) + f / (1 + D), D the visible loss of the
  * periphery's scale on it in threshold units — Σ over the octave bands the scale cannot show of
  * max(0, c·S·k − 1), c its ring's content contrast, S at its eccentricity and retinal speed: the units
  * of the perceptual benefit's lost LOD detail (lod_visible_loss_contrast) — and f the share of it in
- * the periphery: a scale coarser than the ceiling costs benefit where it shows, a finer one earns
- * nothing. docs/foveation.md. */
+ * the periphery (its part in the inset keeps its detail): a scale coarser than the ceiling costs
+ * benefit where it shows, a finer one earns nothing. docs/foveation.md. */
 #ifndef HMDLOD_FRAME_LAYERS_H
 #define HMDLOD_FRAME_LAYERS_H
 
@@ -67,6 +69,7 @@ struct frm_layers {
     hl_vec3d centre_world;      /* the inset's centre, unit world direction */
     double centre_offset_deg;   /* its angle from the gaze model's gaze */
     double slowest_degps;       /* the slowest visible object's retinal speed */
+    double xi_cpd;              /* the rendered image's ξ (frm_layers_plan's) */
     double ceiling_scale;       /* the coarsest scale whose ceiling inset fits (RND_LAYER_MAX_CONE_DEG) */
     /* what the content needs: the last frame's band contrast by ring of eccentricity around its gaze
      * (render/layers.h; not valid before the first frame: full contrast), and per ring the coarsest
@@ -80,6 +83,10 @@ struct frm_layers {
     double *resolution_loss;    /* [k·FRM_LAYER_SCALES + i]: D of scale i on it (0 for i = 0) */
     int inset_px_of;            /* the candidate inset_px was computed for (−1: none yet this frame) */
     uint8_t *mask;              /* per draw entry (capacity: instances + groups + 1): RND_LAYER_* */
+    uint8_t *periphery_lod;     /* per draw entry: the level the periphery draws (frm_layers_periphery_levels) */
+    /* [k·FRM_LAYER_SCALES + i]: the coarsest level of visible object k whose lost detail the periphery
+     * at scale i cannot show (its LOD ceiling at s·ξ; 0 for i = 0) — the periphery draws no finer */
+    uint8_t *periphery_ceiling;
     uint8_t *lod_scratch;       /* per visible object: a candidate's levels while fs compares them */
 };
 
@@ -129,5 +136,17 @@ double frm_layers_benefit_share(const struct frm_layers *l, const struct frm_lay
 void frm_layers_setting(const struct frm_layers *l, const struct hmd_eye eyes[2], const hl_quatd orientation[2],
                         struct rnd_layers *out);
 void frm_layers_masks(struct frm_layers *l, size_t count, size_t extra);
+/* The periphery's levels for the chosen setting: each visible object's level, or its periphery
+ * ceiling at the chosen scale where that is coarser; group impostors as they are. */
+void frm_layers_periphery_levels(struct frm_layers *l, const uint8_t *lod, size_t count, size_t extra);
+/* The periphery ceilings (periphery_ceiling) under the frame's criterion: the LOD ceiling with ξ
+ * replaced by s·ξ for each scale (ξ: frm_layers_plan's), never finer than the object's own ceiling (a saccade's lowered
+ * ones included). Called by the selection (frame/select.c) after the ceilings. */
+struct lod_chain;
+void frm_layers_periphery_ceilings(struct frm_layers *l, const struct acu_contrast_limits *contrast,
+                                   const struct acu_limits *acuity, const struct lod_chain *chains,
+                                   const uint32_t *chain_of_object, const uint32_t *visible, size_t count,
+                                   const double *eccentricity_deg, const double *velocity_degps,
+                                   const double *diameter_deg, const uint8_t *ceiling_level);
 
 #endif

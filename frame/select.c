@@ -352,6 +352,13 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
     frm_coverage_compute(scene, in->eyes, 2, in->visible, in->count, s->pixels_px, s->boxed);
     if (frm_selector_uses_ceiling(s->selector))
         rec->acuity_evaluations = compute_ceilings(s, scene, in);
+    if (s->layers && s->layers->mode != FRM_FOVEATION_OFF) {
+        if (!frm_selector_uses_ceiling(s->selector)) /* the periphery's levels follow the ceilings */
+            (void)compute_ceilings(s, scene, in);
+        frm_layers_periphery_ceilings(s->layers, in->contrast, in->limits, in->chains, scene->chain_of_instance,
+                                      in->visible, in->count, in->eccentricity_deg, in->velocity_degps,
+                                      in->diameter_deg, s->ceiling_level);
+    }
 
     switch (s->selector) {
     case FRM_SELECT_NONE:

@@ -360,7 +360,8 @@ static double composite(struct rnd_renderer *r, const struct rnd_layers *l, cons
 
 int rnd_renderer_draw_layers(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view views[2],
                              const struct rnd_layers *layers, const uint32_t *index, const uint8_t *lod,
-                             const uint8_t *mask, size_t count, struct rnd_draw_stats *stats)
+                             const uint8_t *periphery_lod, const uint8_t *mask, size_t count,
+                             struct rnd_draw_stats *stats)
 {
     if (r && r->layers)
         r->layers->pending = 0;
@@ -370,15 +371,18 @@ int rnd_renderer_draw_layers(struct rnd_renderer *r, const struct scn_scene *sce
     if (stats)
         *stats = st;
     struct rnd_layer_plan plan;
+    if (!periphery_lod)
+        periphery_lod = lod;
     if (!views || !r || rnd_layer_plan_make(layers, r->eye_w, r->eye_h, &plan) != 0 ||
-        rnd_check_draw(r, scene, index, lod, count) != 0 || rnd_renderer_current(r) != 0)
+        rnd_check_draw(r, scene, index, lod, count) != 0 || rnd_check_draw(r, scene, index, periphery_lod, count) != 0 ||
+        rnd_renderer_current(r) != 0)
         return -1;
     if (layer_targets_make(r) != 0)
         return -1;
     glUseProgram(r->program);
     glBindVertexArray(r->vao);
     draw_insets(r, scene, views, &plan, index, lod, mask, count, &st);
-    draw_peripheries(r, scene, views, &plan, index, lod, mask, count, &st);
+    draw_peripheries(r, scene, views, &plan, index, periphery_lod, mask, count, &st);
     glBindVertexArray(0);
     glFinish(); /* the caller's timer covers the GPU work */
     st.inset_px = plan.inset_px;

@@ -45,13 +45,16 @@ int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *sce
 /* ---- foveated layers (render/layers.h) ---- */
 #include "render/layers.h"
 /* Draws the listed instances in layers (render/layers.h): entry k into the layers its mask[k] names
- * (RND_LAYER_INSET, RND_LAYER_PERIPHERY; mask NULL: both) — the insets into the FBO, the peripheries
- * into the layers' own framebuffer (made on the first foveated frame). Waits for the GPU like
+ * (RND_LAYER_INSET, RND_LAYER_PERIPHERY; mask NULL: both) at level lod[k] in the insets and
+ * periphery_lod[k] in the peripheries (NULL: lod; a coarser level where the periphery's resolution
+ * cannot show the difference) — the insets into the FBO, the peripheries into the layers' own
+ * framebuffer (made on the first foveated frame). Waits for the GPU like
  * rnd_renderer_draw_stereo. layers NULL or a scale of 1: rnd_renderer_draw_stereo (masks ignored).
  * −1 on a bad list or layer setting (nothing drawn) or a GL error. */
 int rnd_renderer_draw_layers(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view views[2],
                              const struct rnd_layers *layers, const uint32_t *index, const uint8_t *lod,
-                             const uint8_t *mask, size_t count, struct rnd_draw_stats *stats);
+                             const uint8_t *periphery_lod, const uint8_t *mask, size_t count,
+                             struct rnd_draw_stats *stats);
 /* Composites the last rnd_renderer_draw_layers into the FBO that rnd_renderer_read_rgba, the mean
  * luminance and the distortion pass read, and waits for it; a no-op (0) after a plain frame. Apart
  * from the draw because it is the compositor's work: a headset runtime composites submitted layers

@@ -78,7 +78,7 @@ static void test_composite(struct rnd_renderer *r, const struct scn_scene *s, co
     struct rnd_draw_stats st;
     CHECK(rnd_renderer_draw_stereo(r, s, v, index, lod, s->instance_count, NULL) == 0);
     CHECK(rnd_renderer_read_rgba(r, full, &err) == 0);
-    CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, NULL, s->instance_count, &st) == 0);
+    CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, NULL, NULL, s->instance_count, &st) == 0);
     double composite_px = 0.0;
     CHECK(rnd_renderer_composite_layers(r, &composite_px) == 0);
     CHECK(composite_px > 0.5 * 2 * EW * EH && composite_px < 2.0 * EW * EH);
@@ -130,7 +130,7 @@ static void test_step_detected(struct rnd_renderer *r, const struct scn_scene *s
     struct hl_error err = {""};
     CHECK(rnd_renderer_draw_stereo(r, s, v, index, lod, s->instance_count, NULL) == 0);
     CHECK(rnd_renderer_read_rgba(r, full, &err) == 0);
-    CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, NULL, s->instance_count, NULL) == 0);
+    CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, NULL, NULL, s->instance_count, NULL) == 0);
     CHECK(rnd_renderer_composite_layers(r, NULL) == 0);
     CHECK(rnd_renderer_read_rgba(r, fov, &err) == 0);
     int n = 0;
@@ -153,29 +153,29 @@ static void test_global_and_masks(struct rnd_renderer *r, const struct scn_scene
     struct rnd_draw_stats st;
     uint8_t *mask = malloc(s->instance_count);
     memset(mask, RND_LAYER_BOTH, s->instance_count);
-    CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, mask, s->instance_count, &st) == 0);
+    CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, NULL, mask, s->instance_count, &st) == 0);
     CHECK(st.inset_triangles == 0 && st.inset_px == 0 && st.periphery_triangles > 0);
     CHECK(fabs(st.periphery_px - 2.0 * lround(0.5 * EW) * lround(0.5 * EH)) < 0.5);
     uint64_t all = st.periphery_triangles;
     memset(mask, RND_LAYER_INSET, s->instance_count); /* nobody in the periphery */
-    CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, mask, s->instance_count, &st) == 0);
+    CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, NULL, mask, s->instance_count, &st) == 0);
     CHECK(st.periphery_triangles == 0 && all > 0);
     /* s = 1: the plain frame, masks ignored. */
     l.periphery_scale = 1.0;
-    CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, mask, s->instance_count, &st) == 0);
+    CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, NULL, mask, s->instance_count, &st) == 0);
     CHECK(st.triangles_per_eye[0] > 0 && st.inset_px == 0 && st.periphery_px == 0);
     double px = -1.0;
     CHECK(rnd_renderer_composite_layers(r, &px) == 0 && px == 0.0); /* a plain frame: nothing to composite */
     /* Bad settings: nothing drawn, −1. */
     struct rnd_layers bad = l;
     bad.periphery_scale = 0.1;
-    CHECK(rnd_renderer_draw_layers(r, s, v, &bad, index, lod, NULL, s->instance_count, &st) != 0);
+    CHECK(rnd_renderer_draw_layers(r, s, v, &bad, index, lod, NULL, NULL, s->instance_count, &st) != 0);
     bad = l, bad.periphery_scale = 0.5, bad.blend_deg = 0.0;
-    CHECK(rnd_renderer_draw_layers(r, s, v, &bad, index, lod, NULL, s->instance_count, &st) != 0);
+    CHECK(rnd_renderer_draw_layers(r, s, v, &bad, index, lod, NULL, NULL, s->instance_count, &st) != 0);
     bad = l, bad.periphery_scale = 0.5, bad.inset_radius_deg = NAN;
-    CHECK(rnd_renderer_draw_layers(r, s, v, &bad, index, lod, NULL, s->instance_count, &st) != 0);
+    CHECK(rnd_renderer_draw_layers(r, s, v, &bad, index, lod, NULL, NULL, s->instance_count, &st) != 0);
     bad = l, bad.periphery_scale = 0.5, bad.centre_eye[1] = hl_v3(0, 0, 0);
-    CHECK(rnd_renderer_draw_layers(r, s, v, &bad, index, lod, NULL, s->instance_count, &st) != 0);
+    CHECK(rnd_renderer_draw_layers(r, s, v, &bad, index, lod, NULL, NULL, s->instance_count, &st) != 0);
     free(mask);
 }
 

@@ -1,0 +1,190 @@
+/* frame/layers: the layer candidates of a frame and what an object costs and keeps under each, on
+ * synthetic objects in front of a Vive's eyes (no GL): the resolution ceiling grows as the scale
+ * falls and shrinks with the content's contrast; lossless candidates come first, the fallback
+ * insets after them and under their scale's ceiling; a forced scale gives one candidate; a lossless
+ * setting keeps all of an object's benefit and a lossy one less where the object lies in the
+ * periphery (the more so the coarser the scale); a fill-bound object costs less in layers than in
+ * the plain frame; the periphery draws no finer than the object's own level or its ceiling at s·ξ;
+ * masks put an object in the layers it reaches. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "frame/frame.h"
+#include "test_util.h"
+
+enum { N = 4 };
+
+struct fixture {
+    const struct hmd_profile *vive;
+    struct hmd_eye eyes[2];
+    struct acu_limits acuity;
+    struct acu_csf_table *table;
+    struct acu_contrast_limits contrast;
+    struct acu_viewer viewer;
+    double center_m[3 * N], radius_m[N];
+    uint32_t visible[N];
+    double eccentricity_deg[N], velocity_degps[N], diameter_deg[N];
+};
+
+/* Four objects 3 m ahead of the eye: at the gaze, 12°, 30° and 45° to the right; a 0.3 m sphere each. */
+static void fixture_init(struct fixture *f)
+{
+    memset(f, 0, sizeof *f);
+    f->vive = hmd_builtin_find("vive");
+    for (int e = 0; e < 2; ++e)
+        f->eyes[e] = hmd_eye_frustum(f->vive, e);
+    double xi = hmd_compute_xi(f->vive).used_cpd;
+    acu_limits_init(&f->acuity, xi, 1.0);
+    f->table = malloc(sizeof *f->table);
+    acu_csf_table_fill_cycles(f->table, ACU_CSF_CASTLE, 20.0, ACU_CSF_GABOR_CYCLES);
+    acu_contrast_limits_init(&f->contrast, f->table, xi, 1.0, 2.0);
+    f->viewer.eye_position_m = hl_v3(0, 0, 0);
+    f->viewer.gaze_dir = hl_v3(0, 0, -1);
+    const double angle_deg[N] = {0.0, 12.0, 30.0, 45.0};
+    for (int k = 0; k < N; ++k) {
+        double a = angle_deg[k] * HL_RAD_PER_DEG;
+        f->center_m[3 * k] = 3.0 * sin(a), f->center_m[3 * k + 1] = 0.0, f->center_m[3 * k + 2] = -3.0 * cos(a);
+        f->radius_m[k] = 0.3;
+        f->visible[k] = (uint32_t)k;
+    }
+    acu_compute_geometry(&f->viewer, f->center_m, f->radius_m, NULL, f->visible, N, f->eccentricity_deg,
+                         f->velocity_degps, f->diameter_deg);
+}
+
+static void plan(struct frm_layers *l, struct fixture *f)
+{
+    struct frm_layers_view view = {&f->viewer, hl_q_identity(), f->eyes, f->vive->eye_width_px,
+                                   f->vive->eye_height_px, 0.5 * f->vive->ipd_m};
+    frm_layers_plan(l, &view, &f->acuity, &f->contrast, f->acuity.xi_cpd, f->center_m, f->radius_m, f->visible, N,
+                    f->eccentricity_deg, f->velocity_degps);
+}
+
+static void test_candidates(struct fixture *f)
+{
+    struct frm_layers l;
+    struct hl_error err = {""};
+    CHECK(frm_layers_init(&l, FRM_FOVEATION_FIXED, 0.0, 0.0, -1.0, N, 0, &err) == 0);
+    CHECK(l.blend_deg == FRM_LAYER_BLEND_DEG_DEFAULT);
+    plan(&l, f);
+    CHECK(l.cand_count > FRM_LAYER_SCALES && l.cand[0].scale == 1.0 && l.cand[0].inset_radius_deg == 0.0);
+    /* Lossless first, each at its ceiling; ceilings grow as the scale falls. */
+    double last_ceiling = 0.0;
+    for (int c = 1; c < l.first_loss; ++c) {
+        CHECK(!l.cand[c].loses && l.cand[c].inset_radius_deg == l.cand[c].ceiling_radius_deg);
+        CHECK(l.cand[c].scale < l.cand[c - 1].scale && l.cand[c].ceiling_radius_deg >= last_ceiling);
+        last_ceiling = l.cand[c].ceiling_radius_deg;
+        printf("full contrast, still: scale %.2f needs an inset of %.1f deg\n", l.cand[c].scale,
+               l.cand[c].ceiling_radius_deg);
+    }
+    for (int c = l.first_loss; c < l.cand_count; ++c)
+        CHECK(l.cand[c].loses && l.cand[c].inset_radius_deg < l.cand[c].ceiling_radius_deg);
+    /* Benefit: lossless keeps all; a lossy setting keeps less of an object it leaves in the periphery. */
+    for (int c = 0; c < l.cand_count; ++c)
+        for (size_t k = 0; k < N; ++k) {
+            double share = frm_layers_benefit_share(&l, &l.cand[c], k);
+            CHECK(share > 0.0 && share <= 1.0);
+            if (!l.cand[c].loses)
+                CHECK(share == 1.0);
+        }
+    int lossy_10 = -1;
+    for (int c = l.first_loss; c < l.cand_count; ++c)
+        if (l.cand[c].scale == 0.25 && l.cand[c].inset_radius_deg == 10.0)
+            lossy_10 = c;
+    CHECK(lossy_10 > 0);
+    if (lossy_10 > 0) {
+        double at_gaze = frm_layers_benefit_share(&l, &l.cand[lossy_10], 0);
+        double at_12 = frm_layers_benefit_share(&l, &l.cand[lossy_10], 1);
+        printf("scale 0.25, inset 10 deg: the object at the gaze keeps %.3f, at 12 deg %.3f, at 45 deg %.3f\n",
+               at_gaze, at_12, frm_layers_benefit_share(&l, &l.cand[lossy_10], 3));
+        CHECK(at_gaze == 1.0 && at_12 < 1.0); /* inside the inset: whole; across its edge: less */
+    }
+    /* Lower content contrast: smaller insets for the same scale. */
+    double full = l.cand[l.first_loss - 1].ceiling_radius_deg;
+    l.rings.valid = 1;
+    for (int k = 0; k < RND_CONTRAST_RINGS; ++k)
+        l.rings.max_contrast[k] = 0.05, l.rings.pixels[k] = 100;
+    plan(&l, f);
+    printf("content contrast 0.05: scale %.2f needs %.1f deg (full contrast %.1f)\n", l.cand[l.first_loss - 1].scale,
+           l.cand[l.first_loss - 1].ceiling_radius_deg, full);
+    CHECK(l.cand[l.first_loss - 1].ceiling_radius_deg < full);
+    frm_layers_free(&l);
+
+    /* --periphery-scale: one candidate, at that scale; off: the plain frame alone. */
+    CHECK(frm_layers_init(&l, FRM_FOVEATION_FIXED, 5.0, 0.5, 12.0, N, 0, &err) == 0);
+    plan(&l, f);
+    CHECK(l.cand_count == 1 && l.cand[0].scale == 0.5 && l.cand[0].inset_radius_deg == 12.0);
+    frm_layers_free(&l);
+    CHECK(frm_layers_init(&l, FRM_FOVEATION_OFF, 0.0, 0.0, -1.0, N, 0, &err) == 0);
+    plan(&l, f);
+    CHECK(l.cand_count == 1 && l.cand[0].scale == 1.0);
+    frm_layers_free(&l);
+}
+
+/* Costs, periphery levels and masks on the scene's first chain (the field's bumpy sphere). */
+static void test_costs_and_masks(struct fixture *f)
+{
+    struct scn_scene scene = {0};
+    struct hl_error err = {""};
+    struct scn_scene_params params = {.object_count = 1, .seed = 1};
+    CHECK(scn_scene_build("field", &params, &scene, &err) == 0);
+    const struct scn_chain *ch = &scene.chains[0];
+    struct frm_layers l;
+    CHECK(frm_layers_init(&l, FRM_FOVEATION_FIXED, 5.0, 0.0, -1.0, N, 0, &err) == 0);
+    plan(&l, f);
+    struct lod_cost_model m = {LOD_COST_ADDITIVE, 1.0, 1e-4, 0.0, 4e-6, 0.008, 0.0};
+    int c = -1;
+    for (int i = l.first_loss; i < l.cand_count; ++i)
+        if (l.cand[i].scale == 0.25 && l.cand[i].inset_radius_deg == 10.0)
+            c = i;
+    CHECK(c > 0);
+    if (c < 0)
+        goto done;
+    /* The object at 45°: wholly in the periphery, 1e5 pixels at full resolution. */
+    for (size_t k = 0; k < N; ++k) {
+        l.inset_px[k] = 0.0;
+        for (int i = 0; i < FRM_LAYER_SCALES; ++i)
+            l.periphery_ceiling[k * FRM_LAYER_SCALES + i] = (uint8_t)(i == 4 ? ch->lod_count - 1 : 0);
+    }
+    l.inset_px_of = c;
+    double plain = frm_layers_level_cost_ms(&l, &l.cand[0], &m, ch, 0, 1e5, 0, 3);
+    double layered = frm_layers_level_cost_ms(&l, &l.cand[c], &m, ch, 0, 1e5, 0, 3);
+    printf("an object in the periphery, 1e5 px: %.3f ms plain, %.3f ms at scale 0.25 (drawn at its coarsest there)\n",
+           plain, layered);
+    CHECK(layered < plain);
+    /* Periphery levels: no finer than the object's own level, nor than the ceiling at the scale. */
+    l.chosen = c;
+    uint8_t lod[N + 1] = {0, 1, 0, LOD_DROP, 0};
+    frm_layers_periphery_levels(&l, lod, N, 1);
+    for (size_t k = 0; k < N; ++k)
+        CHECK(lod[k] == LOD_DROP ? l.periphery_lod[k] == LOD_DROP : l.periphery_lod[k] == ch->lod_count - 1);
+    CHECK(l.periphery_lod[N] == lod[N]); /* a group impostor as it is */
+    /* Masks: the object at the gaze in the inset only, at 45° in the periphery only, at 12° in both. */
+    frm_layers_masks(&l, N, 1);
+    printf("masks: %u %u %u %u\n", l.mask[0], l.mask[1], l.mask[2], l.mask[3]);
+    CHECK(l.mask[0] == RND_LAYER_INSET);
+    CHECK(l.mask[1] == RND_LAYER_BOTH);
+    CHECK(l.mask[3] == RND_LAYER_PERIPHERY);
+    CHECK(l.mask[N] == RND_LAYER_BOTH);
+done:
+    frm_layers_free(&l);
+    scn_scene_free(&scene);
+}
+
+int main(void)
+{
+    struct fixture f;
+    fixture_init(&f);
+    CHECK(f.vive != NULL);
+    if (!f.vive)
+        return tu_finish("frame layers");
+    test_candidates(&f);
+    test_costs_and_masks(&f);
+    enum frm_foveation_mode mode;
+    struct hl_error err = {""};
+    CHECK(frm_foveation_parse("gaze", &mode, &err) == 0 && mode == FRM_FOVEATION_GAZE);
+    CHECK(frm_foveation_parse(NULL, &mode, &err) == 0 && mode == FRM_FOVEATION_OFF);
+    CHECK(frm_foveation_parse("sideways", &mode, &err) != 0 && strstr(err.msg, "--foveation"));
+    free(f.table);
+    return tu_finish("frame layers");
+}

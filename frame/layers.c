@@ -231,7 +231,6 @@ void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, c
     fill_needed_scales(l, acuity, contrast, xi_cpd);
     for (size_t k = 0; k < count; ++k)
         fill_resolution_loss(l, acuity, contrast, xi_cpd, k, eccentricity_deg[k], velocity_degps[k]);
-    l->ceiling_scale = 1.0;
     double ceilings[FRM_LAYER_SCALES] = {0.0};
     for (int i = 1; i < FRM_LAYER_SCALES; ++i)
         ceilings[i] = ceiling_radius_deg(l, acuity, contrast, xi_cpd, frm_layer_scales[i]);
@@ -252,10 +251,7 @@ void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, c
      * object (frame/select.c). */
     for (int i = 1; i < FRM_LAYER_SCALES; ++i) {
         double radius = l->forced_radius_deg >= 0.0 ? l->forced_radius_deg : ceilings[i];
-        int before = l->cand_count;
         add_candidate(l, view, frm_layer_scales[i], radius, ceilings[i], i);
-        if (l->cand_count > before && !(radius < ceilings[i]))
-            l->ceiling_scale = frm_layer_scales[i];
     }
     l->first_loss = l->cand_count;
     if (l->forced_radius_deg >= 0.0)

@@ -70,7 +70,6 @@ struct frm_layers {
     double centre_offset_deg;   /* its angle from the gaze model's gaze */
     double slowest_degps;       /* the slowest visible object's retinal speed */
     double xi_cpd;              /* the rendered image's ξ (frm_layers_plan's) */
-    double ceiling_scale;       /* the coarsest scale whose ceiling inset fits (RND_LAYER_MAX_CONE_DEG) */
     /* what the content needs: the last frame's band contrast by ring of eccentricity around its gaze
      * (render/layers.h; not valid before the first frame: full contrast), and per ring the coarsest
      * scale that loses nothing visible there */
@@ -87,7 +86,7 @@ struct frm_layers {
     /* [k·FRM_LAYER_SCALES + i]: the coarsest level of visible object k whose lost detail the periphery
      * at scale i cannot show (its LOD ceiling at s·ξ; 0 for i = 0) — the periphery draws no finer */
     uint8_t *periphery_ceiling;
-    uint8_t *lod_scratch;       /* per visible object: a candidate's levels while fs compares them */
+    uint8_t *lod_scratch;       /* per visible object: one scale's LOD ceilings (frm_layers_periphery_ceilings) */
 };
 
 /* Allocates the per-object arrays for `instances` objects and `groups` group impostors; mode and

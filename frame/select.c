@@ -433,7 +433,7 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
         rec->layer_scale = layer->scale;
         rec->inset_radius_deg = layer->inset_radius_deg;
         rec->layer_loses = layer->loses;
-        rec->layer_candidates = s->layers->cand_count;
+        rec->layer_candidates = s->selector == FRM_SELECT_FS ? s->layers->evaluated : s->layers->cand_count;
     }
     rec->predicted_ms = predicted_ms(s, scene, in, lod_out, layer);
     double visible_px = 0.0, dropped_px = 0.0;

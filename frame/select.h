@@ -132,7 +132,7 @@ struct frm_select_record {
      * whose refinement the budget's slack would have paid for; miss = such objects past the deadline */
     int saccade_active, saccade_phase, saccade_started;
     /* foveated layers (frame/layers.h): the chosen periphery scale (1: none) and inset radius, whether
-     * it is coarser than the resolution ceiling, and how many settings were candidates */
+     * it is coarser than the resolution ceiling, and how many settings were weighed (fs: solved) */
     double layer_scale, inset_radius_deg;
     int layer_loses, layer_candidates;
     double gaze_speed_degps;

@@ -237,6 +237,17 @@ static void choose_layers_lossless(struct frm_select *s, const struct scn_scene 
     }
 }
 
+/* The optimizer's result in the frame's record. */
+static void record_result(struct frm_select_record *rec, const struct lod_result *r)
+{
+    rec->iterations = r->iterations;
+    rec->dropped = r->dropped;
+    rec->truncated = r->truncated;
+    rec->over_budget = r->over_budget;
+    rec->optimizer_us = r->elapsed_us;
+    rec->benefit = r->benefit;
+}
+
 /* The estimated pixels of the objects a choice drops. */
 static double dropped_pixels(const struct frm_select *s, const struct lod_problem *p, const uint8_t *choice)
 {
@@ -390,12 +401,7 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
         struct lod_result r;
         if (s->selector == FRM_SELECT_FS && s->layers && s->layers->mode != FRM_FOVEATION_OFF) {
             solve_fs_layers(s, scene, in, budget, lod_out, rec, &r);
-            rec->iterations = r.iterations;
-            rec->dropped = r.dropped;
-            rec->truncated = r.truncated;
-            rec->over_budget = r.over_budget;
-            rec->optimizer_us = r.elapsed_us;
-            rec->benefit = r.benefit;
+            record_result(rec, &r);
             break;
         }
         struct lod_problem p = build_problem(s, scene, in, budget, NULL);
@@ -411,12 +417,7 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
             lod_level_of_choice(&p, s->choice, lod_out);
             rec->underused_drop = lod_choice_underused_drop(&p, s->choice, FRM_UNDERUSED_FRACTION);
         }
-        rec->iterations = r.iterations;
-        rec->dropped = r.dropped;
-        rec->truncated = r.truncated;
-        rec->over_budget = r.over_budget;
-        rec->optimizer_us = r.elapsed_us;
-        rec->benefit = r.benefit;
+        record_result(rec, &r);
         /* Measurement only, and not part of the frame: its time is taken out of the frame's. The
          * flat problem's bound does not bound mb's (group impostors are choices it lacks): none. */
         int64_t lp_start = hl_clock_now_ns();

@@ -228,14 +228,7 @@ static int layer_targets_make(struct rnd_renderer *r)
     t->u_origin = glGetUniformLocation(t->program, "u_origin");
     t->u_size = glGetUniformLocation(t->program, "u_size");
     t->u_tex = glGetUniformLocation(t->program, "u_tex");
-    glGenTextures(1, &t->color_tex);
-    glBindTexture(GL_TEXTURE_2D, t->color_tex);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, 2 * r->eye_w, r->eye_h);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glBindTexture(GL_TEXTURE_2D, 0);
+    t->color_tex = rnd_gl_color_texture(2 * r->eye_w, r->eye_h);
     glGenRenderbuffers(1, &t->depth_rb);
     glBindRenderbuffer(GL_RENDERBUFFER, t->depth_rb);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, 2 * r->eye_w, r->eye_h);

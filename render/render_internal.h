@@ -86,6 +86,13 @@ int rnd_renderer_read_rect(struct rnd_renderer *r, const int rect_px[4], uint8_t
  * with "who: … shader does not compile / link: log" in err. */
 unsigned rnd_gl_program_build(const char *vertex_src, const char *fragment_src, const char *who, struct hl_error *err);
 
+/* ---- GL objects made alike in several places (renderer.c) -------------------------------------- */
+/* An RGBA8 2D texture of w × h, linear filtering, clamped at its edges: what the passes sample. */
+unsigned rnd_gl_color_texture(int w, int h);
+/* A framebuffer with one RGBA8 renderbuffer of w × h (*rb_out), left bound to GL_FRAMEBUFFER; its
+ * completeness status (GL_FRAMEBUFFER_COMPLETE when usable). For small read-back targets. */
+unsigned rnd_gl_readback_target(int w, int h, unsigned *fbo_out, unsigned *rb_out);
+
 /* ---- shared by the window and the distortion pass -------------------------------------------- */
 void rnd_flip_rows(uint8_t *rgba, int width_px, int height_px); /* bottom-up GL rows to top-down */
 unsigned rnd_renderer_color_texture(const struct rnd_renderer *r); /* the FBO's colour (GL_TEXTURE_2D) */

@@ -63,15 +63,8 @@ static int rnd_renderer_build_program(struct rnd_renderer *r, struct hl_error *e
 static int rnd_renderer_build_fbo(struct rnd_renderer *r, struct hl_error *err)
 {
     glGenFramebuffers(1, &r->fbo);
-    glGenTextures(1, &r->color_tex);
+    r->color_tex = rnd_gl_color_texture(2 * r->eye_w, r->eye_h);
     glGenRenderbuffers(1, &r->depth_rb);
-    glBindTexture(GL_TEXTURE_2D, r->color_tex);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, 2 * r->eye_w, r->eye_h);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glBindTexture(GL_TEXTURE_2D, 0);
     glBindRenderbuffer(GL_RENDERBUFFER, r->depth_rb);
     glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, 2 * r->eye_w, r->eye_h);
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
@@ -383,6 +376,32 @@ int rnd_renderer_read_rgba(struct rnd_renderer *r, uint8_t *rgba, struct hl_erro
     return rnd_renderer_read_rect(r, rect, rgba, err);
 }
 
+unsigned rnd_gl_color_texture(int w, int h)
+{
+    GLuint tex = 0;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, w, h);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return tex;
+}
+
+unsigned rnd_gl_readback_target(int w, int h, unsigned *fbo_out, unsigned *rb_out)
+{
+    glGenFramebuffers(1, fbo_out);
+    glGenRenderbuffers(1, rb_out);
+    glBindRenderbuffer(GL_RENDERBUFFER, *rb_out);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+    glBindRenderbuffer(GL_RENDERBUFFER, 0);
+    glBindFramebuffer(GL_FRAMEBUFFER, *fbo_out);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, *rb_out);
+    return glCheckFramebufferStatus(GL_FRAMEBUFFER);
+}
+
 /* The small RGBA8 target of the luminance down-blit, made once. */
 static int rnd_lum_target(struct rnd_renderer *r, struct hl_error *err)
 {
@@ -390,14 +409,7 @@ static int rnd_lum_target(struct rnd_renderer *r, struct hl_error *err)
         return 0;
     r->lum_w = 2 * r->eye_w < RND_LUM_W ? 2 * r->eye_w : RND_LUM_W; /* both even: eyes stay halves */
     r->lum_h = r->eye_h < RND_LUM_H ? r->eye_h : RND_LUM_H;
-    glGenFramebuffers(1, &r->lum_fbo);
-    glGenRenderbuffers(1, &r->lum_rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, r->lum_rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, r->lum_w, r->lum_h);
-    glBindRenderbuffer(GL_RENDERBUFFER, 0);
-    glBindFramebuffer(GL_FRAMEBUFFER, r->lum_fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, r->lum_rb);
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    GLenum status = rnd_gl_readback_target(r->lum_w, r->lum_h, &r->lum_fbo, &r->lum_rb);
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     GLenum e = glGetError();
     if (status != GL_FRAMEBUFFER_COMPLETE || e != GL_NO_ERROR) {

@@ -47,14 +47,7 @@ static int ring_target_make(struct rnd_renderer *r, struct hl_error *err)
     t->h = r->eye_h / RND_RING_DOWNSAMPLE > 0 ? r->eye_h / RND_RING_DOWNSAMPLE : 1;
     t->rgba = malloc((size_t)t->w * t->h * 4);
     t->y = malloc((size_t)t->w * t->h * 2 * sizeof(float));
-    glGenFramebuffers(1, &t->fbo);
-    glGenRenderbuffers(1, &t->rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, t->rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, t->w, t->h);
-    glBindRenderbuffer(GL_RENDERBUFFER, 0);
-    glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t->rb);
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    GLenum status = rnd_gl_readback_target(t->w, t->h, &t->fbo, &t->rb);
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     if (!t->rgba || !t->y || status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
         rnd_ring_target_destroy(t, 1);

@@ -224,24 +224,28 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
                                  &draw) != 0)
         return hl_fail(err, "frame %ld: drawing failed", frame);
     int64_t t3 = hl_clock_now_ns();
-    /* The layers' composite is the compositor's work, timed apart (render/render.h, docs/foveation.md). */
-    if (rnd_renderer_composite_layers(s->renderer, &rec->composite_px) != 0)
+    /* The layers' composite is the compositor's work, timed apart (render/render.h, docs/foveation.md);
+     * a session with a distortion pass (live) leaves it to that pass. */
+    if (!s->composite_in_distortion && rnd_renderer_composite_layers(s->renderer, &rec->composite_px) != 0)
         return hl_fail(err, "frame %ld: compositing the layers failed", frame);
     int64_t t3c = layers ? hl_clock_now_ns() : t3;
     rec->composite_ms = (double)(t3c - t3) * 1e-6; /* exactly 0 for a plain frame */
-    if (s->visibility.table) { /* the eye adapts to what it saw: next frame's luminance (frame/visibility.c) */
-        double mean = NAN;
-        struct hl_error read_err;
-        if (rnd_renderer_mean_luminance(s->renderer, &mean, &read_err) != 0)
-            return hl_fail(err, "frame %ld: reading the mean luminance failed: %s", frame, read_err.msg);
-        frm_visibility_adapt(&s->visibility, mean);
-    }
     if (s->layers.mode != FRM_FOVEATION_OFF) { /* what the content needs: next frame's ceilings (frame/layers.h) */
         struct rnd_eye_gaze gaze[2];
         frame_eye_gaze(s, views, viewer.gaze_dir, gaze);
         struct hl_error read_err;
         if (rnd_renderer_ring_contrast(s->renderer, gaze, &s->layers.rings, &read_err) != 0)
             return hl_fail(err, "frame %ld: reading the content's contrast failed: %s", frame, read_err.msg);
+        /* The same read-back holds the composited image's mean: the eye adapts to it (the FBO alone
+         * holds only the insets when the distortion pass composites). */
+        if (s->visibility.table)
+            frm_visibility_adapt(&s->visibility, s->layers.rings.mean_relative_luminance);
+    } else if (s->visibility.table) { /* the eye adapts to what it saw: next frame's luminance (frame/visibility.c) */
+        double mean = NAN;
+        struct hl_error read_err;
+        if (rnd_renderer_mean_luminance(s->renderer, &mean, &read_err) != 0)
+            return hl_fail(err, "frame %ld: reading the mean luminance failed: %s", frame, read_err.msg);
+        frm_visibility_adapt(&s->visibility, mean);
     }
     int64_t t4 = hl_clock_now_ns();
     struct rusage usage1;

@@ -171,6 +171,8 @@ struct frm_session {
     struct rnd_eye_view frame_views[2];
     hl_vec3d frame_gaze_dir;
     struct frm_layers layers; /* foveated layers (frame/layers.h); mode off: the plain frame */
+    int composite_in_distortion; /* set by a runner with a distortion pass (live): the frame leaves the
+                                  * layers' composite to that pass (render/window.h) */
 };
 
 /* Opening a session, in two steps so that its runner makes the pose source between them (replay

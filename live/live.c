@@ -371,6 +371,7 @@ int liv_run(const struct liv_options *o, struct liv_summary *sum, struct hl_erro
         goto done;
     int ww, wh;
     rnd_window_size(st.window, &ww, &wh);
+    st.s.composite_in_distortion = 1; /* the distortion pass composites foveated layers (render/window.h) */
     if (rnd_distortion_create(st.s.renderer, &st.s.display, ww, wh, 0, &st.distortion, err) != 0 ||
         trace_open(&st.record, o->record_path, err) != 0 ||
         liv_record_open(&st.log, o->log_path,

@@ -20,6 +20,7 @@ struct rnd_distortion {
     int out_w, out_h, offscreen, has_lens;
     GLuint program, vao, vbo, ibo;
     GLint u_eye, u_source, u_lens;
+    GLint u_layers, u_periphery, u_p_origin, u_p_size, u_p_tex, u_tan, u_centre, u_band; /* foveated layers */
     GLuint fbo, tex; /* offscreen output */
     GLsizei index_count, vertices_per_eye;
     int cells; /* per side of an eye's mesh */
@@ -40,21 +41,44 @@ static const char rnd_dist_vs[] =
     "}\n";
 
 /* Points outside the eye's image are black (the lens shows nothing rendered there), and never
- * borrow from the other eye's half of the FBO. */
+ * borrow from the other eye's half of the FBO. With foveated layers (render/layers.h) the pass is
+ * also their composite: beyond the inset's inner disc it mixes in the periphery, bilinearly
+ * upsampled, by smoothstep across the blend band (its weight taken at the green sample's point);
+ * inside the disc the weight is 0 and the source is the FBO's alone, as in a plain frame. */
 static const char rnd_dist_fs[] =
     "#version 450 core\n"
     "in vec2 v_uv_r, v_uv_g, v_uv_b;\n"
     "uniform sampler2D u_source; /* both eyes side by side */\n"
     "uniform float u_eye;        /* 0 left, 1 right */\n"
     "uniform int u_lens;         /* 0: one sample per pixel (the three uvs are equal) */\n"
+    "uniform int u_layers;       /* 0 plain, 1 inset and periphery, 2 the periphery alone */\n"
+    "uniform sampler2D u_periphery;\n"
+    "uniform vec2 u_p_origin, u_p_size, u_p_tex; /* this eye's periphery in its texture, pixels */\n"
+    "uniform vec4 u_tan;         /* the eye's tangents: left, right, up, down */\n"
+    "uniform vec3 u_centre;      /* the inset's centre, eye frame */\n"
+    "uniform vec2 u_band;        /* the blend band's inner and outer radius, radians */\n"
     "out vec4 o_color;\n"
     "float inside(vec2 e) { vec2 s = step(vec2(0.0), e) * step(e, vec2(1.0)); return s.x * s.y; }\n"
     "vec2 fbo(vec2 e) { return vec2((u_eye + e.x) * 0.5, e.y); }\n"
+    "float weight(vec2 e) {\n"
+    "    if (u_layers != 1) return float(u_layers == 2);\n"
+    "    vec3 d = normalize(vec3(-u_tan.x + e.x * (u_tan.x + u_tan.y), -u_tan.w + e.y * (u_tan.z + u_tan.w), -1.0));\n"
+    "    return smoothstep(u_band.x, u_band.y, atan(length(cross(d, u_centre)), dot(d, u_centre)));\n"
+    "}\n"
+    "vec3 periphery(vec2 e) {\n"
+    "    vec2 p = u_p_origin + clamp(e * u_p_size, vec2(0.5), u_p_size - vec2(0.5));\n"
+    "    return texture(u_periphery, p / u_p_tex).rgb;\n"
+    "}\n"
+    "vec3 source(vec2 e, float w) {\n"
+    "    vec3 inset = texture(u_source, fbo(e)).rgb;\n"
+    "    return w > 0.0 ? mix(inset, periphery(e), w) : inset;\n"
+    "}\n"
     "void main() {\n"
-    "    if (u_lens == 0) { o_color = vec4(texture(u_source, fbo(v_uv_g)).rgb * inside(v_uv_g), 1.0); return; }\n"
-    "    float r = texture(u_source, fbo(v_uv_r)).r * inside(v_uv_r);\n"
-    "    float g = texture(u_source, fbo(v_uv_g)).g * inside(v_uv_g);\n"
-    "    float b = texture(u_source, fbo(v_uv_b)).b * inside(v_uv_b);\n"
+    "    float w = weight(v_uv_g);\n"
+    "    if (u_lens == 0) { o_color = vec4(source(v_uv_g, w) * inside(v_uv_g), 1.0); return; }\n"
+    "    float r = source(v_uv_r, w).r * inside(v_uv_r);\n"
+    "    float g = source(v_uv_g, w).g * inside(v_uv_g);\n"
+    "    float b = source(v_uv_b, w).b * inside(v_uv_b);\n"
     "    o_color = vec4(r, g, b, 1.0);\n"
     "}\n";
 
@@ -91,6 +115,14 @@ static int rnd_dist_program(struct rnd_distortion *d, struct hl_error *err)
     d->u_eye = glGetUniformLocation(d->program, "u_eye");
     d->u_source = glGetUniformLocation(d->program, "u_source");
     d->u_lens = glGetUniformLocation(d->program, "u_lens");
+    d->u_layers = glGetUniformLocation(d->program, "u_layers");
+    d->u_periphery = glGetUniformLocation(d->program, "u_periphery");
+    d->u_p_origin = glGetUniformLocation(d->program, "u_p_origin");
+    d->u_p_size = glGetUniformLocation(d->program, "u_p_size");
+    d->u_p_tex = glGetUniformLocation(d->program, "u_p_tex");
+    d->u_tan = glGetUniformLocation(d->program, "u_tan");
+    d->u_centre = glGetUniformLocation(d->program, "u_centre");
+    d->u_band = glGetUniformLocation(d->program, "u_band");
     return 0;
 }
 
@@ -238,12 +270,34 @@ int rnd_distortion_draw(struct rnd_distortion *d, int finish, struct hl_error *e
     glBindTexture(GL_TEXTURE_2D, rnd_renderer_color_texture(d->renderer));
     glUniform1i(d->u_source, 0);
     glUniform1i(d->u_lens, d->has_lens);
+    struct rnd_layer_view lv;
+    int layered = rnd_layers_last(d->renderer, &lv);
+    glUniform1i(d->u_layers, layered ? (lv.global ? 2 : 1) : 0);
+    glUniform1i(d->u_periphery, 1);
+    if (layered) {
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, lv.periphery_tex);
+        glActiveTexture(GL_TEXTURE0);
+        glUniform2f(d->u_p_size, (float)lv.periphery_w, (float)lv.periphery_h);
+        glUniform2f(d->u_p_tex, (float)lv.tex_w, (float)lv.tex_h);
+        glUniform2f(d->u_band, lv.inner_rad, lv.outer_rad);
+    }
     glBindVertexArray(d->vao);
     for (int eye = 0; eye < 2; ++eye) {
         glUniform1f(d->u_eye, (float)eye);
+        if (layered) {
+            glUniform2f(d->u_p_origin, (float)(eye * lv.periphery_w), 0.0f);
+            glUniform4fv(d->u_tan, 1, lv.tan[eye]);
+            glUniform3fv(d->u_centre, 1, lv.centre[eye]);
+        }
         glDrawElementsBaseVertex(GL_TRIANGLES, d->index_count, GL_UNSIGNED_INT, NULL, eye * d->vertices_per_eye);
     }
     glBindVertexArray(0);
+    if (layered) {
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        glActiveTexture(GL_TEXTURE0);
+    }
     glBindTexture(GL_TEXTURE_2D, 0);
     glClearColor(0.1f, 0.1f, 0.12f, 1.0f); /* the renderer's clear colour, restored with its state */
     if (depth)

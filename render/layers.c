@@ -26,7 +26,7 @@ struct rnd_layer_targets {
     /* the last rnd_renderer_draw_layers, for rnd_renderer_composite_layers */
     struct rnd_layers setting;
     struct rnd_layer_plan plan;
-    int pending;
+    int pending;   /* drawn, not composited into the FBO yet */
 };
 
 static const char rnd_layer_vs[] =
@@ -301,7 +301,8 @@ static void draw_peripheries(struct rnd_renderer *r, const struct scn_scene *sce
 }
 
 /* Step 3: the periphery upsampled over each eye, around the inset's inner disc. */
-static double composite(struct rnd_renderer *r, const struct rnd_layers *l, const struct rnd_layer_plan *plan)
+static double composite(struct rnd_renderer *r, const struct rnd_layers *l, const struct rnd_layer_plan *plan,
+                        unsigned target_fbo, int eye_w, int eye_h)
 {
     struct rnd_layer_targets *t = r->layers;
     double shaded_px = 0.0;
@@ -309,7 +310,7 @@ static double composite(struct rnd_renderer *r, const struct rnd_layers *l, cons
     for (int e = 0; e < 2; ++e)
         if (!plan->covers[e])
             counts[e] = composite_mesh(l, e, t->vertices + (size_t)e * RND_LAYER_EYE_VERTICES * RND_LAYER_FLOATS);
-    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, target_fbo);
     glUseProgram(t->program);
     glBindVertexArray(t->vao);
     glBindBuffer(GL_ARRAY_BUFFER, t->vbo);
@@ -326,7 +327,7 @@ static double composite(struct rnd_renderer *r, const struct rnd_layers *l, cons
     for (int e = 0; e < 2; ++e) {
         if (!counts[e])
             continue;
-        glViewport(e * r->eye_w, 0, r->eye_w, r->eye_h);
+        glViewport(e * eye_w, 0, eye_w, eye_h);
         glUniform2f(t->u_origin, (float)(e * plan->periphery_px[0]), 0.0f);
         GLint first = e * RND_LAYER_EYE_VERTICES;
         if (counts[e] == 4) { /* no inset: the periphery is the eye */
@@ -342,7 +343,7 @@ static double composite(struct rnd_renderer *r, const struct rnd_layers *l, cons
                            ? (double)plan->inset_rect_px[e][2] * plan->inset_rect_px[e][3] *
                                  pow(l->inset_radius_deg / (l->inset_radius_deg + l->blend_deg), 2.0) * (HL_PI / 4.0)
                            : 0.0;
-        shaded_px += (double)r->eye_w * r->eye_h - inner;
+        shaded_px += (double)eye_w * eye_h * (1.0 - inner / ((double)r->eye_w * r->eye_h));
     }
     glEnable(GL_DEPTH_TEST);
     glEnable(GL_CULL_FACE);
@@ -398,10 +399,44 @@ int rnd_renderer_composite_layers(struct rnd_renderer *r, double *composite_px)
         return 0; /* a plain frame: nothing to composite */
     if (rnd_renderer_current(r) != 0)
         return -1;
-    double shaded_px = composite(r, &r->layers->setting, &r->layers->plan);
+    double shaded_px = composite(r, &r->layers->setting, &r->layers->plan, r->fbo, r->eye_w, r->eye_h);
     glFinish();
     r->layers->pending = 0;
     if (composite_px)
         *composite_px = shaded_px;
     return glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+void rnd_layers_forget(struct rnd_layer_targets *t)
+{
+    if (t)
+        t->pending = 0;
+}
+
+int rnd_layers_last(const struct rnd_renderer *r, struct rnd_layer_view *out)
+{
+    const struct rnd_layer_targets *t = r ? r->layers : NULL;
+    if (!t || !t->pending)
+        return 0;
+    const struct rnd_layers *l = &t->setting;
+    out->global = !(l->inset_radius_deg > 0.0);
+    out->periphery_tex = t->color_tex;
+    out->periphery_w = t->plan.periphery_px[0], out->periphery_h = t->plan.periphery_px[1];
+    out->tex_w = 2 * r->eye_w, out->tex_h = r->eye_h;
+    for (int e = 0; e < 2; ++e) {
+        const struct hmd_eye *y = &l->eyes[e];
+        out->tan[e][0] = (float)y->tan_left, out->tan[e][1] = (float)y->tan_right;
+        out->tan[e][2] = (float)y->tan_up, out->tan[e][3] = (float)y->tan_down;
+        hl_vec3d c = hl_v3_normalize(l->centre_eye[e]);
+        out->centre[e][0] = (float)c.x, out->centre[e][1] = (float)c.y, out->centre[e][2] = (float)c.z;
+    }
+    out->inner_rad = (float)(l->inset_radius_deg / HL_DEG_PER_RAD);
+    out->outer_rad = (float)((l->inset_radius_deg + l->blend_deg) / HL_DEG_PER_RAD);
+    return 1;
+}
+
+void rnd_layers_composite_into(struct rnd_renderer *r, unsigned fbo, int eye_w, int eye_h)
+{
+    if (r->layers && r->layers->pending)
+        (void)composite(r, &r->layers->setting, &r->layers->plan, fbo, eye_w, eye_h);
 }

@@ -66,12 +66,17 @@ int rnd_layer_plan_make(const struct rnd_layers *l, int eye_w_px, int eye_h_px, 
  * ramps these renders hold (a step's band contrast is the same in every band) and of natural images
  * (amplitude ∝ 1/f); a fine texture seen only above the band would be missed (docs/foveation.md).
  * Tursun et al. 2019 likewise predict what a region needs from a low-resolution version of the
- * frame. Allocates its target and buffers on first use (warm-up), nothing after. */
+ * frame. When the last draw was layered and not composited into the FBO (the distortion pass
+ * composites it), the layers are composited at the reduced size first. Allocates its target and
+ * buffers on first use (warm-up), nothing after. */
 enum { RND_RING_DOWNSAMPLE = 8, RND_CONTRAST_RINGS = 18 };
 #define RND_CONTRAST_RING_DEG 5.0
 struct rnd_ring_contrast {
     double max_contrast[RND_CONTRAST_RINGS]; /* ring k: [5k, 5k + 5) degrees from the gaze */
     uint32_t pixels[RND_CONTRAST_RINGS];     /* reduced-image pixels that fell in it (0: none seen) */
+    double mean_relative_luminance;          /* the reduced image's mean Y (0…1), both eyes: what
+                                              * rnd_renderer_mean_luminance estimates, from a box
+                                              * filter of every pixel rather than a subsample */
     int valid;
 };
 struct rnd_renderer;

@@ -69,6 +69,25 @@ int rnd_renderer_current(const struct rnd_renderer *r);
  * is current). NULL: nothing. */
 void rnd_layer_targets_destroy(struct rnd_layer_targets *t, int delete_gl);
 
+/* The last draw's layers, for the passes that composite them themselves (layers.c): the distortion
+ * pass and the contrast read-back. 1 with *out filled when the last draw was layered and its
+ * composite has not been drawn into the FBO (rnd_renderer_composite_layers); 0 otherwise. */
+struct rnd_layer_view {
+    int global;                  /* no inset: the periphery is the whole eye */
+    unsigned periphery_tex;      /* both eyes' peripheries side by side from its corner */
+    int periphery_w, periphery_h, tex_w, tex_h; /* one eye's periphery; the texture */
+    float tan[2][4];             /* per eye: left, right, up, down */
+    float centre[2][3];          /* per eye: the inset's centre, unit, eye frame */
+    float inner_rad, outer_rad;  /* the blend band, radians from the centre */
+};
+int rnd_layers_last(const struct rnd_renderer *r, struct rnd_layer_view *out);
+/* A plain draw: the FBO no longer holds layers (layers.c; NULL: nothing). */
+void rnd_layers_forget(struct rnd_layer_targets *t);
+/* Draws the last layered frame's composite into the framebuffer fbo of eye_w × eye_h per eye (both
+ * eyes side by side), as rnd_renderer_composite_layers does into the renderer's own (layers.c);
+ * the target holds the insets (or a reduced copy of them) already. */
+void rnd_layers_composite_into(struct rnd_renderer *r, unsigned fbo, int eye_w, int eye_h);
+
 /* Frees the contrast read-back's target (ring_contrast.c), its GL objects when delete_gl. */
 void rnd_ring_target_destroy(struct rnd_ring_target *t, int delete_gl);
 

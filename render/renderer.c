@@ -293,6 +293,7 @@ int rnd_renderer_draw_stereo(struct rnd_renderer *r, const struct scn_scene *sce
         return -1;
     if (rnd_renderer_current(r) != 0)
         return -1;
+    rnd_layers_forget(r->layers); /* the FBO holds a plain frame from here on */
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     glViewport(0, 0, 2 * r->eye_w, r->eye_h);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -319,6 +320,7 @@ int rnd_renderer_draw_rect(struct rnd_renderer *r, const struct scn_scene *scene
         rect_px[0] + rect_px[2] > 2 * r->eye_w || rect_px[1] + rect_px[3] > r->eye_h ||
         rnd_check_draw(r, scene, &instance, &lod, 1) != 0 || rnd_renderer_current(r) != 0)
         return -1;
+    rnd_layers_forget(r->layers);
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     glViewport(rect_px[0], rect_px[1], rect_px[2], rect_px[3]);
     glScissor(rect_px[0], rect_px[1], rect_px[2], rect_px[3]); /* clear this rectangle only */

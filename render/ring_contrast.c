@@ -97,6 +97,9 @@ int rnd_renderer_ring_contrast(struct rnd_renderer *r, const struct rnd_eye_gaze
     for (int e = 0; e < 2; ++e)
         glBlitFramebuffer(e * r->eye_w, 0, (e + 1) * r->eye_w, r->eye_h, e * ew, 0, (e + 1) * ew, t->h,
                           GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    /* Layers the FBO does not hold composited (the distortion pass composites them): their composite
+     * at this size, over the reduced insets. */
+    rnd_layers_composite_into(r, t->fbo, ew, t->h);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, t->fbo);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, t->w, t->h, GL_RGBA, GL_UNSIGNED_BYTE, t->rgba);
@@ -110,10 +113,13 @@ int rnd_renderer_ring_contrast(struct rnd_renderer *r, const struct rnd_eye_gaze
     const double *lin = rnd_srgb_decode_table();
     size_t n = (size_t)t->w * t->h;
     float *y = t->y, *blur = t->y + n;
+    double sum = 0.0;
     for (size_t i = 0; i < n; ++i) {
         const uint8_t *p = t->rgba + 4 * i;
         y[i] = (float)(0.2126 * lin[p[0]] + 0.7152 * lin[p[1]] + 0.0722 * lin[p[2]]);
+        sum += y[i];
     }
+    out->mean_relative_luminance = sum / (double)n;
     /* Ring thresholds as cosines: a pixel's ring is found by comparing its direction's dot product
      * with the gaze against them, one square root per pixel and no trigonometry. */
     double cos_edge[RND_CONTRAST_RINGS];

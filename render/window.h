@@ -70,7 +70,9 @@ int rnd_distortion_create(struct rnd_renderer *r, const struct hmd_profile *p, i
                           int offscreen, struct rnd_distortion **out, struct hl_error *err);
 void rnd_distortion_destroy(struct rnd_distortion *d);
 int rnd_distortion_has_lens(const struct rnd_distortion *d); /* 0: the profile had no coefficients */
-/* Draws both eyes from the renderer's FBO. finish: wait for the GPU, so the caller's timer measures it. */
+/* Draws both eyes from the renderer's FBO. finish: wait for the GPU, so the caller's timer measures it.
+ * When the renderer's last draw was layered and not composited (rnd_renderer_draw_layers without
+ * rnd_renderer_composite_layers), this pass composites the layers as it samples (render/layers.h). */
 int rnd_distortion_draw(struct rnd_distortion *d, int finish, struct hl_error *err);
 /* Offscreen only: the output, out_w·out_h·4 bytes, top row first. */
 int rnd_distortion_read_rgba(struct rnd_distortion *d, uint8_t *rgba, struct hl_error *err);

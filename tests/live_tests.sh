@@ -86,6 +86,14 @@ grep -Eq "^0 +[^ ]+ +[0-9]+x[0-9]+" <<<"$out" || fail "--list-monitors: no monit
 xvfb "$bin" live --device none --monitor 5 --frames 2 >/dev/null 2>"$tmp/err"
 [ $? -eq 1 ] && grep -q "there are 1 monitors" "$tmp/err" || fail "--monitor 5: $(cat "$tmp/err")"
 
+# Foveated layers live (issue 32's acceptance): the distortion pass composites them — the session
+# runs, the capture is drawn in both eyes with the lens border black (test_layers checks the pass's
+# pixels against the plain frame's and the composite's).
+xvfb "$bin" live --device none --display dk2 --scene auditorium --foveation fixed --frames 20 --render-scale 0.5 \
+  --window-size 480x270 --capture "$tmp/dk2-fov.png" --quiet >"$tmp/out" 2>"$tmp/err" || fail "dk2 foveated: $(cat "$tmp/err")"
+[ "$(png_size "$tmp/dk2-fov.png")" = "480 270" ] || fail "dk2 foveated: capture size"
+rendered "$tmp/dk2-fov.png" 20 || fail "dk2 foveated: nothing drawn in an eye"
+
 # DK2 (PanoTools lens): the window's corners are outside the lens (black), its lens centres are not.
 xvfb "$bin" live --device none --display dk2 --scene auditorium --frames 3 --render-scale 0.25 \
   --window-size 480x270 --capture "$tmp/dk2.png" --quiet >"$tmp/out" 2>"$tmp/err" || fail "dk2: $(cat "$tmp/err")"

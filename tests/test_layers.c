@@ -3,7 +3,9 @@
  * full-resolution render pixel for pixel; across the blend band's edges there is no step (the mean
  * absolute difference between neighbouring pixels straddling an edge stays within 1.2× of the same
  * pairs' on the plain frame); the layer plan's rectangles hold the band; masks keep an object out of
- * a layer; bad settings draw nothing. */
+ * a layer; bad settings draw nothing; the distortion pass composites layers left uncomposited the
+ * same way (no lens: the inner disc is the plain frame's, the rest the composite pass's within a
+ * level, no step across the band). */
 #include "render/render.h"
 #include "test_util.h"
 
@@ -179,6 +181,79 @@ static void test_global_and_masks(struct rnd_renderer *r, const struct scn_scene
     free(mask);
 }
 
+/* The distortion pass as the composite (live): with a lens-free profile and an output the FBO's size
+ * it samples each pixel's centre, so inside the inner disc it must equal the plain frame's pass bit
+ * for bit, beyond the band the composite pass's image within a level or two (the same bilinear
+ * samples; the band's weight is per pixel there, per vertex in the composite's mesh), and across the
+ * band's edges keep the no-step bound. */
+static void test_distortion_composite(struct rnd_renderer *r, const struct scn_scene *s, const uint32_t *index,
+                                      const uint8_t *lod)
+{
+    struct hmd_profile flat = *vive;
+    for (int i = 0; i < 4; ++i)
+        flat.distortion_k[i] = 0.0;
+    flat.aberration[0] = flat.aberration[1] = flat.aberration[2] = 1.0;
+    struct hl_error err = {""};
+    struct rnd_distortion *d = NULL;
+    CHECK(rnd_distortion_create(r, &flat, 2 * EW, EH, 1, &d, &err) == 0);
+    if (!d)
+        return;
+    CHECK(!rnd_distortion_has_lens(d));
+    struct rnd_eye_view v[2];
+    hl_vec3d c = hl_v3_normalize(hl_v3(-0.2, 0.1, -1.0));
+    struct rnd_layers l = {.periphery_scale = 0.35, .inset_radius_deg = 14.0, .blend_deg = 5.0, .centre_eye = {c, c}};
+    views_at(-15, -6, v, l.eyes);
+    size_t bytes = (size_t)2 * EW * EH * 4;
+    uint8_t *plain = malloc(bytes), *pass = malloc(bytes), *fov = malloc(bytes);
+    CHECK(rnd_renderer_draw_stereo(r, s, v, index, lod, s->instance_count, NULL) == 0);
+    CHECK(rnd_distortion_draw(d, 1, &err) == 0 && rnd_distortion_read_rgba(d, plain, &err) == 0);
+    CHECK(rnd_renderer_draw_layers(r, s, v, &l, index, lod, NULL, NULL, s->instance_count, NULL) == 0);
+    CHECK(rnd_distortion_draw(d, 1, &err) == 0 && rnd_distortion_read_rgba(d, fov, &err) == 0);
+    CHECK(rnd_distortion_draw(d, 1, &err) == 0 && rnd_distortion_read_rgba(d, pass, &err) == 0);
+    CHECK(!memcmp(fov, pass, bytes)); /* the layers stay the last draw's until the next one */
+    CHECK(rnd_renderer_composite_layers(r, NULL) == 0 && rnd_renderer_read_rgba(r, pass, &err) == 0);
+    long inside = 0, inside_diff = 0, beyond = 0, beyond_far = 0;
+    int worst = 0;
+    for (int e = 0; e < 2; ++e)
+        for (int y = 0; y < EH; ++y)
+            for (int x = 0; x < EW; ++x) {
+                double a = pixel_angle_deg(&l.eyes[e], c, x, y);
+                const uint8_t *p = pix(plain, e, x, y), *f = pix(fov, e, x, y), *q = pix(pass, e, x, y);
+                if (a < l.inset_radius_deg - 0.25) {
+                    ++inside, inside_diff += memcmp(p, f, 3) != 0;
+                } else if (a > l.inset_radius_deg + l.blend_deg + 0.25) {
+                    ++beyond;
+                    for (int ch = 0; ch < 3; ++ch) {
+                        int dd = abs((int)f[ch] - (int)q[ch]);
+                        worst = dd > worst ? dd : worst;
+                        beyond_far += dd > 2;
+                    }
+                }
+            }
+    printf("distortion-pass composite: inner disc %ld px, %ld differ from the plain pass; beyond the band %ld px, "
+           "largest difference from the composite pass %d levels (%ld samples over 2)\n",
+           inside, inside_diff, beyond, worst, beyond_far);
+    CHECK(inside > 1000 && inside_diff == 0);
+    CHECK(beyond > 1000 && beyond_far == 0);
+    const double edges[2] = {l.inset_radius_deg, l.inset_radius_deg + l.blend_deg};
+    for (int k = 0; k < 2; ++k)
+        for (int e = 0; e < 2; ++e) {
+            int n_fov = 0, n_plain = 0;
+            double m_fov = straddle_mad(fov, e, &l.eyes[e], c, edges[k], &n_fov);
+            double m_plain = straddle_mad(plain, e, &l.eyes[e], c, edges[k], &n_plain);
+            printf("  eye %d edge %.0f deg: %.3f (plain %.3f)\n", e, edges[k], m_fov, m_plain);
+            CHECK(n_fov > 100 && m_fov <= 1.2 * m_plain + 1e-9);
+        }
+    /* A plain draw after it: the pass is plain again. */
+    CHECK(rnd_renderer_draw_stereo(r, s, v, index, lod, s->instance_count, NULL) == 0);
+    CHECK(rnd_distortion_draw(d, 1, &err) == 0 && rnd_distortion_read_rgba(d, fov, &err) == 0);
+    CHECK(!memcmp(fov, plain, bytes));
+    rnd_distortion_destroy(d);
+    free(plain);
+    free(pass);
+    free(fov);
+}
+
 /* The plan: the rectangle holds the band's outer ring; an inset reaching past 80° covers the eye. */
 static void test_plan(void)
 {
@@ -235,6 +310,7 @@ int main(void)
     test_composite(r, &s, index, lod, 20, -5, hl_v3(0.25, -0.15, -1.0), 0.35); /* gaze off the axis */
     test_step_detected(r, &s, index, lod);
     test_global_and_masks(r, &s, index, lod);
+    test_distortion_composite(r, &s, index, lod);
     free(index);
     free(lod);
     scn_scene_free(&s);

@@ -320,6 +320,21 @@ size_t lod_solve_exact_bytes(const struct lod_problem *p, double cost_quantum_ms
 int lod_solve_exact(const struct lod_problem *p, double cost_quantum_ms, void *work, size_t work_bytes,
                     uint8_t *choice, double *benefit_out);
 
+/* ---- the layer choice (issue 32; frame/layers.h) ----------------------------------------------------
+ * With foveated layers a frame is one knapsack per candidate layer setting: problems[s] prices and
+ * values every object under setting s, with s's own budget (its overhead taken out). The setting is
+ * an outer choice, so the optimum over settings and levels together is the best of the settings'
+ * optima and the LP bound of the union the largest of theirs. Best: a setting that draws every
+ * object (lod_solve_exact returns 0) before one that must drop (dropping is the last resort, as the
+ * frame's choice), then the highest benefit, the lower index on a tie. For measurement only.
+ * Returns what lod_solve_exact returned for the winner (0 or 1), or the first error of any setting
+ * (< 0); *setting_out and choice (the winner's) and *benefit_out are written on success. work: the
+ * largest lod_solve_exact_bytes of the settings (lod_solve_exact_settings_bytes). */
+size_t lod_solve_exact_settings_bytes(const struct lod_problem *problems, size_t count, double cost_quantum_ms);
+int lod_solve_exact_settings(const struct lod_problem *problems, size_t count, double cost_quantum_ms, void *work,
+                             size_t work_bytes, uint8_t *choice, size_t *setting_out, double *benefit_out);
+double lod_lp_bound_settings(const struct lod_problem *problems, size_t count);
+
 /* ---- hierarchy (Mason & Blake 1997) -------------------------------------------------------------
  * A representation tree over one frame's visible part of the scene hierarchy: nodes are groups and
  * objects (leaves), numbered parents before children (parent[n] < n, LOD_MB_ROOT for a root; several

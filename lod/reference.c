@@ -367,3 +367,50 @@ int lod_solve_exact(const struct lod_problem *p, double cost_quantum_ms, void *w
         *benefit_out = benefit;
     return drop_mode ? 1 : 0;
 }
+
+/* ---- the layer choice (lod.h) ---------------------------------------------------------------------- */
+
+size_t lod_solve_exact_settings_bytes(const struct lod_problem *problems, size_t count, double cost_quantum_ms)
+{
+    size_t most = 0;
+    for (size_t k = 0; k < count; ++k) {
+        size_t b = lod_solve_exact_bytes(&problems[k], cost_quantum_ms);
+        if (b == 0)
+            return 0;
+        most = b > most ? b : most;
+    }
+    return most;
+}
+
+int lod_solve_exact_settings(const struct lod_problem *problems, size_t count, double cost_quantum_ms, void *work,
+                             size_t work_bytes, uint8_t *choice, size_t *setting_out, double *benefit_out)
+{
+    if (!problems || count == 0)
+        return -3;
+    size_t best = 0;
+    int best_rc = 2;
+    double best_benefit = -INFINITY;
+    for (size_t k = 0; k < count; ++k) {
+        double benefit = 0.0;
+        int rc = lod_solve_exact(&problems[k], cost_quantum_ms, work, work_bytes, choice, &benefit);
+        if (rc < 0)
+            return rc;
+        if (rc < best_rc || (rc == best_rc && benefit > best_benefit))
+            best = k, best_rc = rc, best_benefit = benefit;
+    }
+    /* The winner's choice again (deterministic): the loop left the last setting's in choice. */
+    int rc = lod_solve_exact(&problems[best], cost_quantum_ms, work, work_bytes, choice, benefit_out);
+    if (setting_out)
+        *setting_out = best;
+    return rc;
+}
+
+double lod_lp_bound_settings(const struct lod_problem *problems, size_t count)
+{
+    double bound = 0.0;
+    for (size_t k = 0; k < count; ++k) {
+        double b = lod_lp_bound(&problems[k], NULL);
+        bound = b > bound ? b : bound;
+    }
+    return bound;
+}

@@ -249,6 +249,58 @@ static void test_exact_brute_force(void)
     CHECK(dropped_instances >= 10);
 }
 
+/* The layer choice (lod_solve_exact_settings): three settings of the same objects — each its own
+ * costs, benefits and budget, as a frame's layer candidates are — against brute force over every
+ * setting and every combination: a setting that draws everything first, then the highest benefit;
+ * the LP bound of the union bounds it. */
+static void test_exact_settings_brute_force(void)
+{
+    rng_state = 29;
+    int picked_later = 0;
+    for (int t = 0; t < 60; ++t) {
+        size_t n = (size_t)rng_int(1, 5);
+        struct inst in[3];
+        struct lod_problem p[3];
+        for (int k = 0; k < 3; ++k) {
+            in[k] = inst_random(n, 3, 1.0, 0, t % 5 == 4 && k != 1);
+            p[k] = problem(&in[k]);
+        }
+        size_t bytes = lod_solve_exact_settings_bytes(p, 3, 1.0), setting = 99;
+        void *work = malloc(bytes ? bytes : 1);
+        uint8_t choice[16];
+        double benefit = -1.0;
+        int rc = lod_solve_exact_settings(p, 3, 1.0, work, bytes, choice, &setting, &benefit);
+        /* Brute force: the settings that draw everything, else all; the best benefit among them. */
+        int any_full = 0;
+        for (int k = 0; k < 3; ++k)
+            any_full |= cheapest_sum_ms(&in[k]) <= in[k].budget_ms;
+        double want = -INFINITY;
+        size_t want_setting = 0;
+        for (int k = 0; k < 3; ++k) {
+            if (any_full && cheapest_sum_ms(&in[k]) > in[k].budget_ms)
+                continue;
+            double b = brute_optimum(&in[k], in[k].budget_ms);
+            if (b > want)
+                want = b, want_setting = (size_t)k;
+        }
+        CHECK(rc == (any_full ? 0 : 1));
+        CHECK(setting < 3);
+        CHECK_NEAR(benefit, want, rel_tol(want));
+        CHECK(setting == want_setting || fabs(brute_optimum(&in[setting], in[setting].budget_ms) - want) <= rel_tol(want));
+        double cost_ms, sum;
+        size_t dropped;
+        CHECK(setting < 3 && choice_totals(&in[setting], choice, &cost_ms, &sum, &dropped) == 0);
+        CHECK(cost_ms <= in[setting].budget_ms && sum == benefit);
+        CHECK(lod_lp_bound_settings(p, 3) >= benefit - rel_tol(benefit));
+        picked_later += setting > 0;
+        free(work);
+        for (int k = 0; k < 3; ++k)
+            inst_free(&in[k]);
+    }
+    CHECK(picked_later >= 10); /* the winner is not always the first setting */
+    CHECK(lod_solve_exact_settings(NULL, 0, 1.0, NULL, 0, NULL, NULL, NULL) == -3);
+}
+
 /* Costs that are not multiples of the quantum: rounded up, so the choice still fits the real budget;
  * it is no better than the true optimum and no worse than the optimum at budget − n·q. */
 static void test_exact_rounding(void)
@@ -1442,6 +1494,7 @@ int main(int argc, char **argv)
         return 1;
     }
     test_exact_brute_force();
+    test_exact_settings_brute_force();
     test_exact_rounding();
     test_exact_errors();
     test_lp_bound_cases();

@@ -58,7 +58,9 @@ int app_wants_help(int argc, char **argv)
 const char app_layer_usage[] =
     "  --foveation MODE   foveated layers (docs/foveation.md): off (default), fixed (a full-resolution\n"
     "                     inset on the lens centre) or gaze (on the gaze model's gaze: the tracked gaze\n"
-    "                     under --gaze tracked); the periphery at a scale chosen per frame with the LODs\n"
+    "                     under --gaze tracked); the periphery at a scale chosen per frame with the LODs;\n"
+    "                     or adaptive (no inset: the whole eye at the scale Valve's adaptive-quality\n"
+    "                     controller sets from the measured draw time, for comparison)\n"
     "  --periphery-scale S  fix the periphery's scale: 1, 0.75, 0.5, 0.35 or 0.25 (default: chosen)\n"
     "  --inset-deg R      fix the inset's radius in [0, 60] degrees (default: the resolution ceiling's;\n"
     "                     0 = no inset, the whole eye at the periphery's scale)\n"

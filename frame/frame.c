@@ -258,6 +258,8 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     rec->acuity_us = (double)(t1 - t0) * 1e-3;
     rec->select_us = (double)(t2 - t1) * 1e-3 - rec->sel.lp_us;
     rec->draw_ms = (double)(t3 - t2) * 1e-6;
+    if (s->layers.mode == FRM_FOVEATION_ADAPTIVE) /* Valve's controller reacts to the draw (frame/layers.h) */
+        frm_adaptive_update(&s->layers.adaptive, rec->draw_ms, s->select.budget_ms);
     rec->luminance_us = (double)(t4 - t3c) * 1e-3;
     /* The adaptation is part of the frame for the selectors it steers; for none, static and feedback
      * it serves only the predicted visible error, a measurement taken outside the frame's time. */

@@ -10,22 +10,23 @@
 const double frm_layer_scales[FRM_LAYER_SCALES] = {1.0, 0.75, 0.5, 0.35, 0.25};
 const double frm_layer_loss_radii_deg[FRM_LAYER_LOSS_RADII] = {20.0, 15.0, 10.0};
 
-static const char *const foveation_names[] = {"off", "fixed", "gaze"};
+static const char *const foveation_names[] = {"off", "fixed", "gaze", "adaptive"};
+enum { FOVEATION_MODES = 4 };
 
 int frm_foveation_parse(const char *name, enum frm_foveation_mode *out, struct hl_error *err)
 {
     const char *n = name ? name : "off";
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < FOVEATION_MODES; ++k)
         if (!strcmp(n, foveation_names[k])) {
             *out = (enum frm_foveation_mode)k;
             return 0;
         }
-    return hl_fail(err, "--foveation: unknown mode '%s' (known: off, fixed, gaze)", n);
+    return hl_fail(err, "--foveation: unknown mode '%s' (known: off, fixed, gaze, adaptive)", n);
 }
 
 const char *frm_foveation_name(enum frm_foveation_mode mode)
 {
-    return mode >= 0 && mode < 3 ? foveation_names[mode] : "?";
+    return (int)mode >= 0 && (int)mode < (int)FOVEATION_MODES ? foveation_names[mode] : "?";
 }
 
 int frm_layers_init(struct frm_layers *l, enum frm_foveation_mode mode, double blend_deg, double forced_scale,
@@ -36,6 +37,7 @@ int frm_layers_init(struct frm_layers *l, enum frm_foveation_mode mode, double b
     l->blend_deg = blend_deg > 0.0 ? blend_deg : FRM_LAYER_BLEND_DEG_DEFAULT;
     l->forced_scale = forced_scale;
     l->forced_radius_deg = forced_radius_deg;
+    frm_adaptive_init(&l->adaptive);
     l->cand_count = 1;
     l->cand[0].scale = 1.0;
     if (mode == FRM_FOVEATION_OFF)
@@ -71,6 +73,16 @@ void frm_layers_free(struct frm_layers *l)
 static double angle_deg(hl_vec3d a, hl_vec3d b)
 {
     return atan2(hl_v3_length(hl_v3_cross(a, b)), hl_v3_dot(a, b)) * HL_DEG_PER_RAD; /* DESIGN.md: not acos */
+}
+
+/* The grid scale a setting's per-scale tables are read at: its own, or for a scale between the grid's
+ * (the adaptive mode's) the next finer one — its LOD ceiling and overhead are then conservative. */
+static int scale_index(double scale)
+{
+    int i = 0;
+    while (i + 1 < FRM_LAYER_SCALES && frm_layer_scales[i + 1] >= scale - 1e-9)
+        ++i;
+    return i;
 }
 
 /* The eccentricity beyond which content of contrast c loses nothing visible at scale s. */
@@ -234,6 +246,18 @@ void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, c
     double ceilings[FRM_LAYER_SCALES] = {0.0};
     for (int i = 1; i < FRM_LAYER_SCALES; ++i)
         ceilings[i] = ceiling_radius_deg(l, acuity, contrast, xi_cpd, frm_layer_scales[i]);
+    if (l->mode == FRM_FOVEATION_ADAPTIVE) { /* the controller's scale, the whole eye, no inset */
+        double scale = frm_adaptive_scale(&l->adaptive);
+        if (scale < 1.0) {
+            int i = scale_index(scale);
+            l->cand_count = 0;
+            add_candidate(l, view, scale, 0.0, ceilings[i], i);
+            if (l->cand_count == 0)
+                l->cand_count = 1;
+        }
+        l->first_loss = l->cand_count;
+        return;
+    }
     if (l->forced_scale > 0.0) { /* --periphery-scale: this setting alone (the plain frame if it covers an eye) */
         for (int i = 1; i < FRM_LAYER_SCALES; ++i)
             if (fabs(frm_layer_scales[i] - l->forced_scale) <= 1e-9) {
@@ -273,13 +297,6 @@ static double share_within(double centre_deg, double half_deg, double radius_deg
 
 /* The level the periphery draws an object at under candidate c: its level, or its periphery ceiling
  * at c's scale where that is coarser. */
-static int scale_index(double scale)
-{
-    int i = 0;
-    while (i + 1 < FRM_LAYER_SCALES && fabs(frm_layer_scales[i] - scale) > 1e-9)
-        ++i;
-    return i;
-}
 
 static int periphery_level(const struct frm_layers *l, const struct frm_layer_candidate *c, int level, size_t k)
 {
@@ -413,5 +430,56 @@ void frm_layers_periphery_ceilings(struct frm_layers *l, const struct acu_contra
             uint8_t coarser = out[k] > ceiling_level[k] ? out[k] : ceiling_level[k];
             l->periphery_ceiling[k * FRM_LAYER_SCALES + i] = coarser;
         }
+    }
+}
+
+void frm_adaptive_init(struct frm_adaptive *a)
+{
+    a->level = 0, a->cheap_frames = 0, a->hold = 0;
+    a->last_draw_ms = -1.0;
+}
+
+double frm_adaptive_scale(const struct frm_adaptive *a)
+{
+    return sqrt(pow(FRM_ADAPTIVE_FILL_STEP, a->level));
+}
+
+static void adaptive_step(struct frm_adaptive *a, int levels)
+{
+    a->level += levels;
+    a->level = a->level < 0 ? 0 : a->level >= FRM_ADAPTIVE_LEVELS ? FRM_ADAPTIVE_LEVELS - 1 : a->level;
+}
+
+void frm_adaptive_update(struct frm_adaptive *a, double draw_ms, double budget_ms)
+{
+    if (!(draw_ms >= 0.0) || !(budget_ms > 0.0))
+        return; /* nothing measured: no decision */
+    double share = draw_ms / budget_ms;
+    double next = a->last_draw_ms >= 0.0 ? (2.0 * draw_ms - a->last_draw_ms) / budget_ms : share;
+    a->last_draw_ms = draw_ms;
+    int held = a->hold > 0; /* a drop in one of the last FRM_ADAPTIVE_HOLD_FRAMES frames */
+    if (held)
+        --a->hold;
+    if (share > FRM_ADAPTIVE_HIGH) {
+        if (!held) {
+            adaptive_step(a, 2);
+            a->hold = FRM_ADAPTIVE_HOLD_FRAMES;
+        }
+        a->cheap_frames = 0;
+    } else if (next > FRM_ADAPTIVE_HIGH) {
+        if (!held) {
+            adaptive_step(a, 1);
+            a->hold = FRM_ADAPTIVE_HOLD_FRAMES;
+        }
+        a->cheap_frames = 0;
+    } else if (share < FRM_ADAPTIVE_LOW) {
+        ++a->cheap_frames;
+        if (a->cheap_frames == 6 || a->cheap_frames == 12) {
+            adaptive_step(a, a->cheap_frames == 6 ? -1 : -2);
+            if (a->cheap_frames == 12)
+                a->cheap_frames = 0;
+        }
+    } else {
+        a->cheap_frames = 0;
     }
 }

@@ -29,8 +29,15 @@
 #include "lod/lod.h"
 #include "render/render.h"
 
-enum frm_foveation_mode { FRM_FOVEATION_OFF = 0, FRM_FOVEATION_FIXED = 1, FRM_FOVEATION_GAZE = 2 };
-/* "off" | "fixed" | "gaze" (NULL = off) → the mode; −1 naming the option otherwise. */
+/* adaptive: no inset — the whole eye at one scale a reactive controller sets from the measured draw
+ * time, as Valve's adaptive quality does (the comparison issue 32 asks for; frm_adaptive_*). */
+enum frm_foveation_mode {
+    FRM_FOVEATION_OFF = 0,
+    FRM_FOVEATION_FIXED = 1,
+    FRM_FOVEATION_GAZE = 2,
+    FRM_FOVEATION_ADAPTIVE = 3
+};
+/* "off" | "fixed" | "gaze" | "adaptive" (NULL = off) → the mode; −1 naming the option otherwise. */
 int frm_foveation_parse(const char *name, enum frm_foveation_mode *out, struct hl_error *err);
 const char *frm_foveation_name(enum frm_foveation_mode mode);
 
@@ -56,8 +63,27 @@ struct frm_layer_candidate {
     int loses;                 /* 1: inset_radius_deg < ceiling_radius_deg */
 };
 
+/* Valve's adaptive quality (PAPERS.md §5, The Lab renderer), as this project reads its description:
+ * quality levels L = 0 … FRM_ADAPTIVE_LEVELS − 1, each 15 % less fill than the one before (linear
+ * scale √0.85^L, so level 17 is just over 0.25); after a frame whose draw took over 0.90 of the budget
+ * drop two levels, then hold drops for two frames (three frames together); drop one when the draw
+ * time extrapolated linearly one frame ahead exceeds 0.90; climb one level after 6 frames in a row
+ * under 0.70 and two after 12 (the count restarts after a climb). */
+enum { FRM_ADAPTIVE_LEVELS = 18, FRM_ADAPTIVE_HOLD_FRAMES = 2 };
+#define FRM_ADAPTIVE_LOW 0.70
+#define FRM_ADAPTIVE_HIGH 0.90
+#define FRM_ADAPTIVE_FILL_STEP 0.85
+struct frm_adaptive {
+    int level, cheap_frames, hold;
+    double last_draw_ms;  /* < 0 before the first measured frame */
+};
+void frm_adaptive_init(struct frm_adaptive *a);
+double frm_adaptive_scale(const struct frm_adaptive *a); /* √(0.85^level) */
+void frm_adaptive_update(struct frm_adaptive *a, double draw_ms, double budget_ms);
+
 struct frm_layers {
     enum frm_foveation_mode mode;
+    struct frm_adaptive adaptive; /* the adaptive mode's controller */
     double blend_deg;          /* > 0 */
     double forced_scale;       /* > 0: --periphery-scale fixes s */
     double forced_radius_deg;  /* ≥ 0: --inset-deg fixes the radius; < 0: from the ceiling */

@@ -90,8 +90,11 @@ int frm_layers_options_check(const struct frm_options *o, struct hl_error *err)
         return hl_fail(err, "--inset-deg: %g is outside [0, 60]", o->inset_deg);
     if (!(o->blend_deg >= 0.0 && o->blend_deg <= 20.0))
         return hl_fail(err, "--blend-deg: %g is outside (0, 20]", o->blend_deg);
-    if (mode == FRM_FOVEATION_OFF && (o->periphery_scale != 0.0 || o->inset_deg >= 0.0 || o->blend_deg != 0.0))
-        return hl_fail(err, "--periphery-scale, --inset-deg and --blend-deg need --foveation fixed or gaze");
+    if ((mode == FRM_FOVEATION_OFF || mode == FRM_FOVEATION_ADAPTIVE) &&
+        (o->periphery_scale != 0.0 || o->inset_deg >= 0.0 || o->blend_deg != 0.0))
+        return hl_fail(err, "--periphery-scale, --inset-deg and --blend-deg need --foveation fixed or gaze (%s "
+                            "has no inset%s)", frm_foveation_name(mode),
+                       mode == FRM_FOVEATION_ADAPTIVE ? ", and its controller sets the scale" : "");
     return 0;
 }
 

@@ -233,7 +233,7 @@ void rpl_accumulate(struct rpl_accumulator *a, const struct frm_frame_record *r)
         a->scale_frames[i] += fabs(q->layer_scale - frm_layer_scales[i]) < 1e-9;
     a->lossy_frames += q->layer_loses;
     if (q->layer_scale < 1.0)
-        a->inset_radius_sum += q->inset_radius_deg, a->composite_ms_sum += r->composite_ms;
+        a->inset_radius_sum += q->inset_radius_deg, a->composite_ms_sum += r->composite_ms, a->scale_sum += q->layer_scale;
     a->dropped_px_share_sum += q->dropped_px_share;
     a->dropped_px_share_max = fmax(a->dropped_px_share_max, q->dropped_px_share);
     a->lod_changes_sum += q->lod_changes;
@@ -327,12 +327,13 @@ void rpl_accumulator_finish(struct rpl_accumulator *a, struct rpl_summary *s)
     s->over_budget_fraction = (double)a->over_budget_frames / n;
     s->underused_drops = a->underused_drop_frames;
     s->dropped_mean = a->dropped_sum / n;
-    long layered = 0;
     for (int i = 0; i < FRM_LAYER_SCALES; ++i)
-        s->scale_frames[i] = a->scale_frames[i], layered += i > 0 ? a->scale_frames[i] : 0;
+        s->scale_frames[i] = a->scale_frames[i];
+    long layered = a->n - a->scale_frames[0]; /* every frame not at scale 1, the adaptive mode's included */
     s->lossy_frames = a->lossy_frames;
     s->inset_radius_deg_mean = layered ? a->inset_radius_sum / (double)layered : NAN;
     s->composite_ms_mean = layered ? a->composite_ms_sum / (double)layered : NAN;
+    s->scale_mean = layered ? a->scale_sum / (double)layered : NAN;
     s->dropped_px_share_mean = a->dropped_px_share_sum / n;
     s->dropped_px_share_max = a->dropped_px_share_max;
     s->optimizer_us_mean = a->optimizer_us_sum / n;
@@ -512,9 +513,11 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     if (isfinite(s->inset_radius_deg_mean)) {
         cJSON_AddNumberToObject(layers, "inset_radius_deg_mean", s->inset_radius_deg_mean);
         cJSON_AddNumberToObject(layers, "composite_ms_mean", s->composite_ms_mean);
+        cJSON_AddNumberToObject(layers, "scale_mean", s->scale_mean);
     } else {
         cJSON_AddNullToObject(layers, "inset_radius_deg_mean");
         cJSON_AddNullToObject(layers, "composite_ms_mean");
+        cJSON_AddNullToObject(layers, "scale_mean");
     }
     cJSON_AddNumberToObject(root, "underused_drops", (double)s->underused_drops);
     cJSON_AddNumberToObject(root, "dropped_px_share_mean", s->dropped_px_share_mean);
@@ -680,8 +683,9 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
                                         s->scale_frames[i]);
         fprintf(f, "  %-34s %10s; frames per periphery scale %s\n", "foveated layers", s->foveation, used);
         if (isfinite(s->inset_radius_deg_mean))
-            fprintf(f, "  %-34s %10.1f deg inset mean, %ld frames lossy, composite %.2f ms (not in the frame time)\n",
-                    "layered frames", s->inset_radius_deg_mean, s->lossy_frames, s->composite_ms_mean);
+            fprintf(f, "  %-34s %10.1f deg inset mean, scale %.3f mean, %ld frames lossy, composite %.2f ms (not in "
+                       "the frame time)\n",
+                    "layered frames", s->inset_radius_deg_mean, s->scale_mean, s->lossy_frames, s->composite_ms_mean);
     }
     if (isfinite(s->benefit_share_of_lp_mean))
         fprintf(f, "  %-34s %10.4f mean, %.4f min\n", "benefit / LP bound", s->benefit_share_of_lp_mean,

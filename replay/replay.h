@@ -168,9 +168,9 @@ struct rpl_summary {
     /* foveated layers (frame/layers.h): the mode, frames per periphery scale (frm_layer_scales: index
      * 0 is the plain frame), frames whose setting lost visible detail, and over the layered frames the
      * mean inset radius and the composite's mean time (the compositor's pass, not in frame_ms) */
-    char foveation[8];
+    char foveation[16];
     long scale_frames[FRM_LAYER_SCALES], lossy_frames;
-    double inset_radius_deg_mean, composite_ms_mean;
+    double inset_radius_deg_mean, composite_ms_mean, scale_mean; /* scale_mean: of the layered frames' scales */
     /* When and where the frames ran: the wall clock (CLOCK_REALTIME, s since 1970) before the first
      * frame and after the last, and the host's name ("" unknown). A report merging many runs tells
      * from these which ran at the same time on one machine (their timings shared it). */

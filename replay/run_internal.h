@@ -40,7 +40,7 @@ struct rpl_accumulator {
     /* foveated layers: frames per periphery scale (frm_layer_scales), lossy frames, inset radius and
      * composite time sums over the layered frames */
     long scale_frames[FRM_LAYER_SCALES], lossy_frames;
-    double inset_radius_sum, composite_ms_sum;
+    double inset_radius_sum, composite_ms_sum, scale_sum;
     double lod_changes_sum, optimizer_us_sum, optimizer_us_max, iterations_sum;
     double benefit_share_sum, benefit_share_min; /* benefit / LP bound where the bound is known */
     long benefit_share_frames;

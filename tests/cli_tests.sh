@@ -588,7 +588,11 @@ expect_error "replay bad --blend-deg" "--blend-deg: 0 is not a positive width" -
   --blend-deg 0 --out "$tmp/fv"
 expect_error "replay layer option without foveation" "need --foveation fixed or gaze" -- "$bin" replay \
   --inset-deg 10 --out "$tmp/fv"
+expect_error "replay adaptive with a fixed scale" "adaptive has no inset, and its controller sets the scale" -- \
+  "$bin" replay --foveation adaptive --periphery-scale 0.5 --out "$tmp/fv"
 [ ! -e "$tmp/fv" ] || fail "a refused layer option left its output folder"
+expect_ok "replay --foveation adaptive" "foveated layers +adaptive" -- "$bin" replay --scene auditorium --display vive \
+  --selector static --foveation adaptive --frames 40 --render-scale 0.5 --out "$tmp/fv-adaptive"
 for fov in none off; do
   args=(); [ "$fov" = off ] && args=(--foveation off)
   "$bin" replay --scene auditorium --display vive --selector reddy --frames 40 --render-scale 0.25 --quiet \

@@ -171,6 +171,45 @@ done:
     scn_scene_free(&scene);
 }
 
+/* Valve's controller (frm_adaptive_*): two levels down after a frame over 0.90 of the budget, then a
+ * hold; one down when the trend predicts crossing 0.90; up one after 6 cheap frames, two after 12;
+ * clamped to its levels; the scale is √0.85 per level. */
+static void test_adaptive(void)
+{
+    struct frm_adaptive a;
+    frm_adaptive_init(&a);
+    CHECK(a.level == 0 && frm_adaptive_scale(&a) == 1.0);
+    frm_adaptive_update(&a, 10.5, 11.1); /* 0.95 of the budget */
+    CHECK(a.level == 2);
+    frm_adaptive_update(&a, 10.5, 11.1); /* held */
+    CHECK(a.level == 2);
+    frm_adaptive_update(&a, 10.5, 11.1);
+    CHECK(a.level == 2);
+    frm_adaptive_update(&a, 10.5, 11.1); /* the hold is over */
+    CHECK(a.level == 4);
+    CHECK(fabs(frm_adaptive_scale(&a) - sqrt(pow(0.85, 4))) < 1e-12);
+    frm_adaptive_init(&a);
+    frm_adaptive_update(&a, 8.0, 11.1);  /* 0.72: neither */
+    frm_adaptive_update(&a, 9.5, 11.1);  /* 0.86, rising 1.5 ms a frame: 11.0 next, over 0.90 */
+    CHECK(a.level == 1);
+    frm_adaptive_init(&a);
+    a.level = 5;
+    for (int k = 0; k < 6; ++k)
+        frm_adaptive_update(&a, 5.0, 11.1);
+    CHECK(a.level == 4);
+    for (int k = 0; k < 6; ++k)
+        frm_adaptive_update(&a, 5.0, 11.1);
+    CHECK(a.level == 2);
+    for (int k = 0; k < 100; ++k)
+        frm_adaptive_update(&a, 5.0, 11.1);
+    CHECK(a.level == 0);
+    for (int k = 0; k < 100; ++k)
+        frm_adaptive_update(&a, 50.0, 11.1);
+    CHECK(a.level == FRM_ADAPTIVE_LEVELS - 1 && frm_adaptive_scale(&a) >= 0.25);
+    frm_adaptive_update(&a, NAN, 11.1); /* nothing measured: no change */
+    CHECK(a.level == FRM_ADAPTIVE_LEVELS - 1);
+}
+
 int main(void)
 {
     struct fixture f;
@@ -180,11 +219,14 @@ int main(void)
         return tu_finish("frame layers");
     test_candidates(&f);
     test_costs_and_masks(&f);
+    test_adaptive();
     enum frm_foveation_mode mode;
     struct hl_error err = {""};
     CHECK(frm_foveation_parse("gaze", &mode, &err) == 0 && mode == FRM_FOVEATION_GAZE);
     CHECK(frm_foveation_parse(NULL, &mode, &err) == 0 && mode == FRM_FOVEATION_OFF);
     CHECK(frm_foveation_parse("sideways", &mode, &err) != 0 && strstr(err.msg, "--foveation"));
+    CHECK(frm_foveation_parse("adaptive", &mode, &err) == 0 && mode == FRM_FOVEATION_ADAPTIVE);
+    CHECK(!strcmp(frm_foveation_name(FRM_FOVEATION_ADAPTIVE), "adaptive"));
     free(f.table);
     return tu_finish("frame layers");
 }

@@ -11,9 +11,10 @@
  *     what lies between; their benefit says how much);
  *   - fs solves its knapsack once per candidate, each object priced per layer (the inset's pixels at
  *     full resolution, the periphery's at s², its geometry in every layer it touches) with the
- *     candidate's own measured overhead (clears and composite) taken from the budget, and keeps the
- *     candidate of highest benefit; the other selectors keep their levels and take the cheapest
- *     candidate that loses nothing (the ceiling, as reddy takes the LOD ceiling).
+ *     candidate's own measured overhead (its clears against the plain frame's) taken from the budget,
+ *     and keeps the candidate that drops the fewest pixels, then has the highest benefit, then costs
+ *     least; the other selectors keep their levels and take the cheapest candidate that loses
+ *     nothing (the ceiling, as reddy takes the LOD ceiling).
  * The periphery draws each object no finer than its LOD ceiling at s·ξ (periphery_ceiling): detail
  * the periphery's pixels cannot show costs geometry for nothing; the inset draws the chosen level.
  * An object's benefit under a lossy candidate is scaled by (1 − f) + f / (1 + D), D the visible loss of the
@@ -59,7 +60,8 @@ struct frm_layer_candidate {
     double scale, inset_radius_deg;
     struct rnd_layer_plan plan; /* what render will draw for it: the insets' rectangles, the sizes */
     double ceiling_radius_deg; /* R_s (+ the centre's offset): the inset that loses nothing at this s */
-    double overhead_ms;        /* the layers' own cost (clears, composite), measured at warm-up */
+    double overhead_ms;        /* the layers' own cost (their clears against the plain frame's), measured
+                                * at warm-up; the composite is the compositor's (docs/foveation.md) */
     int loses;                 /* 1: inset_radius_deg < ceiling_radius_deg */
 };
 
@@ -123,8 +125,10 @@ void frm_layers_free(struct frm_layers *l);
 
 /* This frame's candidates (before selection): the inset centre (the lens centre, or under gaze
  * foveation the gaze model's gaze), each visible object's angle from it, the slowest retinal speed,
- * the ceiling radius per scale under the session's criterion (contrast: NULL → acuity's), and the
- * candidate list. eye_position and head_forward are world; xi_cpd the rendered image's. */
+ * the ceiling radius per scale under the session's criterion (contrast: NULL → acuity's), each
+ * object's resolution loss per scale, and the candidate list (the adaptive mode: its controller's
+ * scale alone). view: the viewer (world), the head's orientation, the eyes' frusta and the rendered
+ * eye size; xi_cpd the rendered image's ξ. */
 struct frm_layers_view {
     const struct acu_viewer *viewer;
     hl_quatd head_orientation;           /* the eyes' (both look the head's way) */

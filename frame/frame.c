@@ -274,12 +274,6 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     return 0;
 }
 
-static int compare_ms(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* The layers' own cost per scale (frame/layers.h): empty frames with the layers (an inset of 20°
  * on the lens centre) against empty plain frames, alternated, medians of FRM_LAYER_OVERHEAD_FRAMES
  * each — the clears, which no object pays (the composite is the compositor's, timed apart). Before
@@ -310,9 +304,10 @@ static int measure_layer_overheads(struct frm_session *s, const struct rnd_eye_v
             if (rnd_renderer_composite_layers(s->renderer, NULL) != 0) /* first use here, not in frame 0 */
                 return hl_fail(err, "the layers' warm-up composite failed (scale %g)", l.periphery_scale);
         }
-        qsort(plain, FRM_LAYER_OVERHEAD_FRAMES, sizeof *plain, compare_ms);
-        qsort(layered, FRM_LAYER_OVERHEAD_FRAMES, sizeof *layered, compare_ms);
-        s->layers.overhead_ms[i] = layered[FRM_LAYER_OVERHEAD_FRAMES / 2] - plain[FRM_LAYER_OVERHEAD_FRAMES / 2];
+        hl_sort_doubles(plain, FRM_LAYER_OVERHEAD_FRAMES);
+        hl_sort_doubles(layered, FRM_LAYER_OVERHEAD_FRAMES);
+        s->layers.overhead_ms[i] = hl_percentile_sorted(layered, FRM_LAYER_OVERHEAD_FRAMES, 0.5) -
+                                   hl_percentile_sorted(plain, FRM_LAYER_OVERHEAD_FRAMES, 0.5);
     }
     return 0;
 }

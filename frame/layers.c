@@ -72,7 +72,7 @@ void frm_layers_free(struct frm_layers *l)
 
 static double angle_deg(hl_vec3d a, hl_vec3d b)
 {
-    return atan2(hl_v3_length(hl_v3_cross(a, b)), hl_v3_dot(a, b)) * HL_DEG_PER_RAD; /* DESIGN.md: not acos */
+    return hl_v3_angle_rad(a, b) * HL_DEG_PER_RAD;
 }
 
 /* The grid scale a setting's per-scale tables are read at: its own, or for a scale between the grid's
@@ -241,8 +241,8 @@ void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, c
     }
     l->slowest_degps = isfinite(slowest) ? slowest : 0.0;
     fill_needed_scales(l, acuity, contrast, xi_cpd);
-    for (size_t k = 0; k < count; ++k)
-        fill_resolution_loss(l, acuity, contrast, xi_cpd, k, eccentricity_deg[k], velocity_degps[k]);
+    /* The resolution loss only lossy settings need: filled on first use (frm_layers_benefit_share). */
+    l->loss = (struct frm_layers_loss_inputs){acuity, contrast, eccentricity_deg, velocity_degps, count, 0};
     double ceilings[FRM_LAYER_SCALES] = {0.0};
     for (int i = 1; i < FRM_LAYER_SCALES; ++i)
         ceilings[i] = ceiling_radius_deg(l, acuity, contrast, xi_cpd, frm_layer_scales[i]);
@@ -359,10 +359,17 @@ double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_lay
     return cost;
 }
 
-double frm_layers_benefit_share(const struct frm_layers *l, const struct frm_layer_candidate *c, size_t k)
+double frm_layers_benefit_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k)
 {
     if (c->scale >= 1.0 || !c->loses)
         return 1.0;
+    if (!l->loss.ready) { /* once a frame, and only in frames that weigh a lossy setting */
+        const struct frm_layers_loss_inputs *in = &l->loss;
+        for (size_t j = 0; j < in->count; ++j)
+            fill_resolution_loss(l, in->acuity, in->contrast, l->xi_cpd, j, in->eccentricity_deg[j],
+                                 in->velocity_degps[j]);
+        l->loss.ready = 1;
+    }
     int i = scale_index(c->scale);
     double theta = l->centre_angle_deg[k], half = l->radius_deg[k];
     double periphery = 1.0 - share_within(theta, half, c->inset_radius_deg + 0.5 * l->blend_deg);
@@ -412,6 +419,11 @@ void frm_layers_periphery_ceilings(struct frm_layers *l, const struct acu_contra
     for (size_t k = 0; k < count; ++k)
         l->periphery_ceiling[k * FRM_LAYER_SCALES] = ceiling_level[k];
     for (int i = 1; i < FRM_LAYER_SCALES; ++i) {
+        int used = 0; /* only the scales this frame's candidates draw at are read */
+        for (int c = 0; c < l->cand_count && !used; ++c)
+            used = l->cand[c].scale < 1.0 && scale_index(l->cand[c].scale) == i;
+        if (!used)
+            continue;
         uint8_t *out = l->lod_scratch;
         struct lod_select_stats stats = {0};
         if (contrast) {

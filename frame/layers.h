@@ -107,7 +107,15 @@ struct frm_layers {
     double *centre_angle_deg;   /* its centre's angle from the inset centre */
     double *radius_deg;         /* half its angular diameter, plus the eyes' parallax */
     double *inset_px;           /* the pixels it covers inside the current candidate's inset rectangles */
-    double *resolution_loss;    /* [k·FRM_LAYER_SCALES + i]: D of scale i on it (0 for i = 0) */
+    double *resolution_loss;    /* [k·FRM_LAYER_SCALES + i]: D of scale i on it (0 for i = 0), filled
+                                 * on first use in a frame (loss.ready) */
+    struct frm_layers_loss_inputs {
+        const struct acu_limits *acuity;
+        const struct acu_contrast_limits *contrast;
+        const double *eccentricity_deg, *velocity_degps; /* the frame's arrays, as frm_layers_plan got them */
+        size_t count;
+        int ready;
+    } loss;
     int inset_px_of;            /* the candidate inset_px was computed for (−1: none yet this frame) */
     uint8_t *mask;              /* per draw entry (capacity: instances + groups + 1): RND_LAYER_* */
     uint8_t *periphery_lod;     /* per draw entry: the level the periphery draws (frm_layers_periphery_levels) */
@@ -157,8 +165,10 @@ struct scn_chain;
 double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_layer_candidate *c,
                                 const struct lod_cost_model *m, const struct scn_chain *ch, int level,
                                 double pixels_px, int boxed, size_t k);
-/* The share of object k's benefit a candidate keeps, in (0, 1]. */
-double frm_layers_benefit_share(const struct frm_layers *l, const struct frm_layer_candidate *c, size_t k);
+/* The share of object k's benefit a candidate keeps, in (0, 1]. The first call for a lossy candidate
+ * in a frame computes every visible object's resolution loss (from frm_layers_plan's inputs, which
+ * must still hold); frames that weigh no lossy setting never pay for it. */
+double frm_layers_benefit_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k);
 
 /* After selection: the chosen candidate as render's setting for these eye views (orientation per
  * eye), and each draw entry's mask (visible objects, then n_extra group impostors: both layers). */
@@ -169,7 +179,7 @@ void frm_layers_masks(struct frm_layers *l, size_t count, size_t extra);
  * ceiling at the chosen scale where that is coarser; group impostors as they are. */
 void frm_layers_periphery_levels(struct frm_layers *l, const uint8_t *lod, size_t count, size_t extra);
 /* The periphery ceilings (periphery_ceiling) under the frame's criterion: the LOD ceiling with ξ
- * replaced by s·ξ for each scale (ξ: frm_layers_plan's), never finer than the object's own ceiling (a saccade's lowered
+ * replaced by s·ξ for each scale this frame's candidates use (ξ: frm_layers_plan's), never finer than the object's own ceiling (a saccade's lowered
  * ones included). Called by the selection (frame/select.c) after the ceilings. */
 struct lod_chain;
 void frm_layers_periphery_ceilings(struct frm_layers *l, const struct acu_contrast_limits *contrast,

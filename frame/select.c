@@ -259,7 +259,8 @@ static double dropped_pixels(const struct frm_select *s, const struct lod_proble
 }
 
 /* fs with layers: one knapsack per candidate setting, each with its own overhead out of the budget;
- * the highest benefit wins, the cheaper on a tie (frame/layers.h). lod_out gets the winner's levels. */
+ * the one that drops the fewest pixels wins, then the highest benefit, then the cheapest (frame/layers.h).
+ * lod_out gets the winner's levels. */
 static void solve_fs_layers(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                             double budget, uint8_t *lod_out, struct frm_select_record *rec, struct lod_result *best)
 {
@@ -304,7 +305,7 @@ static void solve_fs_layers(struct frm_select *s, const struct scn_scene *scene,
     s->fs_margin_value = margin;
     best->elapsed_us = opt_us;
     best->iterations = iterations;
-    rec->lp_bound = lp; /* the layer choice's bound: the best candidate's bound bounds the union */
+    rec->lp_bound = lp; /* the largest of the solved settings' bounds bounds their union (lod.h "layer choice") */
     rec->lp_us = lp_us;
 }
 

@@ -368,7 +368,8 @@ int rnd_renderer_draw_layers(struct rnd_renderer *r, const struct scn_scene *sce
     if (!periphery_lod)
         periphery_lod = lod;
     if (!views || !r || rnd_layer_plan_make(layers, r->eye_w, r->eye_h, &plan) != 0 ||
-        rnd_check_draw(r, scene, index, lod, count) != 0 || rnd_check_draw(r, scene, index, periphery_lod, count) != 0 ||
+        rnd_check_draw(r, scene, index, lod, count) != 0 ||
+        (periphery_lod != lod && rnd_check_draw(r, scene, index, periphery_lod, count) != 0) ||
         rnd_renderer_current(r) != 0)
         return -1;
     if (layer_targets_make(r) != 0)

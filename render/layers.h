@@ -56,8 +56,10 @@ struct rnd_layer_plan {
 int rnd_layer_plan_make(const struct rnd_layers *l, int eye_w_px, int eye_h_px, struct rnd_layer_plan *out);
 
 /* ---- what the content needs (ring_contrast.c) ------------------------------------------------
- * The band-limited contrast (Peli 1990) of the last frame by eccentricity: the FBO box-filtered to
- * 1/RND_RING_DOWNSAMPLE of its size per axis (a linear down-blit per eye), read back, and for each
+ * The band-limited contrast (Peli 1990) of the last frame by eccentricity: the FBO reduced to
+ * 1/RND_RING_DOWNSAMPLE of its size per axis by a linear down-blit (one for both eyes when the
+ * reduction is exact; each reduced pixel is then the mean of the 2×2 pixels at its centre, a
+ * sample rather than a box, so an edge keeps its full contrast), read back, and for each
  * pixel its finest band over the local mean, |Y − blur(Y)| / blur(Y) (Y linear luminance, blur 3×3
  * binomial); the largest in each RND_CONTRAST_RING_DEG-wide ring of angle from the eye's gaze (the
  * last ring takes everything beyond). The measured band lies at a quarter to a half of the reduced
@@ -67,8 +69,9 @@ int rnd_layer_plan_make(const struct rnd_layers *l, int eye_w_px, int eye_h_px, 
  * (amplitude ∝ 1/f); a fine texture seen only above the band would be missed (docs/foveation.md).
  * Tursun et al. 2019 likewise predict what a region needs from a low-resolution version of the
  * frame. When the last draw was layered and not composited into the FBO (the distortion pass
- * composites it), the layers are composited at the reduced size first. Allocates its target and
- * buffers on first use (warm-up), nothing after. */
+ * composites it), the layers are composited at the reduced size first. Each reduced pixel's ring is
+ * kept in a map made again only when a gaze or frustum changes (under head and vor: once). Allocates
+ * its target and buffers on first use (warm-up), nothing after. */
 enum { RND_RING_DOWNSAMPLE = 8, RND_CONTRAST_RINGS = 18 };
 #define RND_CONTRAST_RING_DEG 5.0
 struct rnd_ring_contrast {

@@ -5,7 +5,10 @@
  * pairs' on the plain frame); the layer plan's rectangles hold the band; masks keep an object out of
  * a layer; bad settings draw nothing; the distortion pass composites layers left uncomposited the
  * same way (no lens: the inner disc is the plain frame's, the rest the composite pass's within a
- * level, no step across the band). */
+ * level, no step across the band); the last frame's ring contrast matches a reference computed from
+ * the full-resolution read-back, and its cached ring map gives a gaze's figures again exactly. */
+#include "render/image_error.h"
+#include "render/layers.h"
 #include "render/render.h"
 #include "test_util.h"
 
@@ -255,6 +258,115 @@ static void test_distortion_composite(struct rnd_renderer *r, const struct scn_s
 }
 
 /* The plan: the rectangle holds the band's outer ring; an inset reaching past 80° covers the eye. */
+/* Ring contrast (render/ring_contrast.c) against a reference computed here from the full-resolution
+ * read-back: the reduced image as the 8× linear blit samples it (each reduced pixel the mean of the
+ * 2×2 source pixels at its centre), linear luminance, the 3×3 binomial band over its mean, and each
+ * pixel's ring by atan2 of its angle from the gaze. Then the ring map's cache: a second gaze and a
+ * return to the first give the first's figures exactly. */
+struct ring_ref {
+    double max_contrast[RND_CONTRAST_RINGS];
+    long pixels[RND_CONTRAST_RINGS];
+};
+
+static double srgb_to_linear(double v)
+{
+    v /= 255.0;
+    return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
+}
+
+static void ring_reference(const uint8_t *full, const struct rnd_eye_gaze *gaze, struct ring_ref *out)
+{
+    memset(out, 0, sizeof *out);
+    int w = EW / RND_RING_DOWNSAMPLE, h = EH / RND_RING_DOWNSAMPLE, d = RND_RING_DOWNSAMPLE;
+    double *y = malloc((size_t)w * h * sizeof *y);
+    for (int e = 0; e < 2; ++e) {
+        for (int row = 0; row < h; ++row) /* GL rows, bottom up */
+            for (int x = 0; x < w; ++x) {
+                double lum = 0.0;
+                for (int c = 0; c < 3; ++c) {
+                    int sum = 0;
+                    for (int dy = 0; dy < 2; ++dy)
+                        for (int dx = 0; dx < 2; ++dx)
+                            sum += pix(full, e, d * x + d / 2 - 1 + dx, EH - 1 - (d * row + d / 2 - 1 + dy))[c];
+                    const double k[3] = {0.2126, 0.7152, 0.0722};
+                    lum += k[c] * srgb_to_linear(floor(sum / 4.0 + 0.5));
+                }
+                y[(size_t)row * w + x] = lum;
+            }
+        const struct rnd_eye_gaze *g = &gaze[e];
+        hl_vec3d gv = hl_v3_normalize(hl_v3(g->gaze_eye[0], g->gaze_eye[1], g->gaze_eye[2]));
+        for (int row = 1; row + 1 < h; ++row)
+            for (int x = 1; x + 1 < w; ++x) {
+                double b = 0.0;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx)
+                        b += (2 - abs(dx)) * (2 - abs(dy)) * y[(size_t)(row + dy) * w + x + dx] / 16.0;
+                double c = fabs(y[(size_t)row * w + x] - b) / (b > 0.001 ? b : 0.001);
+                double xt = -g->tan_left + (x + 0.5) / w * (g->tan_left + g->tan_right);
+                double yt = -g->tan_down + (row + 0.5) / h * (g->tan_up + g->tan_down);
+                hl_vec3d dir = hl_v3_normalize(hl_v3(xt, yt, -1.0));
+                double a = atan2(hl_v3_length(hl_v3_cross(dir, gv)), hl_v3_dot(dir, gv)) * HL_DEG_PER_RAD;
+                int k = (int)(a / RND_CONTRAST_RING_DEG);
+                if (k >= RND_CONTRAST_RINGS)
+                    k = RND_CONTRAST_RINGS - 1;
+                if (c > out->max_contrast[k])
+                    out->max_contrast[k] = c;
+                out->pixels[k]++;
+            }
+    }
+    free(y);
+}
+
+static void test_ring_contrast(struct rnd_renderer *r, const struct scn_scene *s, const uint32_t *index,
+                               const uint8_t *lod)
+{
+    struct rnd_eye_view v[2];
+    struct hmd_eye eyes[2];
+    views_at(0, -8, v, eyes);
+    struct hl_error err = {""};
+    uint8_t *full = malloc((size_t)2 * EW * EH * 4);
+    CHECK(rnd_renderer_draw_stereo(r, s, v, index, lod, s->instance_count, NULL) == 0);
+    CHECK(rnd_renderer_read_rgba(r, full, &err) == 0);
+    struct rnd_eye_gaze at_lens[2], off_axis[2];
+    for (int e = 0; e < 2; ++e) {
+        struct rnd_eye_gaze g = {eyes[e].tan_left, eyes[e].tan_right, eyes[e].tan_up, eyes[e].tan_down, {0, 0, -1}};
+        at_lens[e] = g;
+        g.gaze_eye[0] = 0.25, g.gaze_eye[1] = -0.15;
+        off_axis[e] = g;
+    }
+    struct rnd_ring_contrast a1, b, a2;
+    CHECK(rnd_renderer_ring_contrast(r, at_lens, &a1, &err) == 0);
+    CHECK(rnd_renderer_ring_contrast(r, off_axis, &b, &err) == 0);
+    CHECK(rnd_renderer_ring_contrast(r, at_lens, &a2, &err) == 0);
+    CHECK(a1.valid && b.valid && a2.valid);
+    CHECK(memcmp(a1.max_contrast, a2.max_contrast, sizeof a1.max_contrast) == 0);
+    CHECK(memcmp(a1.pixels, a2.pixels, sizeof a1.pixels) == 0 && a1.mean_relative_luminance == a2.mean_relative_luminance);
+    CHECK(memcmp(a1.pixels, b.pixels, sizeof a1.pixels) != 0); /* the rings moved with the gaze */
+    const struct rnd_eye_gaze *gazes[2] = {at_lens, off_axis};
+    const struct rnd_ring_contrast *got[2] = {&a1, &b};
+    for (int t = 0; t < 2; ++t) {
+        struct ring_ref ref;
+        ring_reference(full, gazes[t], &ref);
+        int rings_seen = 0;
+        for (int k = 0; k < RND_CONTRAST_RINGS; ++k) {
+            long dp = labs((long)got[t]->pixels[k] - ref.pixels[k]);
+            double dc = fabs(got[t]->max_contrast[k] - ref.max_contrast[k]);
+            rings_seen += ref.pixels[k] > 0;
+            if (dp > 2 + ref.pixels[k] / 100 || dc > 0.02 + 0.05 * ref.max_contrast[k])
+                printf("  gaze %d ring %d: %u px (reference %ld), max contrast %.4f (reference %.4f)\n", t, k,
+                       got[t]->pixels[k], ref.pixels[k], got[t]->max_contrast[k], ref.max_contrast[k]);
+            /* Pixel counts: only a centre within rounding of a ring's edge may fall either side.
+             * Contrast: one 8-bit level of the blit's rounding on a dark pixel moves it a few %. */
+            CHECK(dp <= 2 + ref.pixels[k] / 100);
+            CHECK(dc <= 0.02 + 0.05 * ref.max_contrast[k]);
+        }
+        printf("ring contrast, gaze %d: %d rings seen; ring 0 max %.4f (reference %.4f), ring 6 %.4f (%.4f)\n", t,
+               rings_seen, got[t]->max_contrast[0], ref.max_contrast[0], got[t]->max_contrast[6], ref.max_contrast[6]);
+        CHECK(rings_seen >= 8);
+    }
+    free(full);
+}
+
 static void test_plan(void)
 {
     struct rnd_eye_view v[2];
@@ -311,6 +423,7 @@ int main(void)
     test_step_detected(r, &s, index, lod);
     test_global_and_masks(r, &s, index, lod);
     test_distortion_composite(r, &s, index, lod);
+    test_ring_contrast(r, &s, index, lod);
     free(index);
     free(lod);
     scn_scene_free(&s);

@@ -16,12 +16,15 @@ enum bch_mode { BCH_QUICK = 0, BCH_FULL = 1, BCH_TINY = 2 };
 /* One run: what the replay is given (no output folder; bch_run_argv adds it). */
 struct bch_run {
     char id[96];
-    int table;       /* 1 … 5: the table it serves (6, the cost model, reads every run) */
+    int table;       /* 1 … 5: the table it serves (6, the cost model, reads every run; 7, the layers,
+                      * reads the runs of 1 and 2 with foveation) */
     char motion[16]; /* "user1" … "user3" (Corbillon), "still" (the suite's still-head trace) */
     char scene[16], selector[16], display[64];
     char gaze[8];        /* "" → replay's default (vor for traces without gaze) */
     char reading[8];     /* "" → narrow */
     char visibility[12]; /* "" → replay's default criterion (contrast); "acuity": Reddy's H(v, E) */
+    char foveation[12];  /* "" → off; "fixed" (layers on the lens centres), "adaptive" (Valve's
+                          * global scaling): --foveation (docs/foveation.md) */
     double factor;       /* the sweep value: × the display period (t2, t4), × full cost (t5); 0 none */
     double budget_ms;    /* 0 → the display's period */
     double opt_limit_us; /* 0 → no limit */

@@ -28,6 +28,7 @@ struct bch_result {
     /* per frame (n each; NULL where the column is absent) */
     double *frame_ms, *draw_ms, *predicted_ms, *head_speed, *optimizer_us, *triangles, *finest, *dropped, *iterations,
         *truncated, *deadline_met, *visible, *visible_error;
+    double *layer_scale, *inset_radius_deg; /* the foveated layers' setting (1 and 0: the plain frame) */
     /* The plan's rounds of this run (bench/suite.h): this one is the first; more[k] the (k+2)-th, each
      * loaded like this one (present 0 where its folder was missing). rounds 1 and more NULL with one. */
     int rounds;
@@ -79,6 +80,9 @@ void bch_table_row(struct bch_table *t, const char *const *cells);
 int bch_table_end(struct bch_table *t, struct hl_error *err);
 /* A number into a cell: "%.*f", or "—" when not finite. */
 const char *bch_cell(char *cell, double v, int digits);
+/* A run's name in the tables: its selector, "-lim200" with an optimizer limit, "+MODE" with
+ * foveation (fs+fixed, static+adaptive); into buf. */
+const char *bch_run_label(const struct bch_run *run, char *buf, size_t size);
 /* PSNR mean in dB; "inf" when every compared frame was identical (PSNR +∞, which the mean leaves out). */
 const char *bch_psnr_cell(char *cell, const struct bch_result *r);
 
@@ -103,6 +107,7 @@ int bch_tables_t3(struct bch_ctx *c, struct hl_error *err);
 int bch_tables_t4(struct bch_ctx *c, struct hl_error *err);
 int bch_tables_t5(struct bch_ctx *c, struct hl_error *err);
 int bch_tables_t6(struct bch_ctx *c, struct hl_error *err);
+int bch_tables_t7(struct bch_ctx *c, struct hl_error *err);
 
 /* Writes DIR/plots/NAME.gp from the script body (after the terminal and output lines) and, with
  * gnuplot present, runs it (output DIR/plots/NAME.png). A data-less plot (has_data 0) gets a

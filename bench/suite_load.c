@@ -135,6 +135,8 @@ static const struct column columns[] = {
     COL(deadline_met),
     COL(visible),
     COL(visible_error),
+    COL(layer_scale),
+    COL(inset_radius_deg),
 };
 enum { N_COLUMNS = sizeof columns / sizeof columns[0] };
 

@@ -14,7 +14,7 @@
 #define CORBILLON_DIR "data/traces/corbillon-mmsys18"
 
 /* What each mode sweeps. quick: under 5 minutes on the 2-core llvmpipe machine (render scale 0.5,
- * one second of each trace); full: the issue's sweep (~30–60 min there); tiny: seconds, for tests. */
+ * two thirds of a second of each trace); full: the issue's sweep (~30–60 min there); tiny: seconds, for tests. */
 struct mode_cfg {
     long frames, t3_frames, t3d_frames; /* t3d: the per-display runs, many in full */
     double render_scale;
@@ -37,8 +37,8 @@ struct mode_cfg {
 };
 
 static const struct mode_cfg mode_cfgs[3] = {
-    [BCH_QUICK] = {.frames = 90,
-                         .t3_frames = 60,
+    [BCH_QUICK] = {.frames = 60,
+                         .t3_frames = 40, /* field with 1000 objects: ~85 ms a frame at half scale */
                          .t3d_frames = 60,
                          .render_scale = 0.5,
                          .users = 1,
@@ -171,6 +171,16 @@ static void plan_t1(struct builder *b)
                     r->opt_limit_us = T1_LIMITED_US;
                 snprintf(r->id, sizeof r->id, "t1-%s-user%d-%s%s", r->scene, u, r->selector, se == 6 ? "-lim200" : "");
             }
+    /* Per foveation mode (issue 32 item 6): fs with layers on the lens centres, after the plain rows. */
+    for (int u = 1; u <= b->cfg->users; ++u)
+        for (int sc = 0; sc < b->cfg->n_t1_scenes; ++sc) {
+            struct bch_run *r = add(b, 1, t1_scenes[sc], "fs");
+            if (!r)
+                return;
+            snprintf(r->motion, sizeof r->motion, "user%d", u);
+            snprintf(r->foveation, sizeof r->foveation, "fixed");
+            snprintf(r->id, sizeof r->id, "t1-%s-user%d-fs-fixed", r->scene, u);
+        }
 }
 
 /* Speed against error: budgets for the cost-bounded selectors, --static-px for static, reddy as it
@@ -189,6 +199,22 @@ static void plan_t2(struct builder *b)
                 r->budget_ms = r->factor * vive_period_ms();
                 r->reference_every = b->cfg->reference_every;
                 snprintf(r->id, sizeof r->id, "t2-%s-%s-b%g", gazes[g], swept[s], r->factor);
+            }
+        /* Per foveation mode (issue 32 item 6): fs with layers, and Valve's adaptive quality (static's
+         * LODs, the whole eye at the scale its controller sets from the draw time) over the same
+         * budgets: the controller's thresholds are shares of the budget. */
+        static const char *const layered[][2] = {{"fs", "fixed"}, {"static", "adaptive"}};
+        for (int s = 0; s < 2; ++s)
+            for (int k = 0; k < b->cfg->n_budgets; ++k) {
+                struct bch_run *r = add(b, 2, "auditorium", layered[s][0]);
+                if (!r)
+                    return;
+                snprintf(r->gaze, sizeof r->gaze, "%s", gazes[g]);
+                snprintf(r->foveation, sizeof r->foveation, "%s", layered[s][1]);
+                r->factor = b->cfg->budgets[k];
+                r->budget_ms = r->factor * vive_period_ms();
+                r->reference_every = b->cfg->reference_every;
+                snprintf(r->id, sizeof r->id, "t2-%s-%s-%s-b%g", gazes[g], layered[s][0], layered[s][1], r->factor);
             }
         for (int k = 0; k < b->cfg->n_static; ++k) {
             struct bch_run *r = add(b, 2, "auditorium", "static");
@@ -431,6 +457,10 @@ int bch_run_argv(const struct bch_plan *plan, const struct bch_run *run, const c
     if (run->visibility[0]) {
         ARG("--visibility");
         ARG(run->visibility);
+    }
+    if (run->foveation[0]) {
+        ARG("--foveation");
+        ARG(run->foveation);
     }
     if (run->objects > 0) {
         ARG("--objects");

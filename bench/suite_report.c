@@ -445,9 +445,9 @@ static int write_report(const struct bch_report_options *o, struct bch_result *r
     int rc = 0;
     int (*const tables[])(struct bch_ctx *, struct hl_error *) = {
         bch_tables_t1, bch_tables_t2, bch_tables_t3,
-        bch_tables_t4, bch_tables_t5, bch_tables_t6,
+        bch_tables_t4, bch_tables_t5, bch_tables_t6, bch_tables_t7,
     };
-    for (int k = 0; k < 6 && rc == 0; ++k)
+    for (int k = 0; k < 7 && rc == 0; ++k)
         rc = tables[k](&c, err);
     free(context);
     if (rc != 0) {

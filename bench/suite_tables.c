@@ -7,9 +7,19 @@
 
 #include "bench/suite_internal.h"
 
-static int is_deterministic(const char *selector)
+/* Deterministic: the same triangles every time. A controller steered by measured times is not. */
+static int is_deterministic(const struct bch_run *run)
 {
-    return !strcmp(selector, "none") || !strcmp(selector, "static") || !strcmp(selector, "reddy");
+    if (!strcmp(run->foveation, "adaptive"))
+        return 0;
+    return !strcmp(run->selector, "none") || !strcmp(run->selector, "static") || !strcmp(run->selector, "reddy");
+}
+
+const char *bch_run_label(const struct bch_run *run, char *buf, size_t size)
+{
+    snprintf(buf, size, "%s%s%s%s", run->selector, run->opt_limit_us > 0 ? "-lim200" : "", run->foveation[0] ? "+" : "",
+             run->foveation);
+    return buf;
 }
 
 /* Goals (issue 15, after Funkhouser & Séquin's 8 % and 130 %): stddev ≤ 3 % and max ≤ 110 % of the target. */
@@ -56,8 +66,8 @@ int bch_tables_t1(struct bch_ctx *c, struct hl_error *err)
         snprintf(jitter_id, sizeof jitter_id, "t1-%s-still-static", run->scene);
         const struct bch_result *still = bch_find(c, jitter_id);
         double jitter = still ? bch_timing(still, BCH_STAT_SD, BCH_COLUMN(frame_ms)) / still->budget_ms : NAN;
-        char cell[15][BCH_CELL], sel[32];
-        snprintf(sel, sizeof sel, "%s%s", run->selector, run->opt_limit_us > 0 ? "-lim200" : "");
+        char cell[15][BCH_CELL], sel[48];
+        bch_run_label(run, sel, sizeof sel);
         double target = r ? r->budget_ms : NAN;
         /* timings from frame 1: frame 0 compiles the driver's shaders (10× a frame on llvmpipe) */
         double sd = r ? bch_timing(r, BCH_STAT_SD, BCH_COLUMN(frame_ms)) / target : NAN;
@@ -79,7 +89,7 @@ int bch_tables_t1(struct bch_ctx *c, struct hl_error *err)
                                                                                 : "no",
             bch_cell(cell[7], r ? bch_mean(r, r->triangles) : NAN, 1),
             bch_cell(cell[8], r ? r->visible_error_mean : NAN, 4),
-            is_deterministic(run->selector) ? "1" : "0"};
+            is_deterministic(run) ? "1" : "0"};
         bch_table_row(&t, cells);
     }
     if (bch_table_end(&t, err) != 0)
@@ -91,7 +101,7 @@ int bch_tables_t1(struct bch_ctx *c, struct hl_error *err)
         snprintf(name, sizeof name, "t1_series_%s", scene);
         snprintf(data, sizeof data, "%s.dat", name);
         const struct bch_result *cols[8];
-        const char *labels[8];
+        char labels[8][48];
         int n = 0;
         long frames = 0;
         for (size_t i = 0; i < c->plan->count && n < 8; ++i) {
@@ -99,7 +109,7 @@ int bch_tables_t1(struct bch_ctx *c, struct hl_error *err)
             if (run->table == 1 && !strcmp(run->scene, scene) && !strcmp(run->motion, "user1") &&
                 c->results[i].present && c->results[i].frame_ms) {
                 cols[n] = &c->results[i];
-                labels[n++] = run->opt_limit_us > 0 ? "mb-lim200" : run->selector;
+                bch_run_label(run, labels[n++], sizeof labels[0]);
                 frames = c->results[i].n > frames ? c->results[i].n : frames;
             }
         }
@@ -141,15 +151,17 @@ static double interpolate(const double *x, const double *y, int n, double at)
     return n == 1 && at == x[0] ? y[0] : NAN;
 }
 
-/* A selector's (fSSIM, frame ms) points in one gaze model, sorted by fSSIM; returns the count. */
-static int curve(const struct bch_ctx *c, const char *gaze, const char *selector, double *x, double *y)
+/* A selector's (fSSIM, frame ms) points in one gaze model and foveation mode ("" off), sorted by
+ * fSSIM; returns the count. */
+static int curve(const struct bch_ctx *c, const char *gaze, const char *selector, const char *foveation, double *x,
+                 double *y)
 {
     int n = 0;
     for (size_t i = 0; i < c->plan->count && n < 8; ++i) {
         const struct bch_run *run = &c->plan->runs[i];
         const struct bch_result *r = &c->results[i];
-        if (run->table != 2 || strcmp(run->gaze, gaze) || strcmp(run->selector, selector) || !r->present ||
-            !isfinite(r->fssim_mean))
+        if (run->table != 2 || strcmp(run->gaze, gaze) || strcmp(run->selector, selector) ||
+            strcmp(run->foveation, foveation) || !r->present || !isfinite(r->fssim_mean))
             continue;
         int k = n++;
         while (k > 0 && x[k - 1] > r->fssim_mean) {
@@ -161,15 +173,20 @@ static int curve(const struct bch_ctx *c, const char *gaze, const char *selector
     return n;
 }
 
-static const char *const t2_selectors[] = {"static", "feedback", "reddy", "fs", "mb"};
+/* Table 2's curves: selector, foveation ("" off), the label (and data file part). */
+static const char *const t2_series[][3] = {{"static", "", "static"}, {"feedback", "", "feedback"},
+                                           {"reddy", "", "reddy"},   {"fs", "", "fs"},
+                                           {"mb", "", "mb"},         {"fs", "fixed", "fs-layers"},
+                                           {"static", "adaptive", "valve-adaptive"}};
+enum { T2_SERIES = sizeof t2_series / sizeof t2_series[0] };
 
 static int t2_plot(struct bch_ctx *c, const char *gaze, struct hl_error *err)
 {
     /* one data file per selector: frame ms, fSSIM, SSIM, PSNR, visible error */
     int has[4] = {0, 0, 0, 0};
-    for (int s = 0; s < 5; ++s) {
+    for (int s = 0; s < T2_SERIES; ++s) {
         char data[64];
-        snprintf(data, sizeof data, "t2_%s_%s.dat", gaze, t2_selectors[s]);
+        snprintf(data, sizeof data, "t2_%s_%s.dat", gaze, t2_series[s][2]);
         struct hl_out plot;
         FILE *f = bch_plot_data(c, data, &plot, err);
         if (!f)
@@ -178,7 +195,8 @@ static int t2_plot(struct bch_ctx *c, const char *gaze, struct hl_error *err)
         for (size_t i = 0; i < c->plan->count; ++i) {
             const struct bch_run *run = &c->plan->runs[i];
             const struct bch_result *r = &c->results[i];
-            if (run->table != 2 || strcmp(run->gaze, gaze) || strcmp(run->selector, t2_selectors[s]) || !r->present)
+            if (run->table != 2 || strcmp(run->gaze, gaze) || strcmp(run->selector, t2_series[s][0]) ||
+                strcmp(run->foveation, t2_series[s][1]) || !r->present)
                 continue;
             double v[5] = {bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)), r->fssim_mean, r->ssim_mean, r->psnr_db_mean,
                            r->visible_error_mean};
@@ -205,11 +223,11 @@ static int t2_plot(struct bch_ctx *c, const char *gaze, struct hl_error *err)
             continue;
         }
         len += (size_t)snprintf(body + len, sizeof body - len, "plot ");
-        for (int s = 0; s < 5 && len < sizeof body; ++s)
+        for (int s = 0; s < T2_SERIES && len < sizeof body; ++s)
             len += (size_t)snprintf(body + len, sizeof body - len,
                                     "%s't2_%s_%s.dat' using 1:%d with linespoints "
                                     "title '%s'",
-                                    s ? ", " : "", gaze, t2_selectors[s], k + 2, t2_selectors[s]);
+                                    s ? ", " : "", gaze, t2_series[s][2], k + 2, t2_series[s][2]);
         len += (size_t)snprintf(body + len, sizeof body - len, "\n");
     }
     if (len < sizeof body)
@@ -224,7 +242,10 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
 {
     bch_heading(c, "Table 2: speed against error",
                       "On auditorium (user1), each selector over a sweep of its setting: the budget (× the display "
-                      "period) for fs, mb and feedback, --static-px for static; reddy as it is. Every run has "
+                      "period) for fs, mb and feedback, --static-px for static; reddy as it is; per foveation mode: "
+                      "fs+fixed (fs with foveated layers on the lens centres) and static+adaptive (Valve's "
+                      "adaptive quality: the whole eye at the scale its controller sets) over the same budgets. "
+                      "Every run has "
                       "--reference: image error against the full-detail frame (fSSIM: SSIM weighted by Reddy's "
                       "M(E) around the gaze; SSIM on luminance; PSNR over RGB; px>32: share of pixels off by more "
                       "than 32 levels; FLIP: LDR-FLIP mean at the display's pixels per degree) beside the model's predicted visible error. Higher fSSIM is better.\n",
@@ -252,7 +273,7 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
         if (run->table != 2)
             continue;
         const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
-        char cell[11][BCH_CELL], setting[48];
+        char cell[11][BCH_CELL], setting[48], label[48];
         if (run->static_px > 0)
             snprintf(setting, sizeof setting, "%g px/triangle", run->static_px);
         else if (run->factor > 0)
@@ -261,7 +282,7 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
             snprintf(setting, sizeof setting, "acuity");
         double fm = r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) : NAN;
         const char *cells[14] = {run->gaze,
-                                 run->selector,
+                                 bch_run_label(run, label, sizeof label),
                                  setting,
                                  bch_cell(cell[0], fm, 3),
                                  bch_cell(cell[1], 100.0 * fm / period_ms, 1),
@@ -273,7 +294,7 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
                                  bch_cell(cell[9], r ? r->flip_mean : NAN, 4),
                                  bch_cell(cell[7], r ? r->visible_error_mean : NAN, 4),
                                  bch_cell(cell[8], r ? bch_mean(r, r->triangles) : NAN, 1),
-                                 is_deterministic(run->selector) ? "1" : "0"};
+                                 is_deterministic(run) ? "1" : "0"};
         bch_table_row(&t, cells);
     }
     if (bch_table_end(&t, err) != 0)
@@ -281,18 +302,22 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
 
     /* At equal fSSIM: each fs/mb point against static's and feedback's curves, interpolated. */
     bch_heading(c, "Table 2b: at equal fSSIM, fs/mb frame time ÷ static's and ÷ feedback's",
-                      "Each fs and mb point of Table 2 against the static and feedback curves of the same gaze model, "
-                      "interpolated linearly at the point's fSSIM (— where the fSSIM lies outside that curve's range "
-                      "or was not measured). Goals: ≤ 0.5 against static, ≤ 1 against feedback.\n",
+                      "Each fs, mb and fs+fixed point of Table 2 against the static, feedback, Valve adaptive "
+                      "(static+adaptive) and, for fs+fixed, plain fs curves of the same gaze model, interpolated "
+                      "linearly at the point's fSSIM (— where the fSSIM lies outside that curve's range or was not "
+                      "measured: the curves do not overlap there). Goals: ≤ 0.5 against static, ≤ 1 against "
+                      "feedback; for fs+fixed (issue 32) also < 1 against Valve adaptive.\n",
                       1);
-    static const char *const h2[] = {"gaze",          "selector",        "budget_x_period",  "fssim_mean",
-                                     "frame_ms_mean", "ratio_to_static", "ratio_to_feedback"};
-    if (bch_table_begin(&t, c->dir, "t2b_equal_fssim", c->md, c->echo, c->det, h2, 7, err) != 0)
+    static const char *const h2[] = {"gaze",          "selector",        "budget_x_period",   "fssim_mean",
+                                     "frame_ms_mean", "ratio_to_static", "ratio_to_feedback", "ratio_to_adaptive",
+                                     "ratio_to_fs"};
+    if (bch_table_begin(&t, c->dir, "t2b_equal_fssim", c->md, c->echo, c->det, h2, 9, err) != 0)
         return -1;
     for (int g = 0; g < 2; ++g) {
         const char *gaze = g ? "vor" : "head";
-        double sx[8], sy[8], fx[8], fy[8];
-        int ns = curve(c, gaze, "static", sx, sy), nf = curve(c, gaze, "feedback", fx, fy);
+        double sx[8], sy[8], fx[8], fy[8], ax[8], ay[8], px[8], py[8];
+        int ns = curve(c, gaze, "static", "", sx, sy), nf = curve(c, gaze, "feedback", "", fx, fy);
+        int na = curve(c, gaze, "static", "adaptive", ax, ay), np = curve(c, gaze, "fs", "", px, py);
         for (size_t i = 0; i < c->plan->count; ++i) {
             const struct bch_run *run = &c->plan->runs[i];
             const struct bch_result *r = c->results[i].present ? &c->results[i] : NULL;
@@ -300,14 +325,17 @@ int bch_tables_t2(struct bch_ctx *c, struct hl_error *err)
                 (strcmp(run->selector, "fs") && strcmp(run->selector, "mb")))
                 continue;
             double q = r ? r->fssim_mean : NAN, fm = r ? bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)) : NAN;
-            char cell[6][BCH_CELL];
-            const char *cells[7] = {gaze,
-                                    run->selector,
+            double to_fs = run->foveation[0] ? fm / interpolate(px, py, np, q) : NAN;
+            char cell[7][BCH_CELL], label[48];
+            const char *cells[9] = {gaze,
+                                    bch_run_label(run, label, sizeof label),
                                     bch_cell(cell[0], run->factor, 2),
                                     bch_cell(cell[1], q, 4),
                                     bch_cell(cell[2], fm, 3),
                                     bch_cell(cell[3], fm / interpolate(sx, sy, ns, q), 3),
-                                    bch_cell(cell[4], fm / interpolate(fx, fy, nf, q), 3)};
+                                    bch_cell(cell[4], fm / interpolate(fx, fy, nf, q), 3),
+                                    bch_cell(cell[5], fm / interpolate(ax, ay, na, q), 3),
+                                    bch_cell(cell[6], to_fs, 3)};
             bch_table_row(&t, cells);
         }
     }

@@ -24,7 +24,7 @@ headings=("## Table 1: Funkhouser's Table 1 on real traces" "## Table 2: speed a
   "## Table 2b: at equal fSSIM" "## Table 3: Reddy's study on field" "## Table 3b: per display"
   "## Table 3c: the two frequency readings" "## Table 3e: the two visibility criteria" "## Table 3f: the two visibility criteria"
   "## Table 4: Nirenstein's measurements" "## Table 4b: hierarchy simplifications"
-  "## Table 5: Mason–Blake's comparison on domes" "## Table 6: the cost model")
+  "## Table 5: Mason–Blake's comparison on domes" "## Table 6: the cost model" "## Table 7: foveated layers")
 
 check_report() { # DIR: headings, CSVs, PNGs
   local dir=$1
@@ -33,7 +33,7 @@ check_report() { # DIR: headings, CSVs, PNGs
     grep -qF -- "$h" "$dir/report.md" || fail "$dir/report.md lacks the heading '$h'"
   done
   grep -q -- "- renderer: " "$dir/report.md" || fail "$dir/report.md names no renderer"
-  for t in t1_funkhouser t2_speed_error t3_reddy_speedup t4_nirenstein t5_mason_blake t6_cost_model; do
+  for t in t1_funkhouser t2_speed_error t3_reddy_speedup t4_nirenstein t5_mason_blake t6_cost_model t7_layers; do
     [ -s "$dir/$t.csv" ] || fail "$dir/$t.csv missing or empty"
   done
   local n=0

@@ -1,6 +1,7 @@
 /* The bench suite's rounds (bench/suite.h, issue 30 item 2): the serial order alternates each table's
  * runs round by round and covers every run and round once; a timing cell is the median over rounds,
- * a timing ratio is taken round by round. Pure: no replay runs here (bench_suite_test.sh runs them). */
+ * a timing ratio is taken round by round; the foveation runs (issue 32 item 6) reach the replay with
+ * their mode and budget and are named by it. Pure: no replay runs here (bench_suite_test.sh runs them). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -117,6 +118,49 @@ static void test_timing(void)
     CHECK(isnan(bch_timing(NULL, BCH_STAT_MEAN, BCH_COLUMN(frame_ms))));
 }
 
+/* The quick plan's layered and adaptive runs: --foveation and the budget in their replay arguments,
+ * their table label; per gaze model, over the same budgets as plain fs. */
+static int argv_has(const char *const *argv, int argc, const char *a, const char *b)
+{
+    for (int i = 0; i + 1 < argc; ++i)
+        if (!strcmp(argv[i], a) && (!b || !strcmp(argv[i + 1], b)))
+            return 1;
+    return 0;
+}
+
+static void test_foveation_runs(void)
+{
+    struct bch_plan plan;
+    struct hl_error err;
+    CHECK(bch_plan_make(BCH_QUICK, NULL, "/shared", "/out", 10.0, &plan, &err) == 0);
+    int fixed = 0, adaptive = 0, plain_fs = 0, t1_fixed = 0;
+    for (size_t i = 0; i < plan.count; ++i) {
+        const struct bch_run *run = &plan.runs[i];
+        char storage[BCH_MAX_ARGS][BCH_ARG_SIZE], label[48];
+        const char *argv[BCH_MAX_ARGS];
+        int argc = bch_run_argv(&plan, run, "/out/x", storage, argv, BCH_MAX_ARGS);
+        int has_fov = argv_has(argv, argc, "--foveation", NULL);
+        CHECK(has_fov == (run->foveation[0] != 0));
+        if (run->table == 2 && !strcmp(run->foveation, "fixed")) {
+            ++fixed;
+            CHECK(!strcmp(run->selector, "fs") && argv_has(argv, argc, "--foveation", "fixed"));
+            CHECK(argv_has(argv, argc, "--budget-ms", NULL) && argv_has(argv, argc, "--reference", NULL));
+            CHECK(!strcmp(bch_run_label(run, label, sizeof label), "fs+fixed"));
+        } else if (run->table == 2 && !strcmp(run->foveation, "adaptive")) {
+            ++adaptive;
+            CHECK(!strcmp(run->selector, "static") && argv_has(argv, argc, "--budget-ms", NULL));
+            CHECK(!strcmp(bch_run_label(run, label, sizeof label), "static+adaptive"));
+        } else if (run->table == 2 && !strcmp(run->selector, "fs")) {
+            ++plain_fs;
+        } else if (run->table == 1 && !strcmp(run->foveation, "fixed")) {
+            ++t1_fixed;
+        }
+    }
+    CHECK(fixed > 0 && fixed == plain_fs && adaptive == plain_fs);
+    CHECK(t1_fixed == 2); /* quick: user1, auditorium and field */
+    bch_plan_free(&plan);
+}
+
 int main(void)
 {
     test_plan_order(1);
@@ -124,5 +168,6 @@ int main(void)
     test_plan_order(3);
     test_run_dir();
     test_timing();
+    test_foveation_runs();
     return tu_finish("test_bench_suite");
 }

@@ -56,6 +56,9 @@ int bch_result_rounds(const struct bch_result *r);
 const struct bch_result *bch_round(const struct bch_result *r, int k);
 #define BCH_COLUMN(name) offsetof(struct bch_result, name)
 double bch_timing(const struct bch_result *r, enum bch_stat stat, size_t column);
+/* From frame 1 on, each round's 99th percentile of frame_ms (nearest rank) and share of frames within
+ * the round's budget_ms, then the median over the rounds; NaN without frames (Table 7). */
+void bch_frame_tail(const struct bch_result *r, double *p99_ms, double *within_share);
 /* The ratio of two runs' timing statistic taken round by round — round k of num over round k of den,
  * which ran in the same pass over their table — with its median and min–max over the rounds. */
 void bch_timing_ratio(const struct bch_result *num, const struct bch_result *den, enum bch_stat stat, size_t column,

@@ -14,17 +14,7 @@
 #define GOAL_P99_SHARE 1.10
 #define GOAL_FSSIM 0.97
 
-static double median_of(double *v, int n)
-{
-    if (!n)
-        return NAN;
-    hl_sort_doubles(v, (size_t)n);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-/* From frame 1 on (frame 0 compiles the driver's shaders), each round's 99th percentile of frame_ms
- * and share of frames within the run's budget, then the median over the rounds; NaN without frames. */
-static void frame_tail(const struct bch_result *r, double *p99_ms, double *within_share)
+void bch_frame_tail(const struct bch_result *r, double *p99_ms, double *within_share)
 {
     double p99[BCH_SUITE_MAX_REPEATS], within[BCH_SUITE_MAX_REPEATS];
     int n = 0;
@@ -41,12 +31,15 @@ static void frame_tail(const struct bch_result *r, double *p99_ms, double *withi
                 v[m++] = x->frame_ms[i], in += x->frame_ms[i] <= x->budget_ms;
         if (m) {
             hl_sort_doubles(v, m);
-            p99[n] = hl_percentile_sorted(v, m, 99.0), within[n++] = (double)in / (double)m;
+            p99[n] = hl_percentile_sorted(v, m, 0.99), within[n++] = (double)in / (double)m;
         }
         free(v);
     }
-    *p99_ms = median_of(p99, n);
-    *within_share = median_of(within, n);
+    struct bch_spread sp;
+    bch_spread_of(p99, n, &sp);
+    *p99_ms = sp.median; /* NaN without rounds */
+    bch_spread_of(within, n, &sp);
+    *within_share = sp.median;
 }
 
 static int in_table7(const struct bch_run *run)
@@ -111,7 +104,7 @@ int bch_tables_t7(struct bch_ctx *c, struct hl_error *err)
         double budget = r ? r->budget_ms : NAN;
         double within = NAN, p99 = NAN;
         if (r)
-            frame_tail(r, &p99, &within);
+            bch_frame_tail(r, &p99, &within);
         p99 /= budget;
         double dropped = r ? bch_mean(r, r->dropped) : NAN, fssim = r ? r->fssim_mean : NAN;
         int goal_row = !strcmp(run->foveation, "fixed") && !strcmp(run->selector, "fs") &&

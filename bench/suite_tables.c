@@ -151,6 +151,13 @@ static double interpolate(const double *x, const double *y, int n, double at)
     return n == 1 && at == x[0] ? y[0] : NAN;
 }
 
+/* A Table 2 run of this gaze model, selector and foveation mode ("" off). */
+static int t2_run_is(const struct bch_run *run, const char *gaze, const char *selector, const char *foveation)
+{
+    return run->table == 2 && !strcmp(run->gaze, gaze) && !strcmp(run->selector, selector) &&
+           !strcmp(run->foveation, foveation);
+}
+
 /* A selector's (fSSIM, frame ms) points in one gaze model and foveation mode ("" off), sorted by
  * fSSIM; returns the count. */
 static int curve(const struct bch_ctx *c, const char *gaze, const char *selector, const char *foveation, double *x,
@@ -160,8 +167,7 @@ static int curve(const struct bch_ctx *c, const char *gaze, const char *selector
     for (size_t i = 0; i < c->plan->count && n < 8; ++i) {
         const struct bch_run *run = &c->plan->runs[i];
         const struct bch_result *r = &c->results[i];
-        if (run->table != 2 || strcmp(run->gaze, gaze) || strcmp(run->selector, selector) ||
-            strcmp(run->foveation, foveation) || !r->present || !isfinite(r->fssim_mean))
+        if (!t2_run_is(run, gaze, selector, foveation) || !r->present || !isfinite(r->fssim_mean))
             continue;
         int k = n++;
         while (k > 0 && x[k - 1] > r->fssim_mean) {
@@ -195,8 +201,7 @@ static int t2_plot(struct bch_ctx *c, const char *gaze, struct hl_error *err)
         for (size_t i = 0; i < c->plan->count; ++i) {
             const struct bch_run *run = &c->plan->runs[i];
             const struct bch_result *r = &c->results[i];
-            if (run->table != 2 || strcmp(run->gaze, gaze) || strcmp(run->selector, t2_series[s][0]) ||
-                strcmp(run->foveation, t2_series[s][1]) || !r->present)
+            if (!t2_run_is(run, gaze, t2_series[s][0], t2_series[s][1]) || !r->present)
                 continue;
             double v[5] = {bch_timing(r, BCH_STAT_MEAN, BCH_COLUMN(frame_ms)), r->fssim_mean, r->ssim_mean, r->psnr_db_mean,
                            r->visible_error_mean};

@@ -88,17 +88,19 @@ static void blur3(const float *src, float *dst, int w, int h, int stride)
  * direction cosines, ~0.2 µrad): the eye-frame gaze of a fixed gaze carries the rounding of each
  * frame's pose (~1e-16), and only a pixel centre that close to a ring's edge could change ring. */
 #define RING_GAZE_SAME 1e-7
+static hl_vec3d gaze_dir(const struct rnd_eye_gaze *g)
+{
+    return hl_v3_normalize(hl_v3(g->gaze_eye[0], g->gaze_eye[1], g->gaze_eye[2]));
+}
+
 static int same_gaze(const struct rnd_eye_gaze *a, const struct rnd_eye_gaze *b)
 {
     if (a->tan_left != b->tan_left || a->tan_right != b->tan_right || a->tan_up != b->tan_up ||
         a->tan_down != b->tan_down)
         return 0;
-    double na = sqrt(a->gaze_eye[0] * a->gaze_eye[0] + a->gaze_eye[1] * a->gaze_eye[1] + a->gaze_eye[2] * a->gaze_eye[2]);
-    double nb = sqrt(b->gaze_eye[0] * b->gaze_eye[0] + b->gaze_eye[1] * b->gaze_eye[1] + b->gaze_eye[2] * b->gaze_eye[2]);
-    for (int i = 0; i < 3; ++i)
-        if (!(fabs(a->gaze_eye[i] / na - b->gaze_eye[i] / nb) <= RING_GAZE_SAME))
-            return 0;
-    return 1;
+    hl_vec3d da = gaze_dir(a), db = gaze_dir(b);
+    return fabs(da.x - db.x) <= RING_GAZE_SAME && fabs(da.y - db.y) <= RING_GAZE_SAME &&
+           fabs(da.z - db.z) <= RING_GAZE_SAME;
 }
 
 /* Each reduced pixel's ring of angle from its eye's gaze. Thresholds as cosines: a pixel's ring is
@@ -113,8 +115,8 @@ static void ring_map_make(struct rnd_ring_target *t, const struct rnd_eye_gaze *
     memset(t->ring, RING_NONE, (size_t)t->w * t->h);
     for (int e = 0; e < 2; ++e) {
         const struct rnd_eye_gaze *g = &gaze[e];
-        double gn = sqrt(g->gaze_eye[0] * g->gaze_eye[0] + g->gaze_eye[1] * g->gaze_eye[1] + g->gaze_eye[2] * g->gaze_eye[2]);
-        double gx = g->gaze_eye[0] / gn, gy = g->gaze_eye[1] / gn, gz = g->gaze_eye[2] / gn;
+        hl_vec3d d = gaze_dir(g);
+        double gx = d.x, gy = d.y, gz = d.z;
         double sx = (g->tan_left + g->tan_right) / ew, sy = (g->tan_up + g->tan_down) / t->h;
         for (int row = 1; row + 1 < t->h; ++row) {
             double yt = -g->tan_down + (row + 0.5) * sy; /* GL rows: bottom up */

@@ -18,8 +18,22 @@ enum { RND_LAYER_RING = RND_LAYER_SEGMENTS + 1 };      /* the strip closes on it
 enum { RND_LAYER_EYE_VERTICES = 4 * RND_LAYER_RING }; /* band strip, then outer strip */
 enum { RND_LAYER_FLOATS = 3 };                         /* NDC x, y; band parameter t */
 
+/* A periphery framebuffer exactly as large as both eyes' peripheries side by side, so its clear is a
+ * whole-buffer clear: on llvmpipe a scissored glClear is drawn as a quad, about 4× the whole-buffer
+ * clear's time per pixel (calibrate's periphery empty frames, 2160 × 1200 eyes: 5.6 ms at s = 0.75
+ * scissored in the eyes' size, 2.3 ms for the whole eyes' size cleared whole; docs/RESULTS.md). */
+struct rnd_periphery_target {
+    GLuint fbo, color_tex, depth_rb;
+    int w, h;       /* 0: an empty slot */
+    uint64_t used;  /* the draw that used it last, for replacing the least recently used */
+};
+/* Slots: one per periphery size in use (the fixed scales need four; Valve's adaptive controller
+ * moves between neighbouring levels). Each is at most as large as the eyes. */
+enum { RND_PERIPHERY_TARGETS = 5 };
 struct rnd_layer_targets {
-    GLuint fbo, color_tex, depth_rb; /* the periphery: as large as the eyes, drawn in its corner */
+    struct rnd_periphery_target periphery[RND_PERIPHERY_TARGETS];
+    int current;        /* the slot the last draw used */
+    uint64_t draws;
     GLuint program, vao, vbo;
     GLint u_source, u_origin, u_size, u_tex;
     float vertices[2 * RND_LAYER_EYE_VERTICES * RND_LAYER_FLOATS];
@@ -196,14 +210,57 @@ static int composite_mesh(const struct rnd_layers *l, int e, float *out)
 
 /* ---- GL ------------------------------------------------------------------------------------- */
 
+static void periphery_target_release(struct rnd_periphery_target *p)
+{
+    if (p->w > 0) {
+        glDeleteFramebuffers(1, &p->fbo);
+        glDeleteTextures(1, &p->color_tex);
+        glDeleteRenderbuffers(1, &p->depth_rb);
+    }
+    memset(p, 0, sizeof *p);
+}
+
+/* The slot of size w × h, made (in an empty or the least recently used slot) when none is: its
+ * first use allocates, which the session's warm-up does for every fixed scale. 0, or −1 (GL error). */
+static int periphery_target_use(struct rnd_layer_targets *t, int w, int h)
+{
+    int slot = -1, oldest = 0;
+    for (int i = 0; i < RND_PERIPHERY_TARGETS && slot < 0; ++i)
+        if (t->periphery[i].w == w && t->periphery[i].h == h)
+            slot = i;
+    if (slot < 0) {
+        for (int i = 1; i < RND_PERIPHERY_TARGETS; ++i)
+            if (t->periphery[i].used < t->periphery[oldest].used)
+                oldest = i; /* an empty slot has used 0 */
+        struct rnd_periphery_target *p = &t->periphery[oldest];
+        periphery_target_release(p);
+        p->color_tex = rnd_gl_color_texture(w, h);
+        glGenRenderbuffers(1, &p->depth_rb);
+        glBindRenderbuffer(GL_RENDERBUFFER, p->depth_rb);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+        glGenFramebuffers(1, &p->fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, p->color_tex, 0);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, p->depth_rb);
+        p->w = w, p->h = h;
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
+            periphery_target_release(p);
+            return -1;
+        }
+        slot = oldest;
+    }
+    t->periphery[slot].used = ++t->draws;
+    t->current = slot;
+    return 0;
+}
+
 void rnd_layer_targets_destroy(struct rnd_layer_targets *t, int delete_gl)
 {
     if (!t)
         return;
     if (delete_gl) {
-        glDeleteFramebuffers(1, &t->fbo);
-        glDeleteTextures(1, &t->color_tex);
-        glDeleteRenderbuffers(1, &t->depth_rb);
+        for (int i = 0; i < RND_PERIPHERY_TARGETS; ++i)
+            periphery_target_release(&t->periphery[i]);
         glDeleteProgram(t->program);
         glDeleteVertexArrays(1, &t->vao);
         glDeleteBuffers(1, &t->vbo);
@@ -228,15 +285,6 @@ static int layer_targets_make(struct rnd_renderer *r)
     t->u_origin = glGetUniformLocation(t->program, "u_origin");
     t->u_size = glGetUniformLocation(t->program, "u_size");
     t->u_tex = glGetUniformLocation(t->program, "u_tex");
-    t->color_tex = rnd_gl_color_texture(2 * r->eye_w, r->eye_h);
-    glGenRenderbuffers(1, &t->depth_rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, t->depth_rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, 2 * r->eye_w, r->eye_h);
-    glGenFramebuffers(1, &t->fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, t->fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->color_tex, 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t->depth_rb);
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     glGenVertexArrays(1, &t->vao);
     glGenBuffers(1, &t->vbo);
     glBindVertexArray(t->vao);
@@ -248,7 +296,7 @@ static int layer_targets_make(struct rnd_renderer *r)
     glVertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, RND_LAYER_FLOATS * sizeof(float),
                           (const void *)(2 * sizeof(float)));
     glBindVertexArray(0);
-    if (status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
+    if (glGetError() != GL_NO_ERROR) {
         rnd_layer_targets_destroy(t, 1);
         return -1;
     }
@@ -278,18 +326,15 @@ static void draw_insets(struct rnd_renderer *r, const struct scn_scene *scene, c
     glDisable(GL_SCISSOR_TEST);
 }
 
-/* Step 2: the peripheries, s·width × s·height each, side by side in the layer FBO's corner. */
+/* Step 2: the peripheries, s·width × s·height each, side by side in a framebuffer of their size. */
 static void draw_peripheries(struct rnd_renderer *r, const struct scn_scene *scene,
                              const struct rnd_eye_view views[2], const struct rnd_layer_plan *plan,
                              const uint32_t *index, const uint8_t *lod, const uint8_t *mask, size_t count,
                              struct rnd_draw_stats *st)
 {
     int pw = plan->periphery_px[0], ph = plan->periphery_px[1];
-    glBindFramebuffer(GL_FRAMEBUFFER, r->layers->fbo);
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(0, 0, 2 * pw, ph);
+    glBindFramebuffer(GL_FRAMEBUFFER, r->layers->periphery[r->layers->current].fbo);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glDisable(GL_SCISSOR_TEST);
     for (int e = 0; e < 2; ++e) {
         if (plan->covers[e])
             continue;
@@ -316,10 +361,11 @@ static double composite(struct rnd_renderer *r, const struct rnd_layers *l, cons
     glBindBuffer(GL_ARRAY_BUFFER, t->vbo);
     glBufferData(GL_ARRAY_BUFFER, sizeof t->vertices, t->vertices, GL_STREAM_DRAW); /* orphans last frame's */
     glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, t->color_tex);
+    const struct rnd_periphery_target *p = &t->periphery[t->current];
+    glBindTexture(GL_TEXTURE_2D, p->color_tex);
     glUniform1i(t->u_source, 0);
     glUniform2f(t->u_size, (float)plan->periphery_px[0], (float)plan->periphery_px[1]);
-    glUniform2f(t->u_tex, (float)(2 * r->eye_w), (float)r->eye_h);
+    glUniform2f(t->u_tex, (float)p->w, (float)p->h);
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_CULL_FACE);
     /* Only colour follows the weight; the target's alpha stays 1. */
@@ -372,7 +418,7 @@ int rnd_renderer_draw_layers(struct rnd_renderer *r, const struct scn_scene *sce
         (periphery_lod != lod && rnd_check_draw(r, scene, index, periphery_lod, count) != 0) ||
         rnd_renderer_current(r) != 0)
         return -1;
-    if (layer_targets_make(r) != 0)
+    if (layer_targets_make(r) != 0 || periphery_target_use(r->layers, 2 * plan.periphery_px[0], plan.periphery_px[1]) != 0)
         return -1;
     glUseProgram(r->program);
     glBindVertexArray(r->vao);
@@ -421,9 +467,10 @@ int rnd_layers_last(const struct rnd_renderer *r, struct rnd_layer_view *out)
         return 0;
     const struct rnd_layers *l = &t->setting;
     out->global = !(l->inset_radius_deg > 0.0);
-    out->periphery_tex = t->color_tex;
+    const struct rnd_periphery_target *p = &t->periphery[t->current];
+    out->periphery_tex = p->color_tex;
     out->periphery_w = t->plan.periphery_px[0], out->periphery_h = t->plan.periphery_px[1];
-    out->tex_w = 2 * r->eye_w, out->tex_h = r->eye_h;
+    out->tex_w = p->w, out->tex_h = p->h;
     for (int e = 0; e < 2; ++e) {
         const struct hmd_eye *y = &l->eyes[e];
         out->tan[e][0] = (float)y->tan_left, out->tan[e][1] = (float)y->tan_right;

@@ -15,33 +15,35 @@
 #include "replay/replay.h"
 
 static const char usage[] =
-    "usage: hmdlod calibrate --out FILE [--quick] [--seed N] [--render-scale S] [--display NAME]\n\n"
+    "usage: hmdlod calibrate --out FILE [--quick] [--seed N] [--render-scale S] [--display NAME] [--no-layers]\n\n"
     "Renders copies of the field's sphere and the auditorium's chair in stereo over a grid of LOD x screen\n"
     "coverage x object count (after a warm-up), times each frame (median of repeats), fits both cost\n"
     "forms with non-negative coefficients on a random 75 % of the grid points and measures them on the\n"
     "other 25 %, keeps the form with the lower held-out 95th-percentile relative error and writes the\n"
-    "machine cost profile (docs/cost-model.md).\n"
+    "machine cost profile (docs/cost-model.md). The same grid is then drawn as the foveated periphery\n"
+    "at each layer scale (0.75, 0.5, 0.35, 0.25) and fitted again: the periphery's own models.\n"
     "  --out FILE        the cost profile JSON to write (atomically)\n"
     "  --quick           a small grid (24 points, 3 repeats): seconds, for tests\n"
     "  --seed N          the split and visiting order (default 1)\n"
     "  --render-scale S  per-eye resolution factor in (0, 4] (default 1: the display's pixels)\n"
     "  --display NAME    built-in display or profile JSON (default vive)\n"
+    "  --no-layers       the plain frames only (a profile without periphery models)\n"
     "  --csv FILE        also write every grid point (counts, measured and predicted ms) as CSV\n";
 
 struct calibrate_args {
     const char *out, *display, *csv;
     long seed;
     double render_scale;
-    int quick;
+    int quick, layers;
 };
 
 static int parse_args(int argc, char **argv, struct calibrate_args *a)
 {
-    *a = (struct calibrate_args){NULL, "vive", NULL, 1, 1.0, 0};
+    *a = (struct calibrate_args){NULL, "vive", NULL, 1, 1.0, 0, 1};
     for (int i = 1; i < argc; ++i) {
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(argv[i], "--quick")) {
-            a->quick = 1;
+        if (!strcmp(argv[i], "--quick") || !strcmp(argv[i], "--no-layers")) {
+            *(!strcmp(argv[i], "--quick") ? &a->quick : &a->layers) = !strcmp(argv[i], "--quick");
             continue;
         }
         if (!strcmp(argv[i], "--out") || !strcmp(argv[i], "--display") || !strcmp(argv[i], "--csv")) {
@@ -87,6 +89,27 @@ static int check_writable(const char *path)
     return 0;
 }
 
+/* One grid measured and fitted: both forms on the training points with c0 measured (the expectile
+ * chosen as below), the ordinary intercept fits beside them, held-out accuracy, the form kept. */
+struct calibration_fit {
+    double periphery_scale;
+    struct rnd_calibration cal;
+    uint32_t *order;
+    size_t train;
+    struct lod_cost_model fits[2], free_fits[2];
+    struct frm_cost_fit_report reports[2], free_reports[2];
+    struct frm_cost_accuracy acc[2], free_acc[2];
+    double tau[2];
+    int keep;
+};
+
+static void calibration_fit_free(struct calibration_fit *c)
+{
+    free(c->order);
+    rnd_calibration_free(&c->cal);
+    memset(c, 0, sizeof *c);
+}
+
 static void print_fit(const char *name, const struct lod_cost_model *m, const struct frm_cost_fit_report *fit,
                       const struct frm_cost_accuracy *acc)
 {
@@ -96,9 +119,9 @@ static void print_fit(const char *name, const struct lod_cost_model *m, const st
            100.0 * acc->p95_rel, 100.0 * acc->under5_share);
 }
 
-/* One row per grid point: its sums over objects, the measured median and both fits' predictions. */
-static int write_csv(const char *path, const struct rnd_calibration *cal, const uint32_t *order, size_t train,
-                     const struct lod_cost_model fits[2])
+/* One row per grid point of every measured grid (the plain frames, then each periphery scale): its
+ * sums over objects, the measured median and both fits' predictions. */
+static int write_csv(const char *path, const struct calibration_fit *fits, int count)
 {
     struct hl_out out;
     struct hl_error err;
@@ -107,18 +130,21 @@ static int write_csv(const char *path, const struct rnd_calibration *cal, const 
         return -1;
     }
     FILE *f = out.f;
-    fprintf(f, "point,objects,triangles,vertices,pixels_px,draws,measured_ms,predicted_max_ms,predicted_additive_ms,"
-               "held_out\n");
-    for (size_t n = 0; n < cal->frame_count; ++n) {
-        const struct rnd_cost_frame *fr = &cal->frames[order[n]];
-        double t = 0, v = 0, p = 0, d = 0;
-        for (uint32_t k = 0; k < fr->object_count; ++k) {
-            const struct rnd_cost_object *o = &cal->objects[fr->first_object + k];
-            t += o->triangles, v += o->vertices, p += o->pixels_px, d += o->draws;
+    fprintf(f, "periphery_scale,point,objects,triangles,vertices,pixels_px,draws,measured_ms,predicted_max_ms,"
+               "predicted_additive_ms,held_out\n");
+    for (int i = 0; i < count; ++i) {
+        const struct calibration_fit *c = &fits[i];
+        for (size_t n = 0; n < c->cal.frame_count; ++n) {
+            const struct rnd_cost_frame *fr = &c->cal.frames[c->order[n]];
+            double t = 0, v = 0, p = 0, d = 0;
+            for (uint32_t k = 0; k < fr->object_count; ++k) {
+                const struct rnd_cost_object *o = &c->cal.objects[fr->first_object + k];
+                t += o->triangles, v += o->vertices, p += o->pixels_px, d += o->draws;
+            }
+            fprintf(f, "%g,%u,%u,%.0f,%.0f,%.0f,%.0f,%.4f,%.4f,%.4f,%d\n", c->periphery_scale, c->order[n],
+                    fr->object_count, t, v, p, d, fr->measured_ms, frm_cost_predict_frame_ms(&c->fits[0], fr, c->cal.objects),
+                    frm_cost_predict_frame_ms(&c->fits[1], fr, c->cal.objects), n >= c->train);
         }
-        fprintf(f, "%u,%u,%.0f,%.0f,%.0f,%.0f,%.4f,%.4f,%.4f,%d\n", order[n], fr->object_count, t, v, p, d,
-                fr->measured_ms, frm_cost_predict_frame_ms(&fits[0], fr, cal->objects),
-                frm_cost_predict_frame_ms(&fits[1], fr, cal->objects), n >= train);
     }
     if (hl_out_commit(&out, &err) != 0) {
         fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
@@ -141,6 +167,79 @@ static double load_average(void)
     return load;
 }
 
+static const enum lod_cost_form calibrate_forms[2] = {LOD_COST_MAX, LOD_COST_ADDITIVE};
+
+/* Measures grid g (its periphery_scale says plain frames or a periphery) and fits it. 0 or −1 (the
+ * message printed). */
+static int measure_and_fit(const struct hmd_profile *display, struct rnd_cost_grid *g, long seed,
+                           struct calibration_fit *c)
+{
+    memset(c, 0, sizeof *c);
+    c->periphery_scale = g->periphery_scale;
+    struct hl_error err = {{0}};
+    if (frm_cost_calibrate(display, g, (uint64_t)seed, &c->cal, &err) != 0) {
+        fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
+        return -1;
+    }
+    c->order = malloc(c->cal.frame_count * sizeof *c->order);
+    if (!c->order) {
+        fprintf(stderr, "hmdlod calibrate: out of memory\n");
+        return -1;
+    }
+    rnd_cost_split(c->cal.frame_count, (uint64_t)seed, c->order, &c->train);
+    size_t held = c->cal.frame_count - c->train;
+    for (int f = 0; f < 2; ++f) {
+        /* Kept: c0 as measured and the smallest expectile whose fit under-predicts at most 5 % of the
+         * training points by more than 5 % — under-prediction is what breaks a budget, and the goal
+         * for held-out points is 10 %. The intercept fit is printed beside it as the old reference. */
+        static const double expectiles[] = {0.5, 0.75, 0.9, 0.95, 0.98};
+        int rc = 0;
+        for (size_t t = 0; t < sizeof expectiles / sizeof *expectiles && rc == 0; ++t) {
+            c->tau[f] = expectiles[t];
+            if (frm_cost_fit_fixed(calibrate_forms[f], c->cal.empty_ms, c->tau[f], c->cal.frames, c->order, c->train,
+                                   c->cal.objects, &c->fits[f], &c->reports[f], &err) != 0)
+                rc = -1;
+            else if (frm_cost_evaluate(&c->fits[f], c->cal.frames, c->order, c->train, c->cal.objects).under5_share <= 0.05)
+                break;
+        }
+        if (rc == 0 && frm_cost_fit(calibrate_forms[f], c->cal.frames, c->order, c->train, c->cal.objects,
+                                    &c->free_fits[f], &c->free_reports[f], &err) != 0)
+            rc = -1;
+        if (rc != 0) {
+            fprintf(stderr, "hmdlod calibrate: fitting the %s form: %s\n", frm_cost_form_name(calibrate_forms[f]),
+                    err.msg);
+            return -1;
+        }
+        c->acc[f] = frm_cost_evaluate(&c->fits[f], c->cal.frames, c->order + c->train, held, c->cal.objects);
+        c->free_acc[f] = frm_cost_evaluate(&c->free_fits[f], c->cal.frames, c->order + c->train, held, c->cal.objects);
+    }
+    c->keep = c->acc[1].p95_rel < c->acc[0].p95_rel ? 1 : 0; /* a tie keeps Funkhouser's max */
+    return 0;
+}
+
+static void print_header(void)
+{
+    printf("  form        c0 ms   c1 us/tri  c2 us/vert   c3 ns/px  c4 us/draw  c5 ns/edge  train rms  held-out"
+           " median    p95  under >5 %%\n");
+}
+
+/* The plain frames' fits in full: both forms, the expectiles, the intercept fits, what was kept. */
+static void print_plain(const struct calibration_fit *c, long seed)
+{
+    printf("fitted on %zu points, held out %zu (seed %ld); relative errors |predicted - measured| / measured\n",
+           c->train, c->cal.frame_count - c->train, seed);
+    print_header();
+    for (int f = 0; f < 2; ++f)
+        print_fit(frm_cost_form_name(calibrate_forms[f]), &c->fits[f], &c->reports[f], &c->acc[f]);
+    printf("  (c0 measured; expectile %.2f for max, %.2f for additive: the least that under-predicts at most\n"
+           "  5 %% of the training points by more than 5 %%)\n", c->tau[0], c->tau[1]);
+    printf("  ordinary fit with c0 fitted as an intercept (not kept):\n");
+    for (int f = 0; f < 2; ++f)
+        print_fit(frm_cost_form_name(calibrate_forms[f]), &c->free_fits[f], &c->free_reports[f], &c->free_acc[f]);
+    printf("kept: %s (held-out p95 %.1f %% against %.1f %%)\n", frm_cost_form_name(calibrate_forms[c->keep]),
+           100.0 * c->acc[c->keep].p95_rel, 100.0 * c->acc[!c->keep].p95_rel);
+}
+
 int cmd_calibrate(int argc, char **argv)
 {
     if (app_wants_help(argc, argv)) {
@@ -161,17 +260,32 @@ int cmd_calibrate(int argc, char **argv)
     struct rnd_cost_grid *g = &prof.grid;
     rnd_cost_grid_default(g, a.quick);
     g->render_scale = a.render_scale;
-    struct rnd_calibration cal;
+    /* The plain frames first, then (unless --no-layers) each periphery scale of the foveated layers
+     * (frame/layers.h), the same grid drawn as that periphery over the whole eye. */
+    struct calibration_fit fits[1 + FRM_COST_PERIPHERY_MAX];
+    memset(fits, 0, sizeof fits);
+    int measured = 0, rc = 0;
     prof.load_before = load_average();
-    if (frm_cost_calibrate(&display, g, (uint64_t)a.seed, &cal, &err) != 0) {
-        fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
-        return 1;
+    for (int i = 0; i < (a.layers ? FRM_LAYER_SCALES : 1) && rc == 0; ++i) {
+        struct rnd_cost_grid grid = *g;
+        grid.periphery_scale = frm_layer_scales[i];
+        if (measure_and_fit(&display, &grid, a.seed, &fits[measured++]) != 0)
+            rc = 1;
+        else if (i == 0)
+            *g = grid; /* eye size and display filled in */
     }
     prof.load_after = load_average();
+    if (rc != 0)
+        goto done;
+    const struct calibration_fit *plain = &fits[0];
+    double seconds = 0.0;
+    for (int i = 0; i < measured; ++i)
+        seconds += fits[i].cal.seconds;
     printf("calibrate: %zu grid points (%d objects x %d levels x %d coverages x %d counts, median of %d) on %s,\n"
-           "  display %s at %d x %d per eye, measured in %.1f s\n",
-           cal.frame_count, g->families, g->levels, g->coverages, g->counts, g->repeats, cal.renderer, display.name,
-           g->eye_width_px, g->eye_height_px, cal.seconds);
+           "  display %s at %d x %d per eye%s, measured in %.1f s\n",
+           plain->cal.frame_count, g->families, g->levels, g->coverages, g->counts, g->repeats, plain->cal.renderer,
+           display.name, g->eye_width_px, g->eye_height_px,
+           measured > 1 ? ", plain and as the periphery at each layer scale" : "", seconds);
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     if (prof.load_before >= 0)
         printf("  machine load (1-min average) %.2f before, %.2f after, on %ld cores%s\n", prof.load_before,
@@ -179,87 +293,56 @@ int cmd_calibrate(int argc, char **argv)
                prof.load_after > 0.5 * (double)cores || prof.load_before > 0.5 * (double)cores
                    ? ": other work shared the CPUs, and its time is in every frame measured"
                    : "");
-
-    uint32_t *order = malloc(cal.frame_count * sizeof *order);
-    if (!order) {
-        fprintf(stderr, "hmdlod calibrate: out of memory\n");
-        rnd_calibration_free(&cal);
-        return 1;
-    }
-    size_t train = 0;
-    rnd_cost_split(cal.frame_count, (uint64_t)a.seed, order, &train);
-    size_t held = cal.frame_count - train;
-    struct lod_cost_model fits[2], free_fits[2];
-    struct frm_cost_fit_report reports[2], free_reports[2];
-    struct frm_cost_accuracy acc[2], free_acc[2];
-    static const enum lod_cost_form forms[2] = {LOD_COST_MAX, LOD_COST_ADDITIVE};
-    int rc = 0;
     printf("fixed cost: %u empty frames (clear both eyes, glFinish) among the points: median %.3f ms "
            "(quartiles %.3f … %.3f)\n",
-           cal.empty_frames, cal.empty_ms, cal.empty_p25_ms, cal.empty_p75_ms);
-    double tau[2] = {0.5, 0.5};
-    for (int f = 0; f < 2 && rc == 0; ++f) {
-        /* Kept: c0 as measured and the smallest expectile whose fit under-predicts at most 5 % of the
-         * training points by more than 5 % — under-prediction is what breaks a budget, and the goal
-         * for held-out points is 10 %. The intercept fit is printed beside it as the old reference. */
-        static const double expectiles[] = {0.5, 0.75, 0.9, 0.95, 0.98};
-        for (size_t t = 0; t < sizeof expectiles / sizeof *expectiles && rc == 0; ++t) {
-            tau[f] = expectiles[t];
-            if (frm_cost_fit_fixed(forms[f], cal.empty_ms, tau[f], cal.frames, order, train, cal.objects, &fits[f],
-                                   &reports[f], &err) != 0)
-                rc = 1;
-            else if (frm_cost_evaluate(&fits[f], cal.frames, order, train, cal.objects).under5_share <= 0.05)
-                break;
+           plain->cal.empty_frames, plain->cal.empty_ms, plain->cal.empty_p25_ms, plain->cal.empty_p75_ms);
+    print_plain(plain, a.seed);
+    if (measured > 1) {
+        /* Each periphery's kept form; its c0 is its own empty frame (the layer's clear, not the eye's). */
+        printf("periphery layers (inset radius 0, pixels at the periphery's resolution; held out as above):\n");
+        print_header();
+        for (int i = 1; i < measured; ++i) {
+            const struct calibration_fit *c = &fits[i];
+            char name[32];
+            snprintf(name, sizeof name, "s %.2f %c", c->periphery_scale, calibrate_forms[c->keep] == LOD_COST_MAX ? 'M' : 'A');
+            print_fit(name, &c->fits[c->keep], &c->reports[c->keep], &c->acc[c->keep]);
+            struct frm_cost_periphery *p = &prof.periphery[prof.periphery_count++];
+            p->scale = c->periphery_scale;
+            p->model = c->fits[c->keep];
+            p->held_out = c->acc[c->keep];
+            p->fixed = (struct frm_cost_fixed){c->cal.empty_ms, c->cal.empty_p25_ms, c->cal.empty_p75_ms,
+                                               c->cal.empty_frames};
         }
-        if (rc == 0 &&
-            frm_cost_fit(forms[f], cal.frames, order, train, cal.objects, &free_fits[f], &free_reports[f], &err) != 0)
-            rc = 1;
-        if (rc != 0) {
-            fprintf(stderr, "hmdlod calibrate: fitting the %s form: %s\n", frm_cost_form_name(forms[f]), err.msg);
-            break;
-        }
-        acc[f] = frm_cost_evaluate(&fits[f], cal.frames, order + train, held, cal.objects);
-        free_acc[f] = frm_cost_evaluate(&free_fits[f], cal.frames, order + train, held, cal.objects);
+        printf("  (M: the max form kept, A: the additive; c0 the periphery's empty frame, median of %u … %u)\n",
+               fits[1].cal.empty_frames, fits[measured - 1].cal.empty_frames);
     }
-    if (rc == 0) {
-        printf("fitted on %zu points, held out %zu (seed %ld); relative errors |predicted - measured| / measured\n",
-               train, held, a.seed);
-        printf("  form        c0 ms   c1 us/tri  c2 us/vert   c3 ns/px  c4 us/draw  c5 ns/edge  train rms  held-out"
-               " median    p95  under >5 %%\n");
-        for (int f = 0; f < 2; ++f)
-            print_fit(frm_cost_form_name(forms[f]), &fits[f], &reports[f], &acc[f]);
-        printf("  (c0 measured; expectile %.2f for max, %.2f for additive: the least that under-predicts at most\n"
-               "  5 %% of the training points by more than 5 %%)\n", tau[0], tau[1]);
-        printf("  ordinary fit with c0 fitted as an intercept (not kept):\n");
-        for (int f = 0; f < 2; ++f)
-            print_fit(frm_cost_form_name(forms[f]), &free_fits[f], &free_reports[f], &free_acc[f]);
-        if (a.csv && write_csv(a.csv, &cal, order, train, fits) != 0)
-            rc = 1;
-        int keep = acc[1].p95_rel < acc[0].p95_rel ? 1 : 0; /* a tie keeps Funkhouser's max */
-        printf("kept: %s (held-out p95 %.1f %% against %.1f %%)\n", frm_cost_form_name(forms[keep]),
-               100.0 * acc[keep].p95_rel, 100.0 * acc[!keep].p95_rel);
-        prof.model = fits[keep];
-        prof.fixed = (struct frm_cost_fixed){cal.empty_ms, cal.empty_p25_ms, cal.empty_p75_ms, cal.empty_frames};
-        prof.held_out = acc[keep];
-        prof.held_out_other = acc[!keep];
-        time_t now = time(NULL);
-        struct tm tm_utc;
-        gmtime_r(&now, &tm_utc);
-        strftime(prof.date, sizeof prof.date, "%Y-%m-%d %H:%M UTC", &tm_utc);
-        bch_commit(prof.commit, sizeof prof.commit);
-        snprintf(prof.label, sizeof prof.label, "hmdlod calibrate%s, seed %ld, c0 measured, expectile %.2f",
-                 a.quick ? " --quick" : "", a.seed, tau[keep]);
-        snprintf(prof.renderer, sizeof prof.renderer, "%s", cal.renderer);
-        snprintf(prof.display, sizeof prof.display, "%s", display.name);
-        prof.eye_width_px = g->eye_width_px, prof.eye_height_px = g->eye_height_px;
-        if (frm_cost_profile_write(a.out, &prof, &err) != 0) {
-            fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
-            rc = 1;
-        } else {
-            printf("wrote %s\n", a.out);
-        }
+    if (a.csv && write_csv(a.csv, fits, measured) != 0) {
+        rc = 1;
+        goto done;
     }
-    free(order);
-    rnd_calibration_free(&cal);
+    prof.model = plain->fits[plain->keep];
+    prof.fixed = (struct frm_cost_fixed){plain->cal.empty_ms, plain->cal.empty_p25_ms, plain->cal.empty_p75_ms,
+                                         plain->cal.empty_frames};
+    prof.held_out = plain->acc[plain->keep];
+    prof.held_out_other = plain->acc[!plain->keep];
+    time_t now = time(NULL);
+    struct tm tm_utc;
+    gmtime_r(&now, &tm_utc);
+    strftime(prof.date, sizeof prof.date, "%Y-%m-%d %H:%M UTC", &tm_utc);
+    bch_commit(prof.commit, sizeof prof.commit);
+    snprintf(prof.label, sizeof prof.label, "hmdlod calibrate%s, seed %ld, c0 measured, expectile %.2f",
+             a.quick ? " --quick" : "", a.seed, plain->tau[plain->keep]);
+    snprintf(prof.renderer, sizeof prof.renderer, "%s", plain->cal.renderer);
+    snprintf(prof.display, sizeof prof.display, "%s", display.name);
+    prof.eye_width_px = g->eye_width_px, prof.eye_height_px = g->eye_height_px;
+    if (frm_cost_profile_write(a.out, &prof, &err) != 0) {
+        fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
+        rc = 1;
+    } else {
+        printf("wrote %s\n", a.out);
+    }
+done:
+    for (int i = 0; i < measured; ++i)
+        calibration_fit_free(&fits[i]);
     return rc;
 }

@@ -74,8 +74,23 @@ struct frm_cost_fixed {
     double median_ms, p25_ms, p75_ms;
     uint32_t frames;
 };
+/* The periphery layer's own model at one linear scale (issue 32): calibrate's grid drawn as that
+ * periphery over the whole eye, pixels counted at the periphery's resolution (s² of the eye's).
+ * model.c0_ms is that periphery's empty frame; a replay takes the layers' own clears from its
+ * warm-up instead (frame/layers.h overhead_ms) and this model's object terms for what each object
+ * costs in the periphery. */
+enum { FRM_COST_PERIPHERY_MAX = 4 };
+struct frm_cost_periphery {
+    double scale;                     /* one of frame/layers.h's periphery scales below 1 */
+    struct lod_cost_model model;
+    struct frm_cost_accuracy held_out;
+    struct frm_cost_fixed fixed;
+};
 struct frm_cost_profile {
     struct lod_cost_model model;          /* what lod/ and the frame use */
+    int periphery_count;                  /* 0: a profile without layer models (the periphery is priced
+                                           * with `model`, its pixels at the periphery's resolution) */
+    struct frm_cost_periphery periphery[FRM_COST_PERIPHERY_MAX];
     struct frm_cost_accuracy held_out;    /* of the kept form */
     struct frm_cost_accuracy held_out_other; /* of the form not kept (frames 0: unknown) */
     struct frm_cost_fixed fixed;          /* the measured fixed cost c0 was taken from */

@@ -11,7 +11,8 @@
 enum { NNLS_MAX_COLS = 16, COST_COLS = 6, MAX_ROUNDS = 50 };
 
 /* The coverage is acuity's estimate from each object's sphere, for the eyes render measured with:
- * the very numbers a replay frame prices its candidates with (frame/select.c). */
+ * the very numbers a replay frame prices its candidates with (frame/select.c) — in a periphery of
+ * scale s, s² of them, as frm_layers_level_cost_ms charges the periphery. */
 int frm_cost_calibrate(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
                        struct rnd_calibration *out, struct hl_error *err)
 {
@@ -27,7 +28,8 @@ int frm_cost_calibrate(const struct hmd_profile *display, struct rnd_cost_grid *
     for (size_t k = 0; k < out->object_count; ++k) {
         struct rnd_cost_object *o = &out->objects[k];
         acu_compute_pixels(eyes, 2, o->center_m, &o->radius_m, &first, 1, &o->pixels_px);
-        o->pixels_px *= o->fill; /* the fragments, as the replay charges them (frm_level_cost_ms) */
+        o->pixels_px *= o->fill * grid->periphery_scale * grid->periphery_scale; /* the fragments, as the
+                                                                                 * replay charges them */
     }
     return 0;
 }

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "frame/cost.h"
+#include "frame/frame.h"
 
 /* Version 2 adds c5 (the edge term, lod.h); version 3, the same keys, fits c3 and c5 on fragments (the
  * projected bound × the level's fill, scn_lod_fill) where 1 and 2 fitted them on the bound's pixels.
@@ -101,17 +101,18 @@ static int read_string(const cJSON *obj, const char *key, int required, char *ou
     return 0;
 }
 
+/* prefix: where the object sits ("" at the top, "'periphery'[1]: " in a layer's model). */
 static int read_accuracy(const cJSON *root, const char *key, struct frm_cost_accuracy *acc, const char *path,
-                         struct hl_error *err)
+                         const char *prefix, struct hl_error *err)
 {
     static const char *const keys[] = {"frames", "median_rel", "p95_rel", "under5_share"};
     const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, key);
     if (!o)
         return 0;
-    char where[64];
-    snprintf(where, sizeof where, "'%s': ", key);
+    char where[96];
+    snprintf(where, sizeof where, "%s'%s': ", prefix, key);
     if (!cJSON_IsObject(o))
-        return hl_fail(err, "%s: '%s': not an object", path, key);
+        return hl_fail(err, "%s: %snot an object", path, where);
     double frames = 0;
     if (check_keys(o, keys, 4, path, where, err) != 0 ||
         read_number(o, "frames", 1, 0, &frames, path, where, err) != 0 ||
@@ -125,16 +126,18 @@ static int read_accuracy(const cJSON *root, const char *key, struct frm_cost_acc
     return 0;
 }
 
-static int read_fixed(const cJSON *root, struct frm_cost_fixed *fx, const char *path, struct hl_error *err)
+static int read_fixed(const cJSON *root, struct frm_cost_fixed *fx, const char *path, const char *prefix,
+                      struct hl_error *err)
 {
     static const char *const keys[] = {"frames", "median_ms", "p25_ms", "p75_ms"};
     const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, "fixed_cost");
     if (!o)
         return 0;
+    char where[96];
+    snprintf(where, sizeof where, "%s'fixed_cost': ", prefix);
     if (!cJSON_IsObject(o))
-        return hl_fail(err, "%s: 'fixed_cost': not an object", path);
+        return hl_fail(err, "%s: %snot an object", path, where);
     double frames = 0;
-    const char *where = "'fixed_cost': ";
     if (check_keys(o, keys, 4, path, where, err) != 0 || read_number(o, "frames", 1, 1, &frames, path, where, err) != 0 ||
         read_number(o, "median_ms", 1, 0, &fx->median_ms, path, where, err) != 0 ||
         read_number(o, "p25_ms", 1, 0, &fx->p25_ms, path, where, err) != 0 ||
@@ -166,6 +169,69 @@ static int read_list(const cJSON *grid, const char *key, double *out, int *count
     return 0;
 }
 
+/* "form" and "coefficients" (the first `coefficients` keys) of obj into *m. */
+static int read_model(const cJSON *obj, int coefficients, struct lod_cost_model *m, const char *path,
+                      const char *prefix, struct hl_error *err)
+{
+    char where[96];
+    const cJSON *f = cJSON_GetObjectItemCaseSensitive(obj, "form");
+    if (!f)
+        return hl_fail(err, "%s: %s'form': missing", path, prefix);
+    if (!cJSON_IsString(f) || frm_cost_form_parse(f->valuestring, &m->form) != 0)
+        return hl_fail(err, "%s: %s'form': unknown form '%s' (max or additive)", path, prefix,
+                       cJSON_IsString(f) ? f->valuestring : "?");
+    const cJSON *co = cJSON_GetObjectItemCaseSensitive(obj, "coefficients");
+    if (!co)
+        return hl_fail(err, "%s: %s'coefficients': missing", path, prefix);
+    if (!cJSON_IsObject(co))
+        return hl_fail(err, "%s: %s'coefficients': not an object", path, prefix);
+    snprintf(where, sizeof where, "%s'coefficients': ", prefix);
+    if (check_keys(co, coefficient_keys, coefficients, path, where, err) != 0)
+        return -1;
+    for (int i = 0; i < coefficients; ++i)
+        if (read_number(co, coefficient_keys[i], 1, 0.0, coefficient(m, i), path, where, err) != 0)
+            return -1;
+    return 0;
+}
+
+/* "periphery": the layer models (frm_cost_periphery), at most one per scale below 1 of the layers'
+ * grid (frame/layers.h), each {"scale", "form", "coefficients", "held_out", "fixed_cost"}. */
+static int read_periphery(const cJSON *root, struct frm_cost_profile *out, const char *path, struct hl_error *err)
+{
+    static const char *const keys[] = {"scale", "form", "coefficients", "held_out", "fixed_cost"};
+    const cJSON *a = cJSON_GetObjectItemCaseSensitive(root, "periphery");
+    if (!a)
+        return 0;
+    int n = cJSON_IsArray(a) ? cJSON_GetArraySize(a) : -1;
+    if (n < 0 || n > FRM_COST_PERIPHERY_MAX)
+        return hl_fail(err, "%s: 'periphery': expected an array of at most %d layer models", path,
+                       FRM_COST_PERIPHERY_MAX);
+    for (int i = 0; i < n; ++i) {
+        const cJSON *o = cJSON_GetArrayItem(a, i);
+        struct frm_cost_periphery *p = &out->periphery[i];
+        char prefix[48];
+        snprintf(prefix, sizeof prefix, "'periphery'[%d]: ", i);
+        if (!cJSON_IsObject(o))
+            return hl_fail(err, "%s: %snot an object", path, prefix);
+        if (check_keys(o, keys, 5, path, prefix, err) != 0 || read_number(o, "scale", 1, 0.0, &p->scale, path, prefix, err) ||
+            read_model(o, 6, &p->model, path, prefix, err) != 0 ||
+            read_accuracy(o, "held_out", &p->held_out, path, prefix, err) != 0 ||
+            read_fixed(o, &p->fixed, path, prefix, err) != 0)
+            return -1;
+        int known = 0;
+        for (int k = 1; k < FRM_LAYER_SCALES; ++k)
+            known |= fabs(p->scale - frm_layer_scales[k]) <= 1e-9;
+        for (int k = 0; k < i; ++k)
+            if (fabs(out->periphery[k].scale - p->scale) <= 1e-9)
+                return hl_fail(err, "%s: %s'scale': %g appears twice", path, prefix, p->scale);
+        if (!known)
+            return hl_fail(err, "%s: %s'scale': %g is not a periphery scale (0.75, 0.5, 0.35, 0.25)", path, prefix,
+                           p->scale);
+    }
+    out->periphery_count = n;
+    return 0;
+}
+
 static int read_grid(const cJSON *root, struct rnd_cost_grid *g, const char *path, struct hl_error *err)
 {
     static const char *const keys[] = {"families", "levels", "coverage", "objects", "repeats", "render_scale"};
@@ -188,6 +254,7 @@ static int read_grid(const cJSON *root, struct rnd_cost_grid *g, const char *pat
         g->objects[i] = (uint32_t)fmin(objects[i], 1e9);
     g->repeats = (int)fmin(repeats, 1e6);
     g->families = (int)fmin(families, 2);
+    g->periphery_scale = 1.0; /* the main model's grid: plain frames */
     return 0;
 }
 
@@ -195,7 +262,7 @@ int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct
 {
     static const char *const keys[] = {"format", "label", "form", "coefficients", "renderer", "display", "eye_px",
                                        "held_out", "held_out_other_form", "grid", "date", "commit",
-                                       "load_average_1min", "fixed_cost"};
+                                       "load_average_1min", "fixed_cost", "periphery"};
     memset(out, 0, sizeof *out);
     char *text = read_text(path, err);
     if (!text)
@@ -216,7 +283,7 @@ int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct
         hl_fail(err, "%s: expected a JSON object", path);
         goto done;
     }
-    char format[64] = "", form[32] = "";
+    char format[64] = "";
     if (check_keys(root, keys, (int)(sizeof keys / sizeof keys[0]), path, "", err) != 0 ||
         read_string(root, "format", 1, format, sizeof format, path, err) != 0)
         goto done;
@@ -228,35 +295,17 @@ int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct
                 path, format);
         goto done;
     }
-    if (read_string(root, "form", 1, form, sizeof form, path, err) != 0)
+    if (read_model(root, coefficients, &out->model, path, "", err) != 0)
         goto done;
-    if (frm_cost_form_parse(form, &out->model.form) != 0) {
-        hl_fail(err, "%s: 'form': unknown form '%s' (max or additive)", path, form);
-        goto done;
-    }
-    const cJSON *co = cJSON_GetObjectItemCaseSensitive(root, "coefficients");
-    if (!co) {
-        hl_fail(err, "%s: 'coefficients': missing", path);
-        goto done;
-    }
-    if (!cJSON_IsObject(co)) {
-        hl_fail(err, "%s: 'coefficients': not an object", path);
-        goto done;
-    }
-    if (check_keys(co, coefficient_keys, coefficients, path, "'coefficients': ", err) != 0)
-        goto done;
-    for (int i = 0; i < coefficients; ++i)
-        if (read_number(co, coefficient_keys[i], 1, 0.0, coefficient(&out->model, i), path, "'coefficients': ", err))
-            goto done;
     if (read_string(root, "renderer", 1, out->renderer, sizeof out->renderer, path, err) != 0 ||
         read_string(root, "label", 0, out->label, sizeof out->label, path, err) != 0 ||
         read_string(root, "display", 0, out->display, sizeof out->display, path, err) != 0 ||
         read_string(root, "date", 0, out->date, sizeof out->date, path, err) != 0 ||
         read_string(root, "commit", 0, out->commit, sizeof out->commit, path, err) != 0 ||
-        read_accuracy(root, "held_out", &out->held_out, path, err) != 0 ||
-        read_accuracy(root, "held_out_other_form", &out->held_out_other, path, err) != 0 ||
-        read_fixed(root, &out->fixed, path, err) != 0 ||
-        read_grid(root, &out->grid, path, err) != 0)
+        read_accuracy(root, "held_out", &out->held_out, path, "", err) != 0 ||
+        read_accuracy(root, "held_out_other_form", &out->held_out_other, path, "", err) != 0 ||
+        read_fixed(root, &out->fixed, path, "", err) != 0 || read_grid(root, &out->grid, path, err) != 0 ||
+        read_periphery(root, out, path, err) != 0)
         goto done;
     if (strcmp(format, COST_FORMAT_TAG) != 0) { /* said wherever the label is shown (summary, report) */
         size_t len = strlen(out->label);
@@ -306,23 +355,51 @@ static cJSON *accuracy_json(const struct frm_cost_accuracy *a)
     return o;
 }
 
-int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, struct hl_error *err)
+static int check_model(const struct lod_cost_model *model, const char *path, struct hl_error *err)
 {
-    const char *form = frm_cost_form_name(p->model.form);
-    if (!form)
-        return hl_fail(err, "%s: unknown cost form %d", path, (int)p->model.form);
-    struct lod_cost_model m = p->model;
+    if (!frm_cost_form_name(model->form))
+        return hl_fail(err, "%s: unknown cost form %d", path, (int)model->form);
+    struct lod_cost_model m = *model;
     for (int i = 0; i < 6; ++i)
         if (!isfinite(*coefficient(&m, i)) || *coefficient(&m, i) < 0)
             return hl_fail(err, "%s: coefficient %s = %g is not finite and ≥ 0", path, coefficient_keys[i],
                            *coefficient(&m, i));
+    return 0;
+}
+
+static void add_model(cJSON *obj, const struct lod_cost_model *model)
+{
+    struct lod_cost_model m = *model;
+    cJSON_AddStringToObject(obj, "form", frm_cost_form_name(m.form));
+    cJSON *co = cJSON_AddObjectToObject(obj, "coefficients");
+    for (int i = 0; i < 6; ++i)
+        cJSON_AddNumberToObject(co, coefficient_keys[i], *coefficient(&m, i));
+}
+
+static void add_fixed(cJSON *obj, const struct frm_cost_fixed *fx)
+{
+    if (!fx->frames)
+        return;
+    cJSON *fo = cJSON_AddObjectToObject(obj, "fixed_cost");
+    cJSON_AddNumberToObject(fo, "frames", fx->frames);
+    cJSON_AddNumberToObject(fo, "median_ms", fx->median_ms);
+    cJSON_AddNumberToObject(fo, "p25_ms", fx->p25_ms);
+    cJSON_AddNumberToObject(fo, "p75_ms", fx->p75_ms);
+}
+
+int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, struct hl_error *err)
+{
+    if (check_model(&p->model, path, err) != 0)
+        return -1;
+    if (p->periphery_count < 0 || p->periphery_count > FRM_COST_PERIPHERY_MAX)
+        return hl_fail(err, "%s: %d periphery models (at most %d)", path, p->periphery_count, FRM_COST_PERIPHERY_MAX);
+    for (int i = 0; i < p->periphery_count; ++i)
+        if (check_model(&p->periphery[i].model, path, err) != 0)
+            return -1;
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "format", COST_FORMAT_TAG);
     cJSON_AddStringToObject(root, "label", p->label);
-    cJSON_AddStringToObject(root, "form", form);
-    cJSON *co = cJSON_AddObjectToObject(root, "coefficients");
-    for (int i = 0; i < 6; ++i)
-        cJSON_AddNumberToObject(co, coefficient_keys[i], *coefficient(&m, i));
+    add_model(root, &p->model);
     cJSON_AddStringToObject(root, "renderer", p->renderer);
     if (p->display[0])
         cJSON_AddStringToObject(root, "display", p->display);
@@ -334,12 +411,18 @@ int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, s
         cJSON_AddItemToObject(root, "held_out", accuracy_json(&p->held_out));
     if (p->held_out_other.frames)
         cJSON_AddItemToObject(root, "held_out_other_form", accuracy_json(&p->held_out_other));
-    if (p->fixed.frames) {
-        cJSON *fo = cJSON_AddObjectToObject(root, "fixed_cost");
-        cJSON_AddNumberToObject(fo, "frames", p->fixed.frames);
-        cJSON_AddNumberToObject(fo, "median_ms", p->fixed.median_ms);
-        cJSON_AddNumberToObject(fo, "p25_ms", p->fixed.p25_ms);
-        cJSON_AddNumberToObject(fo, "p75_ms", p->fixed.p75_ms);
+    add_fixed(root, &p->fixed);
+    if (p->periphery_count > 0) {
+        cJSON *a = cJSON_AddArrayToObject(root, "periphery");
+        for (int i = 0; i < p->periphery_count; ++i) {
+            cJSON *o = cJSON_CreateObject();
+            cJSON_AddNumberToObject(o, "scale", p->periphery[i].scale);
+            add_model(o, &p->periphery[i].model);
+            if (p->periphery[i].held_out.frames)
+                cJSON_AddItemToObject(o, "held_out", accuracy_json(&p->periphery[i].held_out));
+            add_fixed(o, &p->periphery[i].fixed);
+            cJSON_AddItemToArray(a, o);
+        }
     }
     if (p->grid.repeats > 0) {
         const struct rnd_cost_grid *g = &p->grid;

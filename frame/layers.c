@@ -355,7 +355,8 @@ double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_lay
         cost += frm_level_cost_ms(m, ch, level, l->inset_px[k], boxed);
     int periphery = periphery_level(l, c, level, k);
     if (theta + half > c->inset_radius_deg && periphery != LOD_DROP) /* DROP: invisible at that scale */
-        cost += frm_level_cost_ms(m, ch, periphery, pixels_px * c->scale * c->scale, boxed);
+        cost += frm_level_cost_ms(l->periphery_costed ? &l->periphery_cost[scale_index(c->scale)] : m, ch,
+                                  periphery, pixels_px * c->scale * c->scale, boxed);
     return cost;
 }
 

@@ -90,6 +90,12 @@ struct frm_layers {
     double forced_scale;       /* > 0: --periphery-scale fixes s */
     double forced_radius_deg;  /* ≥ 0: --inset-deg fixes the radius; < 0: from the ceiling */
     double overhead_ms[FRM_LAYER_SCALES]; /* per scale, measured at warm-up (0 for s = 1) */
+    /* Per scale, the cost model of what an object costs in the periphery (frm_cost_model_load: the
+     * profile's periphery model, or the plain one where it has none); the inset is priced with the
+     * plain model. Set by the session after frm_layers_init; periphery_costed 0: the plain model
+     * everywhere. */
+    struct lod_cost_model periphery_cost[FRM_LAYER_SCALES];
+    int periphery_costed;
     /* this frame */
     struct frm_layer_candidate cand[FRM_LAYER_CANDIDATES_MAX];
     int cand_count, chosen, evaluated; /* evaluated: candidates fs solved */
@@ -158,8 +164,9 @@ void frm_layers_inset_pixels(struct frm_layers *l, int c, const struct scn_scene
 
 /* An object's cost under a candidate (both eyes, cost-profile units): frm_level_cost_ms for its
  * pixels in the inset rectangles (frm_layers_inset_pixels, computed for c first) at full resolution
- * plus, where it reaches past the inner disc, its whole image at s² in the periphery (the periphery
- * draws the whole eye), each layer paying the geometry. */
+ * with m, plus, where it reaches past the inner disc, its whole image at s² in the periphery (the
+ * periphery draws the whole eye) with the periphery's model at that scale (periphery_cost; m where
+ * none is set), each layer paying the geometry. */
 struct lod_cost_model;
 struct scn_chain;
 double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_layer_candidate *c,

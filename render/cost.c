@@ -16,6 +16,7 @@ void rnd_cost_grid_default(struct rnd_cost_grid *g, int quick)
 {
     memset(g, 0, sizeof *g);
     g->render_scale = 1.0;
+    g->periphery_scale = 1.0;
     g->families = 2;
     if (quick) {
         /* Seconds for tests: the finest and coarsest level, two coverages, three counts. */
@@ -106,13 +107,17 @@ static void grid_point(const struct rnd_cost_grid *g, size_t p, int *family, int
     *family = (int)(p / (size_t)g->levels);
 }
 
-/* Draws grid point p once; *ms gets the time of draw + glFinish. */
+/* Draws grid point p once, plainly or as the periphery `layers` describes (NULL: plainly); *ms gets
+ * the time of draw + glFinish. The periphery's composite is not timed: it is the compositor's, and a
+ * replay frame does not count it either (docs/foveation.md "What a frame pays"). */
 static int draw_point(struct rnd_renderer *r, struct scn_scene *scene, const struct rnd_eye_view views[2],
-                      const uint32_t *index, uint8_t *lod, uint32_t count, int level, double *ms)
+                      const struct rnd_layers *layers, const uint32_t *index, uint8_t *lod, uint32_t count,
+                      int level, double *ms)
 {
     memset(lod, level, count);
     int64_t t0 = hl_clock_now_ns();
-    int rc = rnd_renderer_draw_stereo(r, scene, views, index, lod, count, NULL);
+    int rc = layers ? rnd_renderer_draw_layers(r, scene, views, layers, index, lod, NULL, NULL, count, NULL)
+                    : rnd_renderer_draw_stereo(r, scene, views, index, lod, count, NULL);
     *ms = (double)(hl_clock_now_ns() - t0) * 1e-6;
     return rc;
 }
@@ -127,6 +132,9 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
         return hl_fail(err, "calibrate: empty or oversized grid");
     if (!(grid->render_scale > 0.0 && grid->render_scale <= 4.0))
         return hl_fail(err, "calibrate: render scale %g is outside (0, 4]", grid->render_scale);
+    if (!(grid->periphery_scale >= RND_LAYER_SCALE_MIN && grid->periphery_scale <= 1.0))
+        return hl_fail(err, "calibrate: periphery scale %g is outside [%g, 1]", grid->periphery_scale,
+                       RND_LAYER_SCALE_MIN);
     grid->eye_width_px = (int)lround(display->eye_width_px * grid->render_scale);
     grid->eye_height_px = (int)lround(display->eye_height_px * grid->render_scale);
     snprintf(grid->display, sizeof grid->display, "%s", display->name);
@@ -201,8 +209,13 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
 
     struct rnd_eye_view views[2];
     struct rnd_cost_eye *eyes = out->eyes;
+    /* The periphery alone: inset radius 0 makes the whole eye one layer at the scale. */
+    struct rnd_layers periphery = {.periphery_scale = grid->periphery_scale, .inset_radius_deg = 0.0,
+                                   .blend_deg = 1.0, .centre_eye = {hl_v3(0, 0, -1), hl_v3(0, 0, -1)}};
+    const struct rnd_layers *layers = grid->periphery_scale < 1.0 ? &periphery : NULL;
     for (int e = 0; e < 2; ++e) {
         struct hmd_eye he = hmd_eye_frustum(display, e == 0 ? HMD_EYE_LEFT : HMD_EYE_RIGHT);
+        periphery.eyes[e] = he;
         views[e].position_m[0] = he.offset_x_m, views[e].position_m[1] = 0, views[e].position_m[2] = 0;
         views[e].orientation = hl_q_identity();
         hmd_eye_projection(&he, cost_near_m, cost_far_m, views[e].projection);
@@ -231,7 +244,7 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
             double ms;
             place_objects(scene, eyes, heavy, grid->coverage[grid->coverages - 1], 0, scratch);
             for (int w = 0; w < (pass == 0 ? 3 : 1); ++w)
-                if (draw_point(r, scene, views, index, lod, heavy, 0, &ms) != 0) {
+                if (draw_point(r, scene, views, layers, index, lod, heavy, 0, &ms) != 0) {
                     hl_fail(err, "calibrate: drawing the warm-up frame failed");
                     goto done;
                 }
@@ -246,8 +259,8 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
                  * caches, the same position in the driver's buffer cycle. */
                 if (since_empty >= RND_COST_EMPTY_EVERY && empty_n < empty_cap) {
                     double settle_ms;
-                    if (draw_point(r, scene, views, index, lod, 0, 0, &settle_ms) != 0 ||
-                        draw_point(r, scene, views, index, lod, 0, 0, &empty[empty_n++]) != 0) {
+                    if (draw_point(r, scene, views, layers, index, lod, 0, 0, &settle_ms) != 0 ||
+                        draw_point(r, scene, views, layers, index, lod, 0, 0, &empty[empty_n++]) != 0) {
                         hl_fail(err, "calibrate: drawing an empty frame failed");
                         goto done;
                     }
@@ -264,8 +277,8 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
                  * previous frame is much like the current one. The median over passes discards the
                  * odd slow one. */
                 double settle_ms;
-                if (draw_point(r, scene, views, index, lod, fr->object_count, level, &settle_ms) != 0 ||
-                    draw_point(r, scene, views, index, lod, fr->object_count, level,
+                if (draw_point(r, scene, views, layers, index, lod, fr->object_count, level, &settle_ms) != 0 ||
+                    draw_point(r, scene, views, layers, index, lod, fr->object_count, level,
                                &times[p * (size_t)grid->repeats + (size_t)pass]) != 0) {
                     hl_fail(err, "calibrate: drawing grid point %zu failed", p);
                     goto done;

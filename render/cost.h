@@ -44,10 +44,14 @@ struct rnd_cost_grid {
     int repeats;                             /* timed frames per grid point; the median is kept */
     int eye_width_px, eye_height_px;         /* per eye, after the render scale */
     double render_scale;
+    double periphery_scale;                  /* 1: plain frames; < 1: each frame drawn as a foveated
+                                              * periphery of that linear scale covering the whole eye
+                                              * (rnd_renderer_draw_layers, inset radius 0) — the
+                                              * periphery layer's cost (frame/layers.h) */
     char display[HMD_NAME_MAX];
 };
 /* The default grid (2 families × 4 levels × 5 coverages × 5 counts, 7 repeats) or --quick's
- * (2 × 2 × 2 × 3, 3 repeats). */
+ * (2 × 2 × 2 × 3, 3 repeats), plain frames (periphery_scale 1). */
 void rnd_cost_grid_default(struct rnd_cost_grid *g, int quick);
 
 /* One eye of the measurement, as acuity's coverage estimate needs it (head at the origin, looking
@@ -76,7 +80,9 @@ struct rnd_calibration {
  * median over passes is kept — so a busy moment of a shared machine or a slow
  * drift hits one pass of many points, not every repeat of one. A warm-up of the heaviest point
  * comes first, as llvmpipe compiles shaders on first use. Takes seconds; allocates *out (free with
- * rnd_calibration_free). grid->eye_width_px/height_px and display are filled in. */
+ * rnd_calibration_free). grid->eye_width_px/height_px and display are filled in. With
+ * grid->periphery_scale < 1 every frame, the empty ones too, is drawn as that periphery over the whole
+ * eye: the objects' counts are the same, their pixels s² as many (frm_cost_calibrate). */
 int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
                      struct rnd_calibration *out, struct hl_error *err);
 void rnd_calibration_free(struct rnd_calibration *c);

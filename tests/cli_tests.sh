@@ -452,6 +452,13 @@ expect_ok "calibrate --quick fixed cost" "^fixed cost: 12 empty frames .*: media
   --render-scale 0.25 --out "$tmp/cost-fixed.json"
 grep -q '"format":[[:space:]]*"hmdlod-cost-profile-3"' "$tmp/cost.json" && grep -q '"c5_ms_per_edge_px"' "$tmp/cost.json" \
   && grep -q '"fixed_cost"' "$tmp/cost.json" || fail "calibrate wrote no cost profile"
+# The periphery's models: one per layer scale, printed and written; --no-layers leaves them out.
+expect_ok "calibrate --quick periphery" "^  s 0.25 [AM] +[0-9.]+ " -- "$bin" calibrate --quick --render-scale 0.25 \
+  --out "$tmp/cost-layers.json"
+[ "$(grep -c '"scale":' "$tmp/cost-layers.json")" = 4 ] || fail "calibrate wrote no periphery model per layer scale"
+expect_ok "calibrate --quick --no-layers" "kept: " -- "$bin" calibrate --quick --no-layers --render-scale 0.25 \
+  --out "$tmp/cost-plain.json"
+! grep -q '"periphery"' "$tmp/cost-plain.json" || fail "calibrate --no-layers wrote periphery models"
 [ -z "$(find "$tmp" -maxdepth 1 -name 'cost.json.tmp.*')" ] || fail "calibrate left its temporary file"
 expect_error "calibrate without --out" "--out FILE is required" -- "$bin" calibrate --quick
 expect_error "calibrate unwritable" "no-such-dir/c.json: cannot create" -- \

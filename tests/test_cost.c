@@ -362,6 +362,11 @@ static void test_profile(void)
     p.load_before = 0.25, p.load_after = 1.5;
     rnd_cost_grid_default(&p.grid, 0);
     p.fixed = (struct frm_cost_fixed){1.75, 1.5, 2.25, 28};
+    p.periphery_count = 2;
+    p.periphery[0] = (struct frm_cost_periphery){0.5, {LOD_COST_ADDITIVE, 0.6, 4.0e-5, 0, 6.5e-6, 0.0075, 6.0e-5},
+                                                 {0.1, 0.3, 0.04, 50}, {0.6, 0.5, 0.7, 182}};
+    p.periphery[1] = (struct frm_cost_periphery){0.25, {LOD_COST_MAX, 0.2, 5.5e-5, 1e-6, 4.0e-6, 0.007, 9.5e-5},
+                                                 {0.2, 0.45, 0.02, 50}, {0.2, 0.15, 0.25, 182}};
     char path[128];
     snprintf(path, sizeof path, "%s/round.json", dir);
     struct hl_error err = {""};
@@ -384,6 +389,21 @@ static void test_profile(void)
     CHECK(q.grid.levels == p.grid.levels && q.grid.coverages == p.grid.coverages && q.grid.counts == p.grid.counts &&
           q.grid.repeats == p.grid.repeats && q.grid.families == 2 && q.grid.objects[4] == p.grid.objects[4] &&
           q.grid.coverage[0] == p.grid.coverage[0]);
+    /* The periphery's models come back whole, each with its own form, accuracy and fixed cost. */
+    CHECK(q.periphery_count == 2 && q.periphery[0].scale == 0.5 && q.periphery[1].scale == 0.25);
+    CHECK(q.periphery[0].model.form == LOD_COST_ADDITIVE && q.periphery[1].model.form == LOD_COST_MAX &&
+          q.periphery[1].model.c5_ms_per_edge_px == 9.5e-5 && q.periphery[0].model.c0_ms == 0.6 &&
+          q.periphery[1].model.c2_ms_per_vertex == 1e-6);
+    CHECK(q.periphery[0].held_out.p95_rel == 0.3 && q.periphery[1].fixed.frames == 182 &&
+          q.periphery[1].fixed.p75_ms == 0.25);
+    /* The replay takes each scale's model for the periphery and the plain one where there is none. */
+    struct lod_cost_model plain, per_scale[FRM_LAYER_SCALES];
+    int models = 0;
+    char label[300];
+    CHECK(frm_cost_model_load(path, &plain, per_scale, &models, label, sizeof label, &err) == 0);
+    CHECK(models == 2 && plain.c0_ms == 1.25 && per_scale[0].c0_ms == 1.25 && per_scale[1].c0_ms == 1.25 &&
+          per_scale[2].c0_ms == 0.6 && per_scale[3].c0_ms == 1.25 && per_scale[4].c5_ms_per_edge_px == 9.5e-5);
+    CHECK(strstr(label, "periphery models at 2 layer scales") != NULL);
 
     /* The unwritable: one message, nothing left. */
     CHECK(frm_cost_profile_write("/nonexistent-dir/x.json", &p, &err) != 0 && strstr(err.msg, "/nonexistent-dir"));
@@ -443,6 +463,22 @@ static void test_profile(void)
                "{\"format\": \"hmdlod-cost-profile-1\", \"form\": \"max\", \"coefficients\": {" GOOD_COEF
                ", \"c4_ms_per_draw\": 0}}",
                "'renderer': missing");
+    /* A periphery model is checked like the main one, and names its place in the list. */
+#define GOOD_LAYER "{\"scale\": 0.5, \"form\": \"additive\", \"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, \"c5_ms_per_edge_px\": 0}"
+#define V3_HEAD "{\"format\": \"hmdlod-cost-profile-3\", \"form\": \"max\", \"renderer\": \"x\", \"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, \"c5_ms_per_edge_px\": 0}, "
+    expect_bad("layer_scale.json", V3_HEAD "\"periphery\": [" GOOD_LAYER "}, {\"scale\": 0.6, \"form\": \"max\", "
+               "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, \"c5_ms_per_edge_px\": 0}}]}",
+               "'periphery'[1]: 'scale': 0.6 is not a periphery scale");
+    expect_bad("layer_twice.json", V3_HEAD "\"periphery\": [" GOOD_LAYER "}, " GOOD_LAYER "}]}",
+               "'periphery'[1]: 'scale': 0.5 appears twice");
+    expect_bad("layer_coef.json", V3_HEAD "\"periphery\": [{\"scale\": 0.25, \"form\": \"max\", \"coefficients\": {"
+               GOOD_COEF ", \"c4_ms_per_draw\": 0}}]}",
+               "'periphery'[0]: 'coefficients': 'c5_ms_per_edge_px': missing");
+    expect_bad("layer_key.json", V3_HEAD "\"periphery\": [" GOOD_LAYER ", \"c6\": 1}]}", "'periphery'[0]: 'c6': unknown key");
+    expect_bad("layer_fixed.json", V3_HEAD "\"periphery\": [" GOOD_LAYER ", \"fixed_cost\": {\"frames\": 2, "
+               "\"median_ms\": 1, \"p25_ms\": 2, \"p75_ms\": 3}}]}",
+               "'periphery'[0]: 'fixed_cost': expected p25_ms");
+    expect_bad("layer_list.json", V3_HEAD "\"periphery\": {\"scale\": 0.5}}", "'periphery': expected an array");
     expect_bad("format.json", "{\"format\": \"hmdlod-display-1\"}", "'format'");
     expect_bad("notjson.json", "{\"format\": ", "not valid JSON");
     expect_bad("array.json", "[1, 2]", "expected a JSON object");
@@ -503,6 +539,22 @@ static void test_measure(void)
     /* The second half is the chair (600 triangles, 640 vertices at level 0). */
     const struct rnd_cost_object *chair = &cal.objects[cal.frames[12].first_object];
     CHECK(chair->triangles == 2.0 * 600 && chair->vertices == 2.0 * 640);
+    /* The same grid as a periphery at s = 0.5: the same objects, a quarter of the pixels charged. */
+    struct rnd_cost_grid gp = g;
+    gp.periphery_scale = 0.5;
+    struct rnd_calibration per;
+    rc = frm_cost_calibrate(vive, &gp, 1, &per, &err);
+    CHECK(rc == 0);
+    if (rc == 0) {
+        CHECK(per.frame_count == cal.frame_count && per.object_count == cal.object_count && per.empty_frames == 4);
+        const struct rnd_cost_object *q = &per.objects[per.frames[0].first_object];
+        CHECK_NEAR(q->pixels_px, 0.25 * o->pixels_px, 1e-9 * o->pixels_px);
+        CHECK(q->triangles == o->triangles && per.frames[0].measured_ms > 0.0);
+        rnd_calibration_free(&per);
+    }
+    gp.periphery_scale = 0.1;
+    struct rnd_calibration none0;
+    CHECK(rnd_cost_measure(vive, &gp, 1, &none0, &err) != 0 && strstr(err.msg, "periphery scale 0.1"));
     /* Bad grids are refused before anything is drawn. */
     g.repeats = 0;
     struct rnd_calibration none;

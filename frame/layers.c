@@ -360,6 +360,18 @@ double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_lay
     return cost;
 }
 
+int frm_layers_outcome_better(const struct frm_layer_outcome *a, const struct frm_layer_outcome *b)
+{
+    if (fabs(a->late_ms - b->late_ms) > FRM_LAYER_LATE_TOLERANCE_MS)
+        return a->late_ms < b->late_ms;
+    if (fabs(a->dropped_px - b->dropped_px) > 0.5)
+        return a->dropped_px < b->dropped_px;
+    double tie = 1e-9 * fmax(1.0, fabs(b->benefit));
+    if (fabs(a->benefit - b->benefit) > tie)
+        return a->benefit > b->benefit;
+    return a->cost_ms < b->cost_ms;
+}
+
 double frm_layers_benefit_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k)
 {
     if (c->scale >= 1.0 || !c->loses)

@@ -162,6 +162,20 @@ struct scn_scene;
 void frm_layers_inset_pixels(struct frm_layers *l, int c, const struct scn_scene *scene, const struct acu_eye *eyes,
                              const uint32_t *visible, size_t count, const double *pixels_px);
 
+/* How fs's solution under one candidate setting did (frame/select.c solve_fs_layers), and which of
+ * two is better: the less late first — late_ms is how far the kept objects' coarsest levels alone
+ * exceed the setting's budget (build_problem raises the budget for them), by more than
+ * FRM_LAYER_LATE_TOLERANCE_MS (issue 32's p99 goal allows a frame 10 % of the 11.1 ms period over:
+ * lateness below that does not outweigh a dropped object) —, then fewer dropped pixels (by more than
+ * half a pixel: dropping is the last resort), then the higher benefit, then the lower cost. Without the first rule the plain frame, whose large objects at full
+ * resolution cost 30 ms on the auditorium, "dropped fewer pixels" than every layered setting against
+ * a budget tightened to 4.6 ms and was drawn 240 frames in a row, 20–30 ms each. */
+#define FRM_LAYER_LATE_TOLERANCE_MS 1.0
+struct frm_layer_outcome {
+    double late_ms, dropped_px, benefit, cost_ms;
+};
+int frm_layers_outcome_better(const struct frm_layer_outcome *a, const struct frm_layer_outcome *b);
+
 /* An object's cost under a candidate (both eyes, cost-profile units): frm_level_cost_ms for its
  * pixels in the inset rectangles (frm_layers_inset_pixels, computed for c first) at full resolution
  * with m, plus, where it reaches past the inner disc, its whole image at s² in the periphery (the

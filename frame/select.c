@@ -274,13 +274,14 @@ static double dropped_pixels(const struct frm_select *s, const struct lod_proble
 }
 
 /* fs with layers: one knapsack per candidate setting, each with its own overhead out of the budget;
- * the one that drops the fewest pixels wins, then the highest benefit, then the cheapest (frame/layers.h).
- * lod_out gets the winner's levels. */
+ * the best outcome wins (frm_layers_outcome_better: the least late, then the fewest dropped pixels,
+ * then the highest benefit, then the cheapest). lod_out gets the winner's levels. */
 static void solve_fs_layers(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                             double budget, uint8_t *lod_out, struct frm_select_record *rec, struct lod_result *best)
 {
     struct frm_layers *l = s->layers;
-    double best_cost = INFINITY, best_dropped_px = INFINITY, margin = s->fs_margin_value, lp = -INFINITY;
+    double margin = s->fs_margin_value, lp = -INFINITY;
+    struct frm_layer_outcome best_outcome = {INFINITY, INFINITY, 0.0, INFINITY};
     double lp_us = 0.0, opt_us = 0.0;
     uint32_t iterations = 0;
     int have = 0;
@@ -292,17 +293,14 @@ static void solve_fs_layers(struct frm_select *s, const struct scn_scene *scene,
         lod_optimize_fs(&p, s->opt_limit_us, s->scratch, s->choice, &r);
         opt_us += r.elapsed_us;
         iterations += r.iterations;
-        double cost = r.cost_ms + cand->overhead_ms;
-        double dropped_px = dropped_pixels(s, &p, s->choice);
-        double tie = 1e-9 * fmax(1.0, fabs(r.benefit));
-        /* Dropping is the last resort: fewer dropped pixels first, then benefit, then cost. */
-        int fewer = dropped_px < best_dropped_px - 0.5, same = fabs(dropped_px - best_dropped_px) <= 0.5;
-        if (!have || fewer ||
-            (same && (r.benefit > best->benefit + tie || (fabs(r.benefit - best->benefit) <= tie && cost < best_cost)))) {
+        /* The setting's budget raised for its kept objects means it runs late by that much. */
+        struct frm_layer_outcome outcome = {fmax(0.0, p.budget_ms - fmax(0.0, budget - cand->overhead_ms)),
+                                            dropped_pixels(s, &p, s->choice), r.benefit,
+                                            r.cost_ms + cand->overhead_ms};
+        if (!have || frm_layers_outcome_better(&outcome, &best_outcome)) {
             have = 1;
-            best_dropped_px = dropped_px;
+            best_outcome = outcome;
             *best = r;
-            best_cost = cost;
             l->chosen = c;
             margin = r.margin_value;
             lod_level_of_choice(&p, s->choice, lod_out);
@@ -314,7 +312,8 @@ static void solve_fs_layers(struct frm_select *s, const struct scn_scene *scene,
         lp_us += (double)(hl_clock_now_ns() - lp_start) * 1e-3;
         l->evaluated = c + 1;
         /* The lossy fallback only when nothing lossless holds every object within the budget. */
-        if (c + 1 == l->first_loss && best_dropped_px <= 0.0 && !best->over_budget)
+        if (c + 1 == l->first_loss && best_outcome.dropped_px <= 0.0 && !best->over_budget &&
+            best_outcome.late_ms <= 0.0)
             break;
     }
     s->fs_margin_value = margin;

@@ -42,8 +42,12 @@ static int parse_args(int argc, char **argv, struct calibrate_args *a)
     *a = (struct calibrate_args){NULL, "vive", NULL, 1, 1.0, 0, 1};
     for (int i = 1; i < argc; ++i) {
         const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(argv[i], "--quick") || !strcmp(argv[i], "--no-layers")) {
-            *(!strcmp(argv[i], "--quick") ? &a->quick : &a->layers) = !strcmp(argv[i], "--quick");
+        if (!strcmp(argv[i], "--quick")) {
+            a->quick = 1;
+            continue;
+        }
+        if (!strcmp(argv[i], "--no-layers")) {
+            a->layers = 0;
             continue;
         }
         if (!strcmp(argv[i], "--out") || !strcmp(argv[i], "--display") || !strcmp(argv[i], "--csv")) {

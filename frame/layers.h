@@ -167,9 +167,10 @@ void frm_layers_inset_pixels(struct frm_layers *l, int c, const struct scn_scene
  * exceed the setting's budget (build_problem raises the budget for them), by more than
  * FRM_LAYER_LATE_TOLERANCE_MS (issue 32's p99 goal allows a frame 10 % of the 11.1 ms period over:
  * lateness below that does not outweigh a dropped object) —, then fewer dropped pixels (by more than
- * half a pixel: dropping is the last resort), then the higher benefit, then the lower cost. Without the first rule the plain frame, whose large objects at full
- * resolution cost 30 ms on the auditorium, "dropped fewer pixels" than every layered setting against
- * a budget tightened to 4.6 ms and was drawn 240 frames in a row, 20–30 ms each. */
+ * half a pixel: dropping is the last resort), then the higher benefit, then the lower cost. Without
+ * the first rule the plain frame, whose large objects at full resolution cost 30 ms on the
+ * auditorium, "dropped fewer pixels" than every layered setting against a budget tightened to 4.6 ms
+ * and was drawn 240 frames in a row, 20–30 ms each. */
 #define FRM_LAYER_LATE_TOLERANCE_MS 1.0
 struct frm_layer_outcome {
     double late_ms, dropped_px, benefit, cost_ms;

@@ -53,8 +53,9 @@ int frm_cost_model_load(const char *path, struct lod_cost_model *out, struct lod
                 if (fabs(profile.periphery[k].scale - frm_layer_scales[i]) <= 1e-9)
                     periphery_out[i] = profile.periphery[k].model;
         }
-        *periphery_count = profile.periphery_count;
     }
+    if (periphery_count)
+        *periphery_count = profile.periphery_count;
     if (profile.periphery_count > 0) {
         size_t len = strlen(label_out);
         if (len < label_size)

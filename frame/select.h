@@ -143,7 +143,8 @@ struct frm_select_record {
 /* The machine cost profile: `path` (a JSON file written by hmdlod calibrate) or, for NULL, the
  * built-in profile for llvmpipe; label_out says which, for the summary. periphery_out (NULL: not
  * wanted) gets FRM_LAYER_SCALES models, one per layer scale: the profile's periphery model at that
- * scale, or where it has none (and at scale 1) the plain model; *periphery_count how many it had. */
+ * scale, or where it has none (and at scale 1) the plain model; *periphery_count (may be NULL) how
+ * many it had. */
 int frm_cost_model_load(const char *path, struct lod_cost_model *out, struct lod_cost_model *periphery_out,
                         int *periphery_count, char *label_out, size_t label_size, struct hl_error *err);
 

@@ -247,8 +247,7 @@ int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, s
     s->select.saccade_onset_degps = o->saccade_onset_degps; /* frame/saccade_step.c */
     s->select.saccade_off = s->gaze != ACU_GAZE_TRACKED; /* head, vor: no eye tracker, no saccades known */
     struct lod_cost_model periphery_cost[FRM_LAYER_SCALES];
-    int periphery_models = 0;
-    if (frm_cost_model_load(o->cost_profile, &s->select.cost, periphery_cost, &periphery_models, s->cost_label,
+    if (frm_cost_model_load(o->cost_profile, &s->select.cost, periphery_cost, NULL, s->cost_label,
                             sizeof s->cost_label, err) != 0 ||
         frm_select_init(&s->select, &s->scene, err) != 0)
         return -1;

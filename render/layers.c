@@ -234,16 +234,9 @@ static int periphery_target_use(struct rnd_layer_targets *t, int w, int h)
                 oldest = i; /* an empty slot has used 0 */
         struct rnd_periphery_target *p = &t->periphery[oldest];
         periphery_target_release(p);
-        p->color_tex = rnd_gl_color_texture(w, h);
-        glGenRenderbuffers(1, &p->depth_rb);
-        glBindRenderbuffer(GL_RENDERBUFFER, p->depth_rb);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
-        glGenFramebuffers(1, &p->fbo);
-        glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, p->color_tex, 0);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, p->depth_rb);
+        unsigned status = rnd_gl_draw_target(w, h, &p->fbo, &p->color_tex, &p->depth_rb);
         p->w = w, p->h = h;
-        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
+        if (status != GL_FRAMEBUFFER_COMPLETE || glGetError() != GL_NO_ERROR) {
             periphery_target_release(p);
             return -1;
         }

@@ -108,6 +108,10 @@ unsigned rnd_gl_program_build(const char *vertex_src, const char *fragment_src, 
 /* ---- GL objects made alike in several places (renderer.c) -------------------------------------- */
 /* An RGBA8 2D texture of w × h, linear filtering, clamped at its edges: what the passes sample. */
 unsigned rnd_gl_color_texture(int w, int h);
+/* A framebuffer to draw into: a colour texture (rnd_gl_color_texture) and a 24-bit depth renderbuffer,
+ * w × h, left bound to GL_FRAMEBUFFER; its completeness status. The renderer's eyes and the layers'
+ * peripheries. */
+unsigned rnd_gl_draw_target(int w, int h, unsigned *fbo_out, unsigned *color_tex_out, unsigned *depth_rb_out);
 /* A framebuffer with one RGBA8 renderbuffer of w × h (*rb_out), left bound to GL_FRAMEBUFFER; its
  * completeness status (GL_FRAMEBUFFER_COMPLETE when usable). For small read-back targets. */
 unsigned rnd_gl_readback_target(int w, int h, unsigned *fbo_out, unsigned *rb_out);

@@ -62,18 +62,10 @@ static int rnd_renderer_build_program(struct rnd_renderer *r, struct hl_error *e
 
 static int rnd_renderer_build_fbo(struct rnd_renderer *r, struct hl_error *err)
 {
-    glGenFramebuffers(1, &r->fbo);
-    r->color_tex = rnd_gl_color_texture(2 * r->eye_w, r->eye_h);
-    glGenRenderbuffers(1, &r->depth_rb);
-    glBindRenderbuffer(GL_RENDERBUFFER, r->depth_rb);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, 2 * r->eye_w, r->eye_h);
-    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r->color_tex, 0);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->depth_rb);
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    unsigned status = rnd_gl_draw_target(2 * r->eye_w, r->eye_h, &r->fbo, &r->color_tex, &r->depth_rb);
     if (status != GL_FRAMEBUFFER_COMPLETE)
         return hl_fail(err, "renderer: framebuffer %d×%d incomplete (status 0x%x, GL error 0x%x)", 2 * r->eye_w,
-                       r->eye_h, (unsigned)status, (unsigned)glGetError());
+                       r->eye_h, status, (unsigned)glGetError());
     return 0;
 }
 
@@ -390,6 +382,19 @@ unsigned rnd_gl_color_texture(int w, int h)
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glBindTexture(GL_TEXTURE_2D, 0);
     return tex;
+}
+
+unsigned rnd_gl_draw_target(int w, int h, unsigned *fbo_out, unsigned *color_tex_out, unsigned *depth_rb_out)
+{
+    *color_tex_out = rnd_gl_color_texture(w, h);
+    glGenRenderbuffers(1, depth_rb_out);
+    glBindRenderbuffer(GL_RENDERBUFFER, *depth_rb_out);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+    glGenFramebuffers(1, fbo_out);
+    glBindFramebuffer(GL_FRAMEBUFFER, *fbo_out);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, *color_tex_out, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, *depth_rb_out);
+    return glCheckFramebufferStatus(GL_FRAMEBUFFER);
 }
 
 unsigned rnd_gl_readback_target(int w, int h, unsigned *fbo_out, unsigned *rb_out)

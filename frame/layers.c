@@ -366,6 +366,8 @@ int frm_layers_outcome_better(const struct frm_layer_outcome *a, const struct fr
         return a->late_ms < b->late_ms;
     if (fabs(a->dropped_px - b->dropped_px) > 0.5)
         return a->dropped_px < b->dropped_px;
+    if (fabs(a->margin_ms - b->margin_ms) > FRM_LAYER_MARGIN_TIE_MS)
+        return a->margin_ms < b->margin_ms;
     double tie = 1e-9 * fmax(1.0, fabs(b->benefit));
     if (fabs(a->benefit - b->benefit) > tie)
         return a->benefit > b->benefit;

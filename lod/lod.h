@@ -170,6 +170,11 @@ void lod_cost_rls_update(struct lod_cost_rls *c, double measured_ms, double x_ms
 double lod_cost_rls_margin_ms(const struct lod_cost_rls *c);
 /* What the objects may cost (excluding c0), ≥ 0. */
 double lod_cost_rls_objects_budget_ms(const struct lod_cost_rls *c, double budget_ms);
+/* The same without the margin: what the objects may cost for the fitted frame to take the whole
+ * budget, (budget − a) / b, never more than budget − c0; ≥ 0. Not a budget to plan every frame
+ * with (half such frames would be late), but the line past which a frame is expected to be late:
+ * what drawing everything at its coarsest may use before an object is dropped. */
+double lod_cost_rls_objects_expected_ms(const struct lod_cost_rls *c, double budget_ms);
 
 /* ---- one frame's candidates ---------------------------------------------------------------------
  * Object i (0 … object_count−1) owns candidates first[i] … first[i]+count[i]−1 of the candidate

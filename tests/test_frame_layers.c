@@ -211,25 +211,31 @@ static void test_adaptive(void)
 }
 
 /* Which candidate setting's outcome wins (frm_layers_outcome_better): the least late first, even
- * against one that drops nothing; then fewer dropped pixels; then benefit; then cost; each with its
- * tolerance. */
+ * against one that drops nothing; then fewer dropped pixels; then less of the margin spent; then
+ * benefit; then cost; each with its tolerance. */
 static void test_outcome_order(void)
 {
     /* The auditorium's case: the plain frame's kept objects 25 ms over a tight budget, dropping no
      * pixel, against a layered setting within it that drops a few chairs. */
-    struct frm_layer_outcome plain = {25.3, 0.0, 40.0, 29.9}, layered = {0.0, 1800.0, 31.0, 4.5};
+    struct frm_layer_outcome plain = {25.3, 0.0, 0.0, 40.0, 29.9}, layered = {0.0, 1800.0, 0.0, 31.0, 4.5};
     CHECK(frm_layers_outcome_better(&layered, &plain) && !frm_layers_outcome_better(&plain, &layered));
-    struct frm_layer_outcome less_late = {1.0, 5000.0, 10.0, 6.0};
+    struct frm_layer_outcome less_late = {1.0, 5000.0, 0.0, 10.0, 6.0};
     CHECK(frm_layers_outcome_better(&less_late, &plain));
     /* As late (within FRM_LAYER_LATE_TOLERANCE_MS): fewer dropped pixels, then the higher benefit,
      * then the cheaper — half a millisecond late does not outweigh a dropped chair. */
-    struct frm_layer_outcome a = {0.5, 0.0, 30.0, 7.0}, b = {0.0, 100.0, 35.0, 5.0};
+    struct frm_layer_outcome a = {0.5, 0.0, 0.0, 30.0, 7.0}, b = {0.0, 100.0, 0.0, 35.0, 5.0};
     CHECK(frm_layers_outcome_better(&a, &b) && !frm_layers_outcome_better(&b, &a));
-    struct frm_layer_outcome c = {0.5, 0.3, 31.0, 7.5};
+    struct frm_layer_outcome c = {0.5, 0.3, 0.0, 31.0, 7.5};
     CHECK(frm_layers_outcome_better(&c, &a) && !frm_layers_outcome_better(&a, &c)); /* 0.3 px is no drop */
-    struct frm_layer_outcome d = {0.5, 0.0, 31.0, 7.0};
+    struct frm_layer_outcome d = {0.5, 0.0, 0.0, 31.0, 7.0};
     CHECK(frm_layers_outcome_better(&d, &c) && !frm_layers_outcome_better(&c, &d));
     CHECK(!frm_layers_outcome_better(&d, &d)); /* a tie is not better: the first solved stays */
+    /* Equally late, nothing dropped: the setting that spends less of the correction's margin wins
+     * over a higher benefit — the margin keeps objects, it does not buy a larger inset. */
+    struct frm_layer_outcome spends = {0.0, 0.0, 1.5, 40.0, 8.0}, keeps = {0.0, 0.0, 0.0, 30.0, 6.5};
+    CHECK(frm_layers_outcome_better(&keeps, &spends) && !frm_layers_outcome_better(&spends, &keeps));
+    struct frm_layer_outcome drops = {0.0, 900.0, 0.0, 45.0, 6.0}; /* but spending it beats a drop */
+    CHECK(frm_layers_outcome_better(&spends, &drops) && !frm_layers_outcome_better(&drops, &spends));
 }
 
 int main(void)

@@ -18,7 +18,8 @@ struct bch_run {
     char id[96];
     int table;       /* 1 … 5: the table it serves (6, the cost model, reads every run; 7, the layers,
                       * reads the runs of 1 and 2 with foveation) */
-    char motion[16]; /* "user1" … "user3" (Corbillon), "still" (the suite's still-head trace) */
+    char motion[16]; /* "user1" … "user3" (Corbillon), "still" (the suite's still-head trace),
+                      * "edvam-p2" (EDVAM participant 2, with its eye tracker's gaze) */
     char scene[16], selector[16], display[64];
     char gaze[8];        /* "" → replay's default (vor for traces without gaze) */
     char reading[8];     /* "" → narrow */
@@ -43,6 +44,8 @@ struct bch_plan {
     char out_dir[4096];     /* DIR the plan was made for: its lines write DIR/runs/ID */
     char still_trace[4200]; /* DIR/still-head.csv */
     char traces[3][4200];   /* Corbillon MMSys'18 user1 … user3 under the shared folder */
+    char gaze_trace[4200];  /* EDVAM participant 2 (head and measured gaze); "" when not readable: its
+                             * runs (motion "edvam-p2") are then left out of the plan */
     double domes_full_ms;   /* predicted cost of domes at full detail (t5's budgets), ms */
     int repeats;            /* alternated rounds of every run (1 … BCH_SUITE_MAX_REPEATS; bch_plan_step) */
     struct bch_run *runs;

@@ -7,11 +7,13 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "hmd/hmd.h"
 #include "bench/suite_internal.h"
 
 #define CORBILLON_DIR "data/traces/corbillon-mmsys18"
+#define EDVAM_TRACE "data/traces/edvam-gaze/participant2.csv"
 
 /* What each mode sweeps. quick: under 5 minutes on the 2-core llvmpipe machine (render scale 0.5,
  * two thirds of a second of each trace); full: the issue's sweep (~30–60 min there); tiny: seconds, for tests. */
@@ -181,6 +183,21 @@ static void plan_t1(struct builder *b)
             snprintf(r->foveation, sizeof r->foveation, "fixed");
             snprintf(r->id, sizeof r->id, "t1-%s-user%d-fs-fixed", r->scene, u);
         }
+    /* Under the measured gaze (issue 32 item 6, `--gaze tracked`): fs plain and with its inset
+     * following the eye tracker (--foveation gaze), on EDVAM participant 2 through auditorium, with
+     * --reference: the only trace here with a measured gaze. */
+    if (!b->plan->gaze_trace[0])
+        return;
+    for (int fov = 0; fov < 2; ++fov) {
+        struct bch_run *r = add(b, 1, "auditorium", "fs");
+        if (!r)
+            return;
+        snprintf(r->motion, sizeof r->motion, "edvam-p2");
+        snprintf(r->gaze, sizeof r->gaze, "tracked");
+        snprintf(r->foveation, sizeof r->foveation, "%s", fov ? "gaze" : "");
+        r->reference_every = b->cfg->reference_every;
+        snprintf(r->id, sizeof r->id, "t1-auditorium-edvam-p2-fs%s", fov ? "-gaze" : "");
+    }
 }
 
 /* Speed against error: budgets for the cost-bounded selectors, --static-px for static, reddy as it
@@ -369,6 +386,9 @@ int bch_plan_make(enum bch_mode mode, const char *only, const char *shared, cons
     snprintf(plan->still_trace, sizeof plan->still_trace, "%s/still-head.csv", out_dir);
     for (int u = 0; u < 3; ++u)
         snprintf(plan->traces[u], sizeof plan->traces[u], "%s/" CORBILLON_DIR "/user%d_quaternion.txt", shared, u + 1);
+    snprintf(plan->gaze_trace, sizeof plan->gaze_trace, "%s/" EDVAM_TRACE, shared);
+    if (access(plan->gaze_trace, R_OK) != 0)
+        plan->gaze_trace[0] = '\0';
     struct builder b = {plan, &mode_cfgs[mode], 0, 0};
     plan_t1(&b);
     plan_t2(&b);
@@ -432,6 +452,8 @@ int bch_run_argv(const struct bch_plan *plan, const struct bch_run *run, const c
     ARG("--trace");
     if (!strcmp(run->motion, "still")) {
         ARG(plan->still_trace);
+    } else if (!strcmp(run->motion, "edvam-p2")) {
+        ARG(plan->gaze_trace);
     } else {
         int u = run->motion[4] - '1';
         ARG(plan->traces[u < 0 || u > 2 ? 0 : u]);

@@ -8,7 +8,7 @@
 #include "frame/frame.h"
 
 const double frm_layer_scales[FRM_LAYER_SCALES] = {1.0, 0.75, 0.5, 0.35, 0.25};
-const double frm_layer_loss_radii_deg[FRM_LAYER_LOSS_RADII] = {20.0, 15.0, 10.0};
+const double frm_layer_loss_radii_deg[FRM_LAYER_LOSS_RADII] = {20.0, 15.0, 10.0, 5.0, 0.0};
 
 static const char *const foveation_names[] = {"off", "fixed", "gaze", "adaptive"};
 enum { FOVEATION_MODES = 4 };
@@ -270,9 +270,8 @@ void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, c
         l->first_loss = l->cand_count;
         return;
     }
-    /* First what loses nothing (each scale at its ceiling, or at --inset-deg), then the fallback:
-     * each scale with the grid's smaller insets, tried only when no lossless setting holds every
-     * object (frame/select.c). */
+    /* First what loses nothing (each scale at its ceiling, or at --inset-deg), then each scale with
+     * the grid's smaller insets (they lose what lies between; fs weighs them all, frame/select.c). */
     for (int i = 1; i < FRM_LAYER_SCALES; ++i) {
         double radius = l->forced_radius_deg >= 0.0 ? l->forced_radius_deg : ceilings[i];
         add_candidate(l, view, frm_layer_scales[i], radius, ceilings[i], i);

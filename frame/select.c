@@ -293,9 +293,12 @@ static double dropped_pixels(const struct frm_select *s, const struct lod_proble
     return px;
 }
 
-/* fs with layers: one knapsack per candidate setting, each with its own overhead out of the budget;
- * the best outcome wins (frm_layers_outcome_better: the least late, then the fewest dropped pixels,
- * then the highest benefit, then the cheapest). lod_out gets the winner's levels. */
+/* fs with layers: one knapsack per candidate setting, each with its own overhead out of the budget,
+ * every candidate solved (issue 32 item 3: the setting with the highest benefit) — the lossy ones,
+ * solved only when no lossless one held every object, were never weighed against the lossless ones'
+ * 15–40° insets. The best outcome wins (frm_layers_outcome_better: the least late, then the fewest
+ * dropped pixels, then the least margin spent, then the highest benefit, then the cheapest). lod_out
+ * gets the winner's levels. */
 static void solve_fs_layers(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
                             double budget, double expected, uint8_t *lod_out, struct frm_select_record *rec,
                             struct lod_result *best)
@@ -336,10 +339,6 @@ static void solve_fs_layers(struct frm_select *s, const struct scn_scene *scene,
         lp = fmax(lp, lod_lp_bound(&p, NULL));
         lp_us += (double)(hl_clock_now_ns() - lp_start) * 1e-3;
         l->evaluated = c + 1;
-        /* The lossy fallback only when nothing lossless holds every object within the budget. */
-        if (c + 1 == l->first_loss && best_outcome.dropped_px <= 0.0 && !best->over_budget &&
-            best_outcome.late_ms <= 0.0)
-            break;
     }
     s->fs_margin_value = margin;
     best->elapsed_us = opt_us;

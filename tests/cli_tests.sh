@@ -395,6 +395,16 @@ if [ -s "$tmp/benefit-funkhouser/frames.csv" ] && [ -s "$tmp/benefit-perceptual/
   p=$(awk -F, -v c="$col" 'NR > 1 { s += $c } END { print s }' "$tmp/benefit-perceptual/frames.csv")
   [ "$a" != "$p" ] || fail "perceptual and funkhouser benefits chose the same triangles on every frame ($a)"
 fi
+# The default benefit (docs/foveation.md): perceptual for fs with layers — the only one in the
+# resolution loss's units —, Funkhouser's without them or under the acuity criterion.
+for case in "fixed contrast perceptual" "off contrast funkhouser" "fixed acuity funkhouser"; do
+  read -r fov vis want <<<"$case"
+  "$bin" replay --scene field --objects 100 --display vive --selector fs --foveation "$fov" --visibility "$vis" \
+    --render-scale 0.25 --frames 3 --quiet --out "$tmp/benefit-default-$fov-$vis" >/dev/null 2>"$tmp/err" ||
+    fail "replay --foveation $fov --visibility $vis: $(cat "$tmp/err")"
+  grep -q "\"benefit\":[[:space:]]*\"$want\"" "$tmp/benefit-default-$fov-$vis/summary.json" ||
+    fail "fs --foveation $fov --visibility $vis: the default benefit is not $want"
+done
 # The CSF at one condition (issue acceptance; castle.csv row: S = 10.0694).
 expect_ok "acuity csf invisible" "sensitivity +10\.07" -- "$bin" acuity --csf castle --frequency 4 --velocity 2.5 \
   --eccentricity 10 --luminance 100 --area 7.0685835 --contrast 0.05

@@ -13,8 +13,9 @@
  *     full resolution, the periphery's at s², its geometry in every layer it touches) with the
  *     candidate's own measured overhead (its clears against the plain frame's) taken from the budget,
  *     and keeps the best outcome (frm_layers_outcome_better); by default it values levels with the
- *     perceptual benefit here, the only one in the resolution loss's units; the other selectors keep their levels and take the cheapest candidate that loses
- *     nothing (the ceiling, as reddy takes the LOD ceiling).
+ *     perceptual benefit here, the only one in the resolution loss's units; the other selectors
+ *     keep their levels and take the cheapest candidate that loses nothing (the ceiling, as reddy
+ *     takes the LOD ceiling).
  * The periphery draws each object no finer than its LOD ceiling at s·ξ (periphery_ceiling): detail
  * the periphery's pixels cannot show costs geometry for nothing; the inset draws the chosen level.
  * An object's benefit under a lossy candidate is scaled by (1 − f) + f / (1 + D), D the visible loss of the
@@ -173,10 +174,10 @@ void frm_layers_inset_pixels(struct frm_layers *l, int c, const struct scn_scene
  * half a pixel: dropping is the last resort), then the less of the correction's margin spent (by
  * more than FRM_LAYER_MARGIN_TIE_MS: the margin is spent to keep objects, not to draw a larger inset
  * — preferring the higher benefit there raised the budget on most frames and cut the frames within
- * it from 96 to 79 %), then the higher benefit, then the lower cost. Without
- * the first rule the plain frame, whose large objects at full resolution cost 30 ms on the
- * auditorium, "dropped fewer pixels" than every layered setting against a budget tightened to 4.6 ms
- * and was drawn 240 frames in a row, 20–30 ms each. */
+ * it from 96 to 79 %), then the higher benefit, then the lower cost. Without the first rule the
+ * plain frame, whose large objects at full resolution cost 30 ms on the auditorium, "dropped fewer
+ * pixels" than every layered setting against a budget tightened to 4.6 ms and was drawn 240 frames in
+ * a row, 20–30 ms each. */
 #define FRM_LAYER_LATE_TOLERANCE_MS 1.0
 #define FRM_LAYER_MARGIN_TIE_MS 0.05
 struct frm_layer_outcome {

@@ -75,6 +75,7 @@ int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct 
     s->ceiling_level = calloc(n, 1);
     s->previous_level = calloc(n, 1);
     s->keep = calloc(n, 1);
+    s->coarsest_ms = calloc(n, sizeof(double));
     s->choice = calloc(n, 1);
     s->first = calloc(n, sizeof(uint32_t));
     s->count = calloc(n, 1);
@@ -91,7 +92,7 @@ int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct 
     if (s->perceptual_benefit && (s->selector == FRM_SELECT_FS || s->selector == FRM_SELECT_MB) &&
         !(s->visible_loss = calloc(n * LOD_MAX_LEVELS, sizeof(double))))
         return hl_fail(err, "scene '%s': out of memory for the visible loss of %zu objects", scene->name, n);
-    if (!s->pixels_px || !s->boxed || !s->ceiling_level || !s->previous_level || !s->keep || !s->choice || !s->first || !s->count ||
+    if (!s->pixels_px || !s->boxed || !s->ceiling_level || !s->previous_level || !s->keep || !s->coarsest_ms || !s->choice || !s->first || !s->count ||
         !s->cand_cost_ms || !s->cand_benefit || !s->cand_level || !s->cand_samples || !s->level_of_instance ||
         !s->last_visible || !s->chain_triangles || !s->chain_lod_count || !s->scratch || !s->saccade.level_before)
         return hl_fail(err, "scene '%s': out of memory for the selector's arrays (%zu objects)", scene->name, n);
@@ -129,6 +130,7 @@ void frm_select_free(struct frm_select *s)
     free(s->ceiling_level);
     free(s->previous_level);
     free(s->keep);
+    free(s->coarsest_ms);
     free(s->choice);
     free(s->first);
     free(s->count);
@@ -167,27 +169,28 @@ static double layer_cost_ms(const struct frm_select *s, const struct frm_layer_c
     return frm_layers_level_cost_ms(s->layers, layer, &s->cost, ch, level, s->pixels_px[k], s->boxed[k], k);
 }
 
-/* The frame's problem over the visible objects: per object its levels coarsest first (the null
- * impostor before them where the chain allows drawing nothing), priced and valued, then reduced to
- * the convex hull. */
-/* Whether every visible object at its coarsest level fits in expected_ms, the objects' budget without
- * the correction's margin: then none is dropped, and the frame spends what it needs of the margin. */
-static int all_coarsest_fit(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
-                            double expected_ms, const struct frm_layer_candidate *layer)
+/* Σ over the visible objects of their coarsest level's cost under `layer`, each written to
+ * s->coarsest_ms[k] for build_problem to reuse (it prices every level after). */
+static double coarsest_sum_ms(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
+                              const struct frm_layer_candidate *layer)
 {
     double sum_ms = 0.0;
-    for (size_t k = 0; k < in->count && sum_ms <= expected_ms; ++k) {
+    for (size_t k = 0; k < in->count; ++k) {
         int chain = scene->chain_of_instance[in->visible[k]];
-        sum_ms += layer_cost_ms(s, layer, &scene->chains[chain], s->chain_lod_count[chain] - 1, k);
+        s->coarsest_ms[k] = layer_cost_ms(s, layer, &scene->chains[chain], s->chain_lod_count[chain] - 1, k);
+        sum_ms += s->coarsest_ms[k];
     }
-    return sum_ms <= expected_ms;
+    return sum_ms;
 }
 
-/* budget_ms: what the objects may cost with the correction's margin; expected_ms (≥ budget_ms): without
- * it. Drop last (issue 32): the margin is for frame-to-frame jitter, and spending it is the lesser
- * loss — a frame of 86 objects here kept a 2.6 ms margin, ran at 77 % of its budget and dropped 16
- * objects, 60 frames long. So when every object's coarsest level fits in expected_ms, all are kept
- * and the budget rises to hold them; past that, objects are dropped as before. */
+/* The frame's problem over the visible objects: per object its levels coarsest first (the null
+ * impostor before them where the chain allows drawing nothing), priced and valued, then reduced to
+ * the convex hull. budget_ms: what the objects may cost with the correction's margin; expected_ms
+ * (≥ budget_ms): without it. Drop last (issue 32): the margin is for frame-to-frame jitter, and
+ * spending it is the lesser loss — a frame of 86 objects here kept a 2.6 ms margin, ran at 77 % of
+ * its budget and dropped 16 objects, 60 frames long. So when every object's coarsest level fits in
+ * expected_ms, all are kept and the budget rises to hold them; past that, objects are dropped as
+ * before. */
 static struct lod_problem build_problem(struct frm_select *s, const struct scn_scene *scene,
                                         const struct frm_view_inputs *in, double budget_ms, double expected_ms,
                                         const struct frm_layer_candidate *layer)
@@ -196,7 +199,8 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
     layer_prepare(s, scene, in, layer);
     for (int e = 0; e < 2; ++e)
         image_px += in->eyes[e].width_px * in->eyes[e].height_px;
-    int keep_all = expected_ms > budget_ms && all_coarsest_fit(s, scene, in, expected_ms, layer);
+    int priced = expected_ms > budget_ms; /* s->coarsest_ms holds this candidate's coarsest levels */
+    int keep_all = priced && coarsest_sum_ms(s, scene, in, layer) <= expected_ms;
     uint32_t c = 0;
     for (size_t k = 0; k < in->count; ++k) {
         uint32_t inst = in->visible[k];
@@ -209,9 +213,10 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
             s->cand_samples[c] = 0;
             ++c;
         }
-        for (int l = s->chain_lod_count[scene->chain_of_instance[inst]] - 1; l >= 0; --l, ++c) {
+        int coarsest = s->chain_lod_count[scene->chain_of_instance[inst]] - 1;
+        for (int l = coarsest; l >= 0; --l, ++c) {
             s->cand_level[c] = (uint8_t)l;
-            s->cand_cost_ms[c] = layer_cost_ms(s, layer, ch, l, k);
+            s->cand_cost_ms[c] = priced && l == coarsest ? s->coarsest_ms[k] : layer_cost_ms(s, layer, ch, l, k);
             s->cand_samples[c] = ch->lods[l].vertex_count; /* Gouraud: m = 2 (§5) */
         }
         s->count[k] = (uint8_t)(c - s->first[k]);

@@ -80,6 +80,7 @@ struct frm_select {
     uint8_t *boxed;            /* 1: pixels_px is the model box's projection, 0: the bounding sphere's */
     uint8_t *ceiling_level, *previous_level, *choice;
     uint8_t *keep;             /* 1: covers ≥ FRM_KEEP_IMAGE_SHARE of the image, never dropped */
+    double *coarsest_ms;       /* the candidate being built: each object's coarsest level's cost */
     uint32_t *first;
     uint8_t *count;
     /* per candidate (capacity: instances × (LOD_MAX_LEVELS + 1)) */

@@ -62,8 +62,8 @@ const char app_layer_usage[] =
     "                     or adaptive (no inset: the whole eye at the scale Valve's adaptive-quality\n"
     "                     controller sets from the measured draw time, for comparison)\n"
     "  --periphery-scale S  fix the periphery's scale: 1, 0.75, 0.5, 0.35 or 0.25 (default: chosen)\n"
-    "  --inset-deg R      fix the inset's radius in [0, 60] degrees (default: the resolution ceiling's;\n"
-    "                     0 = no inset, the whole eye at the periphery's scale)\n"
+    "  --inset-deg R      fix the inset's radius in [0, 60] degrees (default: the resolution ceiling's,\n"
+    "                     at most 5 from the gaze; 0 = no inset, the whole eye at the periphery's scale)\n"
     "  --blend-deg B      the blend band beyond the inset, (0, 20] degrees (default 5)\n";
 
 int app_parse_layer_option(const char *opt, const char *val, struct frm_options *o, int *bad)

@@ -8,7 +8,6 @@
 #include "frame/frame.h"
 
 const double frm_layer_scales[FRM_LAYER_SCALES] = {1.0, 0.75, 0.5, 0.35, 0.25};
-const double frm_layer_loss_radii_deg[FRM_LAYER_LOSS_RADII] = {20.0, 15.0, 10.0, 5.0, 0.0};
 
 static const char *const foveation_names[] = {"off", "fixed", "gaze", "adaptive"};
 enum { FOVEATION_MODES = 4 };
@@ -270,19 +269,18 @@ void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, c
         l->first_loss = l->cand_count;
         return;
     }
-    /* First what loses nothing (each scale at its ceiling, or at --inset-deg), then each scale with
-     * the grid's smaller insets (they lose what lies between; fs weighs them all, frame/select.c). */
-    for (int i = 1; i < FRM_LAYER_SCALES; ++i) {
-        double radius = l->forced_radius_deg >= 0.0 ? l->forced_radius_deg : ceilings[i];
-        add_candidate(l, view, frm_layer_scales[i], radius, ceilings[i], i);
+    /* Each scale with its ceiling's inset where that is within the fovea's (it loses nothing), then
+     * each other scale at the fovea's (or every scale at --inset-deg). */
+    double cap_deg = l->forced_radius_deg >= 0.0 ? l->forced_radius_deg : FRM_LAYER_FOVEA_DEG + l->centre_offset_deg;
+    for (int lossy = 0; lossy < 2; ++lossy) {
+        for (int i = 1; i < FRM_LAYER_SCALES; ++i) {
+            double radius = l->forced_radius_deg >= 0.0 ? cap_deg : fmin(ceilings[i], cap_deg);
+            if ((radius < ceilings[i]) == lossy)
+                add_candidate(l, view, frm_layer_scales[i], radius, ceilings[i], i);
+        }
+        if (!lossy)
+            l->first_loss = l->cand_count;
     }
-    l->first_loss = l->cand_count;
-    if (l->forced_radius_deg >= 0.0)
-        return;
-    for (int i = 1; i < FRM_LAYER_SCALES; ++i)
-        for (int g = 0; g < FRM_LAYER_LOSS_RADII; ++g)
-            if (frm_layer_loss_radii_deg[g] < ceilings[i] - 0.5 * FRM_LAYER_LOSS_STEP_DEG)
-                add_candidate(l, view, frm_layer_scales[i], frm_layer_loss_radii_deg[g], ceilings[i], i);
 }
 
 /* The share of an object's disc (by diameter) nearer the centre than radius_deg. */

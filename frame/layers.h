@@ -6,14 +6,13 @@
  *     content's contrast ring by ring — the last frame's band contrast by eccentricity
  *     (rnd_renderer_ring_contrast; full contrast before the first frame) — widened by the inset
  *     centre's angle from the gaze (under fixed foveation the eye need not look at the lens centre);
- *   - candidates: s = 1 (no layers), and for each coarser s the ceiling's inset (loses nothing); then
- *     each s with smaller insets from a grid down to none (they lose what lies between; their benefit
- *     says how much);
+ *   - candidates: s = 1 (no layers), and for each coarser s an inset at the ceiling's radius capped
+ *     at the fovea's (FRM_LAYER_FOVEA_DEG): lossless where the ceiling is within it, else losing
+ *     what lies between (their benefit says how much);
  *   - fs solves its knapsack once per candidate, each object priced per layer (the inset's pixels at
  *     full resolution, the periphery's at s², its geometry in every layer it touches) with the
  *     candidate's own measured overhead (its clears against the plain frame's) taken from the budget,
- *     and keeps the best outcome (frm_layers_outcome_better); by default it values levels with the
- *     perceptual benefit here, the only one in the resolution loss's units; the other selectors
+ *     and keeps the best outcome (frm_layers_outcome_better); the other selectors
  *     keep their levels and take the cheapest candidate that loses nothing (the ceiling, as reddy
  *     takes the LOD ceiling).
  * The periphery draws each object no finer than its LOD ceiling at s·ξ (periphery_ceiling): detail
@@ -46,15 +45,16 @@ const char *frm_foveation_name(enum frm_foveation_mode mode);
 /* The periphery's scales (issue 32): 1 is the plain frame. */
 enum { FRM_LAYER_SCALES = 5 };
 extern const double frm_layer_scales[FRM_LAYER_SCALES];
-/* The insets smaller than the ceiling's, tried with every scale (degrees; each is used where it is
- * at least FRM_LAYER_LOSS_STEP_DEG / 2 under the scale's ceiling). 0: the whole eye at the scale.
- * With the ceiling's 15–40° insets and 10° the smallest, fs kept insets of 10–16° with a fifth of
- * the triangles a 5° or no inset affords at the same draw time (docs/RESULTS.md, issue 32 fourth
- * round). */
-enum { FRM_LAYER_LOSS_RADII = 5 };
-extern const double frm_layer_loss_radii_deg[FRM_LAYER_LOSS_RADII];
-#define FRM_LAYER_LOSS_STEP_DEG 5.0
-enum { FRM_LAYER_CANDIDATES_MAX = FRM_LAYER_SCALES + (FRM_LAYER_SCALES - 1) * FRM_LAYER_LOSS_RADII };
+/* The largest inset a candidate gets, from the gaze (degrees; under fixed foveation plus the lens
+ * centre's angle from the gaze): a scale whose ceiling lies beyond it loses what lies between. The
+ * inset's edge keeps the full resolution, and the blend band (FRM_LAYER_BLEND_DEG_DEFAULT) covers the
+ * rest of Reddy's flat fovea (M(E) = 1 to 5.79°, 1998 eq. 3). Measured, not derived: with the
+ * ceiling's 15–40° insets and a grid down to none, fs kept 10–16° insets under Funkhouser's benefit
+ * with a fifth of the triangles, or no inset under the perceptual one with the gaze's objects at
+ * their coarsest; a 5° inset under Funkhouser's beat both on fSSIM, FLIP and time (docs/RESULTS.md,
+ * issue 32 fifth round). --inset-deg overrides it. */
+#define FRM_LAYER_FOVEA_DEG 5.0
+enum { FRM_LAYER_CANDIDATES_MAX = FRM_LAYER_SCALES };
 /* The blend band's width by default: wide enough that the step between a 4× coarser periphery and
  * the inset spreads over ~50 pixels of a Vive's eye (test_layers: no step across its edges). */
 #define FRM_LAYER_BLEND_DEG_DEFAULT 5.0
@@ -102,7 +102,7 @@ struct frm_layers {
     /* this frame */
     struct frm_layer_candidate cand[FRM_LAYER_CANDIDATES_MAX];
     int cand_count, chosen, evaluated; /* evaluated: candidates fs solved */
-    int first_loss;                    /* cand[first_loss …] lose visible detail */
+    int first_loss;                    /* cand[first_loss …] lose visible detail (those before: none) */
     hl_vec3d centre_world;      /* the inset's centre, unit world direction */
     double centre_offset_deg;   /* its angle from the gaze model's gaze */
     double slowest_degps;       /* the slowest visible object's retinal speed */

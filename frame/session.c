@@ -38,24 +38,6 @@ int frm_scene_is_file(const char *scene)
     return (len > 5 && strcmp(scene + len - 5, ".json") == 0) || (len > 0 && stat(scene, &st) == 0 && S_ISREG(st.st_mode));
 }
 
-/* --benefit's default (docs/foveation.md): fs with layers weighs resolution against geometry across
- * the layer settings, and only the perceptual benefit values both in threshold units — under
- * Funkhouser's every level's accuracy is within 10⁻³ of 1, so geometry counted for nothing there and
- * fs bought 10–16° insets with a fifth of the triangles (fSSIM 0.85–0.87 against 0.87–0.90, FLIP
- * 0.085–0.090 against 0.043–0.048, users 1–3). Without layers Funkhouser's measured better
- * (docs/optimizer.md). */
-static const char *session_benefit(const struct frm_options *o, enum frm_selector selector, int contrast)
-{
-    enum frm_foveation_mode mode;
-    struct hl_error ignored = {{0}};
-    if (o->benefit)
-        return o->benefit;
-    if (selector == FRM_SELECT_FS && contrast && frm_foveation_parse(o->foveation, &mode, &ignored) == 0 &&
-        (mode == FRM_FOVEATION_FIXED || mode == FRM_FOVEATION_GAZE))
-        return "perceptual";
-    return NULL;
-}
-
 int frm_options_check(const struct frm_options *o, enum frm_selector *selector, enum frm_freq_reading *reading,
                       struct hl_error *err)
 {
@@ -76,7 +58,7 @@ int frm_options_check(const struct frm_options *o, enum frm_selector *selector, 
     if (frm_visibility_options(o, &criterion, &csf, err) != 0)
         return -1;
     int perceptual;
-    if (frm_benefit_parse(session_benefit(o, *selector, criterion == FRM_VISIBILITY_CONTRAST), &perceptual, err) != 0)
+    if (frm_benefit_parse(o->benefit, &perceptual, err) != 0)
         return -1;
     if (perceptual && criterion != FRM_VISIBILITY_CONTRAST)
         return hl_fail(err, "--benefit perceptual values levels by their visible contrast: it needs --visibility contrast");
@@ -260,8 +242,7 @@ int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, s
     s->select.static_px = o->static_px_per_triangle;
     s->select.correct = o->cost_correction;
     s->select.mb_simplify = o->mb_simplify;
-    if (frm_benefit_parse(session_benefit(o, s->selector, s->visibility.criterion == FRM_VISIBILITY_CONTRAST),
-                          &s->select.perceptual_benefit, err) != 0)
+    if (frm_benefit_parse(o->benefit, &s->select.perceptual_benefit, err) != 0)
         return -1;
     s->select.saccade_onset_degps = o->saccade_onset_degps; /* frame/saccade_step.c */
     s->select.saccade_off = s->gaze != ACU_GAZE_TRACKED; /* head, vor: no eye tracker, no saccades known */

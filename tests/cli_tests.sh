@@ -395,9 +395,9 @@ if [ -s "$tmp/benefit-funkhouser/frames.csv" ] && [ -s "$tmp/benefit-perceptual/
   p=$(awk -F, -v c="$col" 'NR > 1 { s += $c } END { print s }' "$tmp/benefit-perceptual/frames.csv")
   [ "$a" != "$p" ] || fail "perceptual and funkhouser benefits chose the same triangles on every frame ($a)"
 fi
-# The default benefit (docs/foveation.md): perceptual for fs with layers — the only one in the
-# resolution loss's units —, Funkhouser's without them or under the acuity criterion.
-for case in "fixed contrast perceptual" "off contrast funkhouser" "fixed acuity funkhouser"; do
+# The default benefit (docs/foveation.md "The benefit, with layers"): Funkhouser's everywhere — with
+# layers too, where the fovea's inset cap, not the benefit, sets the exchange with geometry.
+for case in "fixed contrast funkhouser" "off contrast funkhouser" "fixed acuity funkhouser"; do
   read -r fov vis want <<<"$case"
   "$bin" replay --scene field --objects 100 --display vive --selector fs --foveation "$fov" --visibility "$vis" \
     --render-scale 0.25 --frames 3 --quiet --out "$tmp/benefit-default-$fov-$vis" >/dev/null 2>"$tmp/err" ||

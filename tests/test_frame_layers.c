@@ -67,18 +67,22 @@ static void test_candidates(struct fixture *f)
     CHECK(frm_layers_init(&l, FRM_FOVEATION_FIXED, 0.0, 0.0, -1.0, N, 0, &err) == 0);
     CHECK(l.blend_deg == FRM_LAYER_BLEND_DEG_DEFAULT);
     plan(&l, f);
-    CHECK(l.cand_count > FRM_LAYER_SCALES && l.cand[0].scale == 1.0 && l.cand[0].inset_radius_deg == 0.0);
-    /* Lossless first, each at its ceiling; ceilings grow as the scale falls. */
-    double last_ceiling = 0.0;
-    for (int c = 1; c < l.first_loss; ++c) {
-        CHECK(!l.cand[c].loses && l.cand[c].inset_radius_deg == l.cand[c].ceiling_radius_deg);
-        CHECK(l.cand[c].scale < l.cand[c - 1].scale && l.cand[c].ceiling_radius_deg >= last_ceiling);
-        last_ceiling = l.cand[c].ceiling_radius_deg;
-        printf("full contrast, still: scale %.2f needs an inset of %.1f deg\n", l.cand[c].scale,
-               l.cand[c].ceiling_radius_deg);
+    CHECK(l.cand_count == FRM_LAYER_SCALES && l.cand[0].scale == 1.0 && l.cand[0].inset_radius_deg == 0.0);
+    /* One candidate a scale: the ceiling's inset capped at the fovea's, lossless ones first;
+     * ceilings grow as the scale falls. */
+    double ceiling_of[FRM_LAYER_SCALES] = {0.0};
+    for (int c = 1; c < l.cand_count; ++c) {
+        const struct frm_layer_candidate *cand = &l.cand[c];
+        CHECK(cand->inset_radius_deg == fmin(cand->ceiling_radius_deg, FRM_LAYER_FOVEA_DEG));
+        CHECK(cand->loses == (c >= l.first_loss) && cand->loses == (cand->ceiling_radius_deg > FRM_LAYER_FOVEA_DEG));
+        for (int i = 1; i < FRM_LAYER_SCALES; ++i)
+            if (cand->scale == frm_layer_scales[i])
+                ceiling_of[i] = cand->ceiling_radius_deg;
+        printf("full contrast, still: scale %.2f needs an inset of %.1f deg (drawn %.1f)\n", cand->scale,
+               cand->ceiling_radius_deg, cand->inset_radius_deg);
     }
-    for (int c = l.first_loss; c < l.cand_count; ++c)
-        CHECK(l.cand[c].loses && l.cand[c].inset_radius_deg < l.cand[c].ceiling_radius_deg);
+    for (int i = 2; i < FRM_LAYER_SCALES; ++i)
+        CHECK(ceiling_of[i] >= ceiling_of[i - 1] && ceiling_of[i] > 0.0);
     /* Benefit: lossless keeps all; a lossy setting keeps less of an object it leaves in the periphery. */
     for (int c = 0; c < l.cand_count; ++c)
         for (size_t k = 0; k < N; ++k) {
@@ -87,27 +91,30 @@ static void test_candidates(struct fixture *f)
             if (!l.cand[c].loses)
                 CHECK(share == 1.0);
         }
-    int lossy_10 = -1;
+    int quarter = -1;
     for (int c = l.first_loss; c < l.cand_count; ++c)
-        if (l.cand[c].scale == 0.25 && l.cand[c].inset_radius_deg == 10.0)
-            lossy_10 = c;
-    CHECK(lossy_10 > 0);
-    if (lossy_10 > 0) {
-        double at_gaze = frm_layers_benefit_share(&l, &l.cand[lossy_10], 0);
-        double at_12 = frm_layers_benefit_share(&l, &l.cand[lossy_10], 1);
-        printf("scale 0.25, inset 10 deg: the object at the gaze keeps %.3f, at 12 deg %.3f, at 45 deg %.3f\n",
-               at_gaze, at_12, frm_layers_benefit_share(&l, &l.cand[lossy_10], 3));
-        CHECK(at_gaze == 1.0 && at_12 < 1.0); /* inside the inset: whole; across its edge: less */
+        if (l.cand[c].scale == 0.25)
+            quarter = c;
+    CHECK(quarter > 0);
+    if (quarter > 0) {
+        double at_gaze = frm_layers_benefit_share(&l, &l.cand[quarter], 0);
+        double at_12 = frm_layers_benefit_share(&l, &l.cand[quarter], 1);
+        printf("scale 0.25, inset 5 deg: the object at the gaze keeps %.3f, at 12 deg %.3f, at 45 deg %.3f\n",
+               at_gaze, at_12, frm_layers_benefit_share(&l, &l.cand[quarter], 3));
+        CHECK(at_gaze == 1.0 && at_12 < 1.0); /* inside the inset and its blend: whole; across its edge: less */
     }
     /* Lower content contrast: smaller insets for the same scale. */
-    double full = l.cand[l.first_loss - 1].ceiling_radius_deg;
+    double full = ceiling_of[FRM_LAYER_SCALES - 1], low = INFINITY;
     l.rings.valid = 1;
     for (int k = 0; k < RND_CONTRAST_RINGS; ++k)
         l.rings.max_contrast[k] = 0.05, l.rings.pixels[k] = 100;
     plan(&l, f);
-    printf("content contrast 0.05: scale %.2f needs %.1f deg (full contrast %.1f)\n", l.cand[l.first_loss - 1].scale,
-           l.cand[l.first_loss - 1].ceiling_radius_deg, full);
-    CHECK(l.cand[l.first_loss - 1].ceiling_radius_deg < full);
+    for (int c = 1; c < l.cand_count; ++c)
+        if (l.cand[c].scale == frm_layer_scales[FRM_LAYER_SCALES - 1])
+            low = l.cand[c].ceiling_radius_deg;
+    printf("content contrast 0.05: scale %.2f needs %.1f deg (full contrast %.1f)\n",
+           frm_layer_scales[FRM_LAYER_SCALES - 1], low, full);
+    CHECK(low < full);
     frm_layers_free(&l);
 
     /* --periphery-scale: one candidate, at that scale; off: the plain frame alone. */
@@ -130,7 +137,7 @@ static void test_costs_and_masks(struct fixture *f)
     CHECK(scn_scene_build("field", &params, &scene, &err) == 0);
     const struct scn_chain *ch = &scene.chains[0];
     struct frm_layers l;
-    CHECK(frm_layers_init(&l, FRM_FOVEATION_FIXED, 5.0, 0.0, -1.0, N, 0, &err) == 0);
+    CHECK(frm_layers_init(&l, FRM_FOVEATION_FIXED, 5.0, 0.0, 10.0, N, 0, &err) == 0); /* --inset-deg 10 */
     plan(&l, f);
     struct lod_cost_model m = {LOD_COST_ADDITIVE, 1.0, 1e-4, 0.0, 4e-6, 0.008, 0.0};
     int c = -1;

@@ -13,7 +13,8 @@ static const char replay_usage[] =
     "                     [--rate HZ] [--frames N] [--capture EVERY] [--objects N] [--seed S]\n"
     "                     [--acuity-scale S] [--render-scale F] [--frequency-reading R] [--quiet]\n"
     "                     [--budget-ms T] [--cost-profile FILE] [--opt-limit-us T] [--static-px N]\n"
-    "                     [--cost-correction on|ratio|affine|off] [--gaze MODEL] [--vor-gain G]\n"
+    "                     [--cost-correction on|ratio|affine|off] [--within-share P] [--gaze MODEL]\n"
+    "                     [--vor-gain G]\n"
     "                     [--vor-latency-ms T] [--fixation-m D] [--saccade-onset-degps V]\n"
     "                     [--reference EVERY] [--velocity-term on|off] [--eccentricity-term on|off]\n"
     "                     [--mb-simplify K] [--foveation off|fixed|gaze] [--periphery-scale S]\n"
@@ -66,6 +67,10 @@ static const char replay_usage[] =
     "                     affine fit measured = a + b x by recursive least squares (x: the objects'\n"
     "                     predicted cost; on = affine, the default), or the smoothed measured/predicted\n"
     "                     ratio, which divides the whole budget (docs/cost-model.md)\n"
+    "  --within-share P   the share of frames the affine correction's margin aims to keep within the\n"
+    "                     budget, in (0.5, 1) (default 0.97: the margin is that quantile of the last\n"
+    "                     192 frames' errors of the fitted cost; above 0.97 only where the tail\n"
+    "                     continues the body, docs/cost-model.md)\n"
     "  --gaze MODEL       how the eye moves (docs/gaze.md): auto (default: tracked when the trace has\n"
     "                     gaze columns, else vor), head (eye fixed in the head, Reddy's assumption),\n"
     "                     vor (the eye holds a world point ahead of the head), tracked (the trace's gaze)\n"
@@ -184,6 +189,13 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, lo
                 o->frame.cost_correction = FRM_CORRECTION_OFF;
             else {
                 fprintf(stderr, "hmdlod: --cost-correction: '%s' is not on, ratio, affine or off\n", val);
+                return 1;
+            }
+        } else if (!strcmp(opt, "--within-share")) {
+            if (app_parse_double(opt, val, &o->frame.within_share))
+                return 1;
+            if (!(o->frame.within_share > 0.5 && o->frame.within_share < 1.0)) {
+                fprintf(stderr, "hmdlod: --within-share: %s is not a share in (0.5, 1)\n", val);
                 return 1;
             }
         } else if (!strcmp(opt, "--gaze")) {

@@ -54,6 +54,8 @@ struct frm_options {
     double opt_limit_us;     /* fs/mb time limit per frame (Nirenstein §5.5); 0 = none */
     double static_px_per_triangle; /* static: the average triangle covers at least this (default 64) */
     int cost_correction;     /* enum frm_correction; FRM_CORRECTION_AFFINE by default */
+    double within_share;     /* the affine correction's margin aims to keep this share of frames within
+                              * the budget, in (0.5, 1); 0 → LOD_COST_WITHIN_SHARE_DEFAULT */
     /* Gaze models (acuity/gaze.h; docs/gaze.md) */
     const char *gaze;        /* NULL/"auto" (default): tracked when the source has gaze, else vor;
                               * or "head" | "vor" | "tracked" */

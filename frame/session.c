@@ -251,6 +251,8 @@ int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, s
                             sizeof s->cost_label, err) != 0 ||
         frm_select_init(&s->select, &s->scene, err) != 0)
         return -1;
+    if (o->within_share > 0.0)
+        s->select.rls.within_share = o->within_share;
     enum frm_foveation_mode foveation;
     if (frm_foveation_parse(o->foveation, &foveation, err) != 0 ||
         frm_layers_init(&s->layers, foveation, o->blend_deg, o->periphery_scale, o->inset_deg, n,

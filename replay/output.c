@@ -493,6 +493,10 @@ int rpl_summary_stage_json(const char *dir, const struct rpl_summary *s, struct 
     cJSON_AddNumberToObject(root, "minor_faults_from_frame", (double)s->minor_faults_from_frame);
     cJSON_AddStringToObject(root, "cost_profile", s->cost_profile);
     cJSON_AddStringToObject(root, "cost_correction", s->cost_correction);
+    if (isfinite(s->within_share))
+        cJSON_AddNumberToObject(root, "within_share_target", s->within_share);
+    else
+        cJSON_AddNullToObject(root, "within_share_target");
     cJSON_AddNumberToObject(root, "rate_hz", s->rate_hz);
     cJSON_AddNumberToObject(root, "predicted_within_budget_fraction", s->predicted_within_fraction);
     cJSON_AddNumberToObject(root, "frame_ms_p99_share_of_budget", s->frame_ms_p99_share_of_budget);
@@ -631,8 +635,11 @@ void rpl_summary_print(FILE *f, const struct rpl_summary *s)
 {
     fprintf(f, "\n%s on %s, selector %s, %ld frames (renderer: %s)\n", s->scene, s->display, s->selector,
             s->frames, s->renderer);
-    fprintf(f, "  %-34s %10.3f ms; cost model: %s; correction %s\n", "budget", s->budget_ms, s->cost_profile,
+    fprintf(f, "  %-34s %10.3f ms; cost model: %s; correction %s", "budget", s->budget_ms, s->cost_profile,
             s->cost_correction);
+    if (isfinite(s->within_share))
+        fprintf(f, " (margin for %.3g %% within)", 100.0 * s->within_share);
+    fputc('\n', f);
     if (strcmp(s->gaze, "vor") == 0)
         fprintf(f, "  %-34s %10s, fixation %.3g m, gain %.3g, latency %.3g ms\n", "gaze model", s->gaze,
                 s->fixation_m, s->vor_gain, s->vor_latency_ms);

@@ -151,6 +151,7 @@ struct rpl_summary {
     double rate_hz;
     char cost_profile[160];
     char cost_correction[16];         /* "affine", "ratio" or "off": how fs and mb corrected their budget */
+    double within_share;              /* affine: the share of frames its margin aims to keep within the budget */
     long band_frames[RPL_SPEED_BAND_COUNT];
     double band_triangle_share[RPL_SPEED_BAND_COUNT]; /* triangles drawn / finest, per band */
     /* Σ triangles drawn / Σ finest over the visible objects of every frame, by the object's

@@ -223,6 +223,7 @@ int rpl_run(const struct rpl_options *o, struct rpl_summary *summary, struct hl_
     snprintf(summary->cost_profile, sizeof summary->cost_profile, "%s", s.cost_label);
     snprintf(summary->cost_correction, sizeof summary->cost_correction, "%s",
              s.select.correct == FRM_CORRECTION_AFFINE ? "affine" : s.select.correct == FRM_CORRECTION_RATIO ? "ratio" : "off");
+    summary->within_share = s.select.correct == FRM_CORRECTION_AFFINE ? s.select.rls.within_share : NAN;
     snprintf(summary->renderer, sizeof summary->renderer, "%s", rnd_renderer_name(s.renderer));
     snprintf(summary->selector, sizeof summary->selector, "%s", o->frame.selector);
     snprintf(summary->scene, sizeof summary->scene, "%s", o->frame.scene);

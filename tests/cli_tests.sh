@@ -184,6 +184,17 @@ expect_error "replay bad --budget-ms" "budget-ms" -- "$bin" replay --selector fs
 expect_error "replay bad --opt-limit-us" "opt-limit-us" -- "$bin" replay --selector fs --opt-limit-us -1 --out "$tmp/x"
 expect_error "replay bad --cost-correction" "cost-correction" -- "$bin" replay --cost-correction maybe --out "$tmp/x"
 expect_error "replay bad --static-px" "static-px" -- "$bin" replay --selector static --static-px 0 --out "$tmp/x"
+expect_error "replay bad --within-share" "within-share: 1 is not a share" -- "$bin" replay --within-share 1 --out "$tmp/x"
+expect_error "replay nan --within-share" "within-share" -- "$bin" replay --within-share nan --out "$tmp/x"
+# The margin's target is recorded (docs/replay-output.md): the given share, 0.97 by default, null without the fit.
+for case in "0.99 0.99 on" "- 0.97 on" "- null off"; do
+  read -r given want corr <<<"$case"
+  share=(); [ "$given" = - ] || share=(--within-share "$given")
+  "$bin" replay --scene field --objects 20 --selector fs --render-scale 0.25 --frames 2 --quiet --cost-correction "$corr" \
+    "${share[@]}" --out "$tmp/within-$given-$corr" >/dev/null 2>"$tmp/err" || fail "replay --within-share $given: $(cat "$tmp/err")"
+  grep -q "\"within_share_target\":[[:space:]]*$want" "$tmp/within-$given-$corr/summary.json" ||
+    fail "replay --within-share $given --cost-correction $corr: within_share_target is not $want"
+done
 # predicted_ms ≤ budget on every row: the column is found by its header name.
 predicted_within() { # CSV BUDGET_MS
   awk -F, -v b="$2" 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "predicted_ms") c = i; next }

@@ -439,6 +439,28 @@ static void test_cost_rls(void)
     CHECK(margin > 3.0 && margin < 4.5);
     CHECK(sigma2 < margin);
 
+    /* At a 99 % share the margin follows the tail where it continues the body: errors spread evenly over 4 ms (about the fit, ±2 ms) put the 99 % quantile 0.08 ms
+     * past the 97 % one. Where it does not — 2 % of the frames preempted for 15 ms on the same body — the
+     * margin stays at the 97 % quantile: keeping 15 ms in hand would not save those frames. */
+    struct lod_cost_rls even, spikes;
+    lod_cost_rls_init(&even, 2.0, 0.98);
+    lod_cost_rls_init(&spikes, 2.0, 0.98);
+    even.within_share = spikes.within_share = 0.99;
+    for (int f = 0; f < 600; ++f) {
+        double x = 3.0 + (double)(f % 5);
+        double e = 4.0 * (double)((f * 7919) % 193) / 192.0; /* 0 … 4 ms, evenly */
+        lod_cost_rls_update(&even, 2.0 + x + e, x);
+        lod_cost_rls_update(&spikes, 2.0 + x + (f % 50 == 7 ? 15.0 : e), x);
+    }
+    double m_even = lod_cost_rls_margin_ms(&even), m_spikes = lod_cost_rls_margin_ms(&spikes);
+    even.within_share = 0.97;
+    spikes.within_share = 0.97;
+    double m_even97 = lod_cost_rls_margin_ms(&even), m_spikes97 = lod_cost_rls_margin_ms(&spikes);
+    printf("margin at 99 %% (97 %%): even tail %.2f ms (%.2f), 2 %% of 15 ms spikes %.2f ms (%.2f)\n", m_even,
+           m_even97, m_spikes, m_spikes97);
+    CHECK(m_even > m_even97 + 0.03);
+    CHECK(m_spikes == m_spikes97 && m_spikes < 5.0);
+
     /* The same x every frame: the data fix a + 5·b and nothing else; the prior splits the 2 ms the
      * model missed (9 against c0 2 + 5) 80 : 20 between a and b (prior_x 10 ms: 10² / (10² + 5²)),
      * and it stays there, however many such frames come. */

@@ -191,6 +191,20 @@ double hl_percentile_sorted(const double *sorted, size_t n, double p);  /* neare
                                                                           * with at least p·n at or below it;
                                                                           * 0 for n = 0 */
 
+/* ---- little-endian fields (bytes.c) ------------------------------------------------------------
+ * The binary formats' fields (.lod, tracker recordings, .glb headers), read and written byte by byte:
+ * any host byte order, any alignment of p. Floats are their IEEE 754 bits. */
+void hl_le_put_u16(unsigned char *p, uint16_t v);
+void hl_le_put_u32(unsigned char *p, uint32_t v);
+void hl_le_put_u64(unsigned char *p, uint64_t v);
+void hl_le_put_f32(unsigned char *p, float f);
+void hl_le_put_f64(unsigned char *p, double d);
+uint16_t hl_le_get_u16(const unsigned char *p);
+uint32_t hl_le_get_u32(const unsigned char *p);
+uint64_t hl_le_get_u64(const unsigned char *p);
+float hl_le_get_f32(const unsigned char *p);
+double hl_le_get_f64(const unsigned char *p);
+
 #define HL_PI 3.14159265358979323846
 #define HL_DEG_PER_RAD (180.0 / HL_PI)
 #define HL_RAD_PER_DEG (HL_PI / 180.0)

@@ -15,6 +15,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <zlib.h>
 
 static const unsigned char scn_lod_magic[8] = {'H', 'M', 'D', 'L', 'O', 'D', 0, 1};
 
@@ -36,65 +37,8 @@ static uint32_t scn_lod_record_size(uint32_t version) { return version >= 2 ? SC
  * bunny's full chain is ~4 MB) and keeps every offset below 2^31. */
 #define SCN_LOD_MAX_BYTES ((uint64_t)1 << 31)
 
-/* ---- CRC-32 (IEEE 802.3, reflected polynomial 0xEDB88320, as zlib and PNG) --------------------- */
-uint32_t scn_crc32(const void *data, size_t n)
-{
-    uint32_t table[256];
-    for (uint32_t i = 0; i < 256; ++i) { /* 1 KB, rebuilt per call: cheaper than any locking */
-        uint32_t c = i;
-        for (int k = 0; k < 8; ++k)
-            c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-        table[i] = c;
-    }
-    const unsigned char *p = data;
-    uint32_t crc = 0xFFFFFFFFu;
-    for (size_t i = 0; i < n; ++i)
-        crc = table[(crc ^ p[i]) & 0xFF] ^ (crc >> 8);
-    return crc ^ 0xFFFFFFFFu;
-}
-
-/* ---- little-endian fields --------------------------------------------------------------------- */
-static void put_u32(unsigned char *p, uint32_t v)
-{
-    for (int i = 0; i < 4; ++i)
-        p[i] = (unsigned char)(v >> (8 * i));
-}
-static void put_u64(unsigned char *p, uint64_t v)
-{
-    for (int i = 0; i < 8; ++i)
-        p[i] = (unsigned char)(v >> (8 * i));
-}
-static void put_f32(unsigned char *p, float f)
-{
-    uint32_t v;
-    memcpy(&v, &f, 4);
-    put_u32(p, v);
-}
-static void put_f64(unsigned char *p, double d)
-{
-    uint64_t v;
-    memcpy(&v, &d, 8);
-    put_u64(p, v);
-}
-static uint32_t get_u32(const unsigned char *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-static uint64_t get_u64(const unsigned char *p) { return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32; }
-static float get_f32(const unsigned char *p)
-{
-    uint32_t v = get_u32(p);
-    float f;
-    memcpy(&f, &v, 4);
-    return f;
-}
-static double get_f64(const unsigned char *p)
-{
-    uint64_t v = get_u64(p);
-    double d;
-    memcpy(&d, &v, 8);
-    return d;
-}
+/* CRC-32 (IEEE 802.3, as PNG): zlib's. */
+uint32_t scn_crc32(const void *data, size_t n) { return (uint32_t)crc32_z(0, data, n); }
 
 static uint64_t align_up(uint64_t x) { return (x + SCN_LOD_ALIGN - 1) & ~(uint64_t)(SCN_LOD_ALIGN - 1); }
 
@@ -171,19 +115,19 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
         return SCN_LOD_FAIL(0, "bad magic: not a .lod file (expected \"HMDLOD\\0\\1\")");
     if (scn_lod_need(label, size, 0, 8, "magic", err) || scn_lod_need(label, size, 8, 4, "format version", err))
         return -1;
-    uint32_t version = get_u32(b + 8);
+    uint32_t version = hl_le_get_u32(b + 8);
     if (version > SCN_LOD_VERSION)
         return SCN_LOD_FAIL(8, "written by a newer hmdlod: version %u, this reads %d", version, SCN_LOD_VERSION);
     if (version == 0)
         return SCN_LOD_FAIL(8, "format version 0 is not valid (this reads %d)", SCN_LOD_VERSION);
     if (scn_lod_need(label, size, 12, 4, "flags", err) || scn_lod_need(label, size, 16, 4, "header size", err))
         return -1;
-    uint32_t header_size = get_u32(b + 16), hsize = scn_lod_header_size(version), rsize = scn_lod_record_size(version);
+    uint32_t header_size = hl_le_get_u32(b + 16), hsize = scn_lod_header_size(version), rsize = scn_lod_record_size(version);
     if (header_size != hsize)
         return SCN_LOD_FAIL(16, "header size %u, version %u has %u", header_size, version, hsize);
     if (scn_lod_need(label, size, 20, 4, "level count", err) || scn_lod_need(label, size, 24, 8, "file size", err))
         return -1;
-    uint64_t declared = get_u64(b + 24);
+    uint64_t declared = hl_le_get_u64(b + 24);
     if (declared != size)
         return SCN_LOD_FAIL(24, "the header declares %llu bytes but the file has %llu (%s)",
                             (unsigned long long)declared, (unsigned long long)size,
@@ -192,15 +136,15 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
         return SCN_LOD_FAIL(24, "declared size %llu is too small for the %u-byte header and the CRC",
                             (unsigned long long)size, hsize);
     /* The checksum next: past it, a wrong field is a wrong writer, not a damaged file. */
-    uint32_t stored = get_u32(b + size - 4), computed = scn_crc32(b, (size_t)(size - 4));
+    uint32_t stored = hl_le_get_u32(b + size - 4), computed = scn_crc32(b, (size_t)(size - 4));
     if (stored != computed)
         return SCN_LOD_FAIL(size - 4, "CRC-32 mismatch (stored 0x%08x, computed 0x%08x): the file is damaged",
                             stored, computed);
 
-    uint32_t flags = get_u32(b + 12);
+    uint32_t flags = hl_le_get_u32(b + 12);
     if (flags != 0)
         return SCN_LOD_FAIL(12, "unknown flags 0x%08x (version %u defines none)", flags, version);
-    uint32_t levels = get_u32(b + 20);
+    uint32_t levels = hl_le_get_u32(b + 20);
     if (levels < 1 || levels > SCN_LODSET_MAX_LEVELS)
         return SCN_LOD_FAIL(20, "%u levels (1…%d)", levels, SCN_LODSET_MAX_LEVELS);
     if (hsize + (uint64_t)rsize * levels + 4 > size)
@@ -216,7 +160,7 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
                                 i < name_len ? "printable ASCII" : "NUL padding");
     double bounds[10]; /* centre 3, radius, min 3, max 3 at bytes 56 … 135 */
     for (int i = 0; i < 10; ++i) {
-        bounds[i] = get_f64(b + 56 + 8 * i);
+        bounds[i] = hl_le_get_f64(b + 56 + 8 * i);
         if (!isfinite(bounds[i]))
             return SCN_LOD_FAIL(56 + 8 * i, "bounds: %g is not finite", bounds[i]);
     }
@@ -225,7 +169,7 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
     for (int k = 0; k < 3; ++k)
         if (bounds[4 + k] > bounds[7 + k])
             return SCN_LOD_FAIL(88 + 8 * k, "bounding box min %g > max %g on axis %d", bounds[4 + k], bounds[7 + k], k);
-    uint32_t views = get_u32(b + 136), view_px = get_u32(b + 140);
+    uint32_t views = hl_le_get_u32(b + 136), view_px = hl_le_get_u32(b + 140);
     if (views > INT_MAX)
         return SCN_LOD_FAIL(136, "analysis view count %u too large", views);
     if (view_px > INT_MAX)
@@ -233,12 +177,12 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
     uint32_t bands = 0;
     double percentile = 0.0;
     if (version >= 2) { /* the spectrum's header tail */
-        bands = get_u32(b + 144);
+        bands = hl_le_get_u32(b + 144);
         if (bands > SCN_LODSET_MAX_BANDS)
             return SCN_LOD_FAIL(144, "%u contrast bands (0…%d)", bands, SCN_LODSET_MAX_BANDS);
-        if (get_u32(b + 148) != 0)
-            return SCN_LOD_FAIL(148, "reserved field 0x%08x is not 0", get_u32(b + 148));
-        percentile = get_f64(b + 152);
+        if (hl_le_get_u32(b + 148) != 0)
+            return SCN_LOD_FAIL(148, "reserved field 0x%08x is not 0", hl_le_get_u32(b + 148));
+        percentile = hl_le_get_f64(b + 152);
         if (bands ? !(percentile > 0 && percentile <= 100) : percentile != 0)
             return SCN_LOD_FAIL(152, "contrast percentile %g (%s)", percentile,
                                 bands ? "in (0, 100] with bands" : "0 without bands");
@@ -248,8 +192,8 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
     for (uint32_t l = 0; l < levels; ++l) {
         const unsigned char *r = b + hsize + rsize * l;
         uint64_t ro = hsize + rsize * (uint64_t)l;
-        tris[l] = get_u32(r);
-        verts[l] = get_u32(r + 4);
+        tris[l] = hl_le_get_u32(r);
+        verts[l] = hl_le_get_u32(r + 4);
         if (tris[l] < 1 || tris[l] > UINT32_MAX / 3)
             return SCN_LOD_FAIL(ro, "level %u: %u triangles (1…%u)", l, tris[l], UINT32_MAX / 3);
         if (l > 0 && tris[l] >= tris[l - 1])
@@ -266,7 +210,7 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
         uint64_t want[3] = {lay.positions[l], lay.normals[l], lay.indices[l]};
         static const char *const what[3] = {"positions", "normals", "indices"};
         for (int k = 0; k < 3; ++k) {
-            uint64_t at = get_u64(r + 8 + 8 * k);
+            uint64_t at = hl_le_get_u64(r + 8 + 8 * k);
             if (at != want[k])
                 return SCN_LOD_FAIL(ro + 8 + 8 * k, "level %u: %s at byte %llu, the layout puts them at %llu", l,
                                     what[k], (unsigned long long)at, (unsigned long long)want[k]);
@@ -277,7 +221,7 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
                                     "%llu", l, tris[l], verts[l], (unsigned long long)end, (unsigned long long)size);
         double e[5];
         for (int k = 0; k < 5; ++k)
-            e[k] = get_f64(r + 32 + 8 * k);
+            e[k] = hl_le_get_f64(r + 32 + 8 * k);
         if (!isfinite(e[0]) || e[0] < 0)
             return SCN_LOD_FAIL(ro + 32, "level %u: error %g m is not finite and ≥ 0", l, e[0]);
         if (!isfinite(e[1]) || e[1] < 0)
@@ -288,14 +232,14 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
                                     e[k], l == 0 ? ", or +inf" : "; +inf only at level 0");
         for (uint32_t k = 0; version >= 2 && k < SCN_LODSET_MAX_BANDS; ++k) {
             uint64_t oc = ro + SCN_LOD_RECORD_SIZE + 8 * (uint64_t)k;
-            double c = get_f64(b + oc);
+            double c = hl_le_get_f64(b + oc);
             if (k >= bands && c != 0) /* zero bits too: -0.0 is not padding */
                 return SCN_LOD_FAIL(oc, "level %u: contrast band %u: %g beyond the %u bands (must be 0)", l, k, c, bands);
             if (k < bands && l == 0 && c != 0)
                 return SCN_LOD_FAIL(oc, "level 0: contrast band %u: %g (level 0 loses nothing: 0)", k, c);
             if (k < bands && !scn_lod_contrast_ok(c))
                 return SCN_LOD_FAIL(oc, "level %u: contrast band %u: %g (NaN, or finite and ≥ 0)", l, k, c);
-            if (k >= bands && get_u64(b + oc) != 0)
+            if (k >= bands && hl_le_get_u64(b + oc) != 0)
                 return SCN_LOD_FAIL(oc, "level %u: contrast band %u: not zero bytes beyond the %u bands", l, k, bands);
         }
     }
@@ -321,7 +265,7 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
         struct scn_mesh *m = out ? &out->levels[l] : NULL;
         for (uint64_t i = 0; i < 3 * (uint64_t)verts[l]; ++i) {
             uint64_t op = lay.positions[l] + 4 * i, on = lay.normals[l] + 4 * i;
-            float p = get_f32(b + op), nrm = get_f32(b + on);
+            float p = hl_le_get_f32(b + op), nrm = hl_le_get_f32(b + on);
             if (!isfinite(p))
                 return SCN_LOD_FAIL(op, "level %u: vertex %llu: position %g is not finite", l,
                                     (unsigned long long)(i / 3), p);
@@ -333,7 +277,7 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
         }
         for (uint64_t i = 0; i < 3 * (uint64_t)tris[l]; ++i) {
             uint64_t oi = lay.indices[l] + 4 * i;
-            uint32_t v = get_u32(b + oi);
+            uint32_t v = hl_le_get_u32(b + oi);
             if (v >= verts[l])
                 return SCN_LOD_FAIL(oi, "level %u: triangle %llu: index %u, the level has %u vertices", l,
                                     (unsigned long long)(i / 3), v, verts[l]);
@@ -345,13 +289,13 @@ static int scn_lod_parse(const unsigned char *b, uint64_t size, const char *labe
         for (uint32_t l = 0; l < levels; ++l) {
             const unsigned char *r = b + hsize + rsize * l;
             for (uint32_t k = 0; k < bands; ++k)
-                out->lost_contrast[l][k] = get_f64(r + SCN_LOD_RECORD_SIZE + 8 * k);
-            out->error_m[l] = get_f64(r + 32);
-            out->error_rel[l] = get_f64(r + 40);
-            out->freq[l] = (struct scn_level_freq){get_f64(r + 48), get_f64(r + 56), get_f64(r + 64)};
+                out->lost_contrast[l][k] = hl_le_get_f64(r + SCN_LOD_RECORD_SIZE + 8 * k);
+            out->error_m[l] = hl_le_get_f64(r + 32);
+            out->error_rel[l] = hl_le_get_f64(r + 40);
+            out->freq[l] = (struct scn_level_freq){hl_le_get_f64(r + 48), hl_le_get_f64(r + 56), hl_le_get_f64(r + 64)};
         }
         memcpy(out->simplifier, name, 16);
-        out->source_hash = get_u64(b + 48);
+        out->source_hash = hl_le_get_u64(b + 48);
         for (int k = 0; k < 3; ++k) {
             out->center_m[k] = bounds[k];
             out->aabb_min_m[k] = bounds[4 + k];
@@ -418,48 +362,48 @@ static int scn_lod_encode(const char *path, const struct scn_lodset *set, unsign
     if (!b)
         return hl_fail(err, "%s: out of memory for %llu bytes", path, (unsigned long long)lay.file_size);
     memcpy(b, scn_lod_magic, 8);
-    put_u32(b + 8, version);
-    put_u32(b + 12, 0);
-    put_u32(b + 16, hsize);
-    put_u32(b + 20, (uint32_t)set->level_count);
-    put_u64(b + 24, lay.file_size);
+    hl_le_put_u32(b + 8, version);
+    hl_le_put_u32(b + 12, 0);
+    hl_le_put_u32(b + 16, hsize);
+    hl_le_put_u32(b + 20, (uint32_t)set->level_count);
+    hl_le_put_u64(b + 24, lay.file_size);
     memcpy(b + 32, set->simplifier, strnlen(set->simplifier, 15)); /* at most 15 + NUL */
-    put_u64(b + 48, set->source_hash);
+    hl_le_put_u64(b + 48, set->source_hash);
     for (int k = 0; k < 3; ++k) {
-        put_f64(b + 56 + 8 * k, set->center_m[k]);
-        put_f64(b + 88 + 8 * k, set->aabb_min_m[k]);
-        put_f64(b + 112 + 8 * k, set->aabb_max_m[k]);
+        hl_le_put_f64(b + 56 + 8 * k, set->center_m[k]);
+        hl_le_put_f64(b + 88 + 8 * k, set->aabb_min_m[k]);
+        hl_le_put_f64(b + 112 + 8 * k, set->aabb_max_m[k]);
     }
-    put_f64(b + 80, set->radius_m);
-    put_u32(b + 136, set->analysis_views < 0 ? UINT32_MAX : (uint32_t)set->analysis_views);
-    put_u32(b + 140, set->analysis_size_px < 0 ? UINT32_MAX : (uint32_t)set->analysis_size_px);
+    hl_le_put_f64(b + 80, set->radius_m);
+    hl_le_put_u32(b + 136, set->analysis_views < 0 ? UINT32_MAX : (uint32_t)set->analysis_views);
+    hl_le_put_u32(b + 140, set->analysis_size_px < 0 ? UINT32_MAX : (uint32_t)set->analysis_size_px);
     if (version >= 2) { /* reserved u32 at 148 stays 0 */
-        put_u32(b + 144, (uint32_t)set->contrast_band_count);
-        put_f64(b + 152, set->contrast_percentile);
+        hl_le_put_u32(b + 144, (uint32_t)set->contrast_band_count);
+        hl_le_put_f64(b + 152, set->contrast_percentile);
     }
     for (int l = 0; l < set->level_count; ++l) {
         const struct scn_mesh *m = &set->levels[l];
         unsigned char *r = b + hsize + rsize * l;
         for (int k = 0; version >= 2 && k < set->contrast_band_count; ++k)
-            put_f64(r + SCN_LOD_RECORD_SIZE + 8 * k, set->lost_contrast[l][k]);
-        put_u32(r, tris[l]);
-        put_u32(r + 4, verts[l]);
-        put_u64(r + 8, lay.positions[l]);
-        put_u64(r + 16, lay.normals[l]);
-        put_u64(r + 24, lay.indices[l]);
-        put_f64(r + 32, set->error_m[l]);
-        put_f64(r + 40, set->error_rel[l]);
-        put_f64(r + 48, set->freq[l].narrow_cpdiam);
-        put_f64(r + 56, set->freq[l].long_cpdiam);
-        put_f64(r + 64, set->freq[l].geometric_cpdiam);
+            hl_le_put_f64(r + SCN_LOD_RECORD_SIZE + 8 * k, set->lost_contrast[l][k]);
+        hl_le_put_u32(r, tris[l]);
+        hl_le_put_u32(r + 4, verts[l]);
+        hl_le_put_u64(r + 8, lay.positions[l]);
+        hl_le_put_u64(r + 16, lay.normals[l]);
+        hl_le_put_u64(r + 24, lay.indices[l]);
+        hl_le_put_f64(r + 32, set->error_m[l]);
+        hl_le_put_f64(r + 40, set->error_rel[l]);
+        hl_le_put_f64(r + 48, set->freq[l].narrow_cpdiam);
+        hl_le_put_f64(r + 56, set->freq[l].long_cpdiam);
+        hl_le_put_f64(r + 64, set->freq[l].geometric_cpdiam);
         for (size_t i = 0; i < 3 * (size_t)verts[l]; ++i) {
-            put_f32(b + lay.positions[l] + 4 * i, m->positions[i]);
-            put_f32(b + lay.normals[l] + 4 * i, m->normals[i]);
+            hl_le_put_f32(b + lay.positions[l] + 4 * i, m->positions[i]);
+            hl_le_put_f32(b + lay.normals[l] + 4 * i, m->normals[i]);
         }
         for (size_t i = 0; i < 3 * (size_t)tris[l]; ++i)
-            put_u32(b + lay.indices[l] + 4 * i, m->indices[i]);
+            hl_le_put_u32(b + lay.indices[l] + 4 * i, m->indices[i]);
     }
-    put_u32(b + lay.crc_offset, scn_crc32(b, (size_t)lay.crc_offset));
+    hl_le_put_u32(b + lay.crc_offset, scn_crc32(b, (size_t)lay.crc_offset));
     *out_buf = b;
     *out_size = lay.file_size;
     return 0;

@@ -24,11 +24,6 @@
 #define GLTF_COUNT_MAX 2147483647.0 /* counts and lengths assimp keeps in 32-bit fields */
 enum { GLB_JSON = 0x4E4F534A };     /* chunk type "JSON" */
 
-static uint32_t le32(const unsigned char *b)
-{
-    return (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-}
-
 /* A .glb's header and chunk headers; the first chunk (JSON, by the spec) is read into *json. */
 static int glb_read_json(FILE *f, const char *path, uint64_t file_size, char **json, size_t *json_len,
                          struct hl_error *err)
@@ -36,9 +31,9 @@ static int glb_read_json(FILE *f, const char *path, uint64_t file_size, char **j
     unsigned char h[12];
     if (fread(h, 1, 12, f) != 12 || memcmp(h, "glTF", 4) != 0)
         return hl_fail(err, "%s: not a binary glTF file (no \"glTF\" magic)", path);
-    if (le32(h + 4) != 2)
-        return hl_fail(err, "%s: binary glTF version %u: only version 2 is supported", path, le32(h + 4));
-    uint64_t length = le32(h + 8);
+    if (hl_le_get_u32(h + 4) != 2)
+        return hl_fail(err, "%s: binary glTF version %u: only version 2 is supported", path, hl_le_get_u32(h + 4));
+    uint64_t length = hl_le_get_u32(h + 8);
     if (length != file_size)
         return hl_fail(err, "%s: binary glTF header says %llu bytes, the file has %llu", path,
                        (unsigned long long)length, (unsigned long long)file_size);
@@ -46,12 +41,12 @@ static int glb_read_json(FILE *f, const char *path, uint64_t file_size, char **j
     for (uint64_t at = 12; at < length; ++chunks) {
         if (length - at < 8 || fread(h, 1, 8, f) != 8)
             return hl_fail(err, "%s: byte %llu: binary glTF chunk header cut short", path, (unsigned long long)at);
-        uint64_t n = le32(h);
+        uint64_t n = hl_le_get_u32(h);
         if (n > length - at - 8)
             return hl_fail(err, "%s: byte %llu: binary glTF chunk of %llu bytes runs past the end of the file", path,
                            (unsigned long long)at, (unsigned long long)n);
         if (chunks == 0) {
-            if (le32(h + 4) != GLB_JSON)
+            if (hl_le_get_u32(h + 4) != GLB_JSON)
                 return hl_fail(err, "%s: byte %llu: the first binary glTF chunk is not JSON", path,
                                (unsigned long long)at);
             *json = malloc((size_t)n + 1);

@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config git clang libclang-rt-14-dev
   libusb-1.0-0-dev libhidapi-dev libudev-dev umockdev libumockdev-dev
   libglfw3-dev libegl-dev libgl-dev libegl1-mesa-dev libgl1-mesa-dri libepoxy-dev mesa-utils
-  libcglm-dev libopenmesh-dev libmeshoptimizer-dev libcjson-dev libpng-dev libassimp-dev assimp-utils
+  libcglm-dev libopenmesh-dev libmeshoptimizer-dev libcjson-dev libpng-dev zlib1g-dev libassimp-dev assimp-utils
   xvfb xauth x11-utils gnuplot-nox hyperfine valgrind glpk-utils parallel libopenhmd-dev
   python3-numpy python3-scipy python3-skimage python3-pil
 )

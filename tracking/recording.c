@@ -11,50 +11,16 @@
 
 #include "tracking/tracking.h"
 
-/* ---- CRC-32 ------------------------------------------------------------------------------------
- * Nibble-wise table: 16 constants instead of 256, no initialisation at run time (so no race between
- * threads), and fast enough for ~100-byte records at a few kHz. */
-static const uint32_t crc_nibble[16] = {
-    0x00000000, 0x1DB71064, 0x3B6E20C8, 0x26D930AC, 0x76DC4190, 0x6B6B51F4, 0x4DB26158, 0x5005713C,
-    0xEDB88320, 0xF00F9344, 0xD6D6A3E8, 0xCB61B38C, 0x9B64C2B0, 0x86D3D2D4, 0xA00AE278, 0xBDBDF21C,
-};
+#include <zlib.h>
 
-uint32_t trk_crc32(uint32_t crc, const void *data, size_t length)
-{
-    const uint8_t *p = data;
-    crc = ~crc;
-    for (size_t i = 0; i < length; ++i) {
-        crc ^= p[i];
-        crc = (crc >> 4) ^ crc_nibble[crc & 15];
-        crc = (crc >> 4) ^ crc_nibble[crc & 15];
-    }
-    return ~crc;
-}
+/* CRC-32: zlib's (thread-safe, its tables built at compile time). */
+uint32_t trk_crc32(uint32_t crc, const void *data, size_t length) { return (uint32_t)crc32_z(crc, data, length); }
 
 /* ---- little-endian fields ---------------------------------------------------------------------- */
-static void put_u16(uint8_t *p, uint16_t v) { p[0] = (uint8_t)v, p[1] = (uint8_t)(v >> 8); }
-static void put_u32(uint8_t *p, uint32_t v)
-{
-    for (int i = 0; i < 4; ++i)
-        p[i] = (uint8_t)(v >> (8 * i));
-}
-static void put_i64(uint8_t *p, int64_t v)
-{
-    uint64_t u = (uint64_t)v;
-    for (int i = 0; i < 8; ++i)
-        p[i] = (uint8_t)(u >> (8 * i));
-}
-static uint16_t get_u16(const uint8_t *p) { return (uint16_t)(p[0] | p[1] << 8); }
-static uint32_t get_u32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
+static void put_i64(uint8_t *p, int64_t v) { hl_le_put_u64(p, (uint64_t)v); }
 static int64_t get_i64(const uint8_t *p)
 {
-    uint64_t u = 0;
-    for (int i = 7; i >= 0; --i)
-        u = u << 8 | p[i];
-    return (int64_t)u; /* two's complement: implementation-defined in C11, exact on every target we build */
+    return (int64_t)hl_le_get_u64(p); /* two's complement: implementation-defined in C11, exact on every target we build */
 }
 
 /* Header layout (offsets), version 1. */
@@ -118,12 +84,12 @@ struct trk_recording *trk_recording_create(const char *path, enum trk_device_kin
     uint8_t h[TRK_RECORDING_HEADER_SIZE];
     memset(h, 0, sizeof h);
     memcpy(h + H_MAGIC, TRK_RECORDING_MAGIC, 8);
-    put_u16(h + H_VERSION, TRK_RECORDING_VERSION);
-    put_u16(h + H_HEADER_SIZE, TRK_RECORDING_HEADER_SIZE);
-    put_u16(h + H_KIND, (uint16_t)kind);
-    put_u16(h + H_VID, vid);
-    put_u16(h + H_PID, pid);
-    put_u16(h + H_FLAGS, 0);
+    hl_le_put_u16(h + H_VERSION, TRK_RECORDING_VERSION);
+    hl_le_put_u16(h + H_HEADER_SIZE, TRK_RECORDING_HEADER_SIZE);
+    hl_le_put_u16(h + H_KIND, (uint16_t)kind);
+    hl_le_put_u16(h + H_VID, vid);
+    hl_le_put_u16(h + H_PID, pid);
+    hl_le_put_u16(h + H_FLAGS, 0);
     put_i64(h + H_HOST_START, hl_clock_now_ns());
     struct timespec wall;
     clock_gettime(CLOCK_REALTIME, &wall);
@@ -132,7 +98,7 @@ struct trk_recording *trk_recording_create(const char *path, enum trk_device_kin
         size_t n = strlen(name);
         memcpy(h + H_NAME, name, n < TRK_RECORDING_NAME_SIZE ? n : TRK_RECORDING_NAME_SIZE);
     }
-    put_u32(h + H_CRC, trk_crc32(0, h, H_CRC));
+    hl_le_put_u32(h + H_CRC, trk_crc32(0, h, H_CRC));
 
     /* hl_out: a fresh file beside path (never one reached through a planted link), renamed into place
      * once the header is on disk, so a recording is under its name from then on even if the process
@@ -170,10 +136,10 @@ int trk_recording_append(struct trk_recording *rec, int64_t host_time_ns, const 
      * any moment leaves either the whole record or (on a short write) a prefix of it — and only of
      * the last one. No stdio buffer, so nothing appended is lost when the process dies. */
     uint8_t *b = rec->buf;
-    put_u32(b + R_LENGTH, (uint32_t)length);
+    hl_le_put_u32(b + R_LENGTH, (uint32_t)length);
     put_i64(b + R_TIME, host_time_ns);
     memcpy(b + R_REPORT, report, length);
-    put_u32(b + R_REPORT + length, trk_crc32(0, b, R_REPORT + length));
+    hl_le_put_u32(b + R_REPORT + length, trk_crc32(0, b, R_REPORT + length));
     size_t total = TRK_RECORDING_RECORD_OVERHEAD + length;
     if (write_all(rec->fd, b, total) != 0) {
         int e = errno;
@@ -250,33 +216,33 @@ struct trk_recording_reader *trk_recording_open(const char *path, struct hl_erro
         hl_fail(err, "%s: byte 0: not an hmdlod raw recording (no \"%s\" magic)", path, TRK_RECORDING_MAGIC);
         goto fail;
     }
-    if (got >= H_VERSION + 2 && get_u16(h + H_VERSION) != TRK_RECORDING_VERSION) {
+    if (got >= H_VERSION + 2 && hl_le_get_u16(h + H_VERSION) != TRK_RECORDING_VERSION) {
         hl_fail(err, "%s: byte %d: format version %u is not supported (this reader knows %d)", path, H_VERSION,
-                get_u16(h + H_VERSION), TRK_RECORDING_VERSION);
+                hl_le_get_u16(h + H_VERSION), TRK_RECORDING_VERSION);
         goto fail;
     }
     if (got < sizeof h) {
         hl_fail(err, "%s: byte %zu: file ends inside the %d-byte header", path, got, TRK_RECORDING_HEADER_SIZE);
         goto fail;
     }
-    if (get_u16(h + H_HEADER_SIZE) != TRK_RECORDING_HEADER_SIZE) {
-        hl_fail(err, "%s: byte %d: header size %u, version 1 has %d", path, H_HEADER_SIZE, get_u16(h + H_HEADER_SIZE),
+    if (hl_le_get_u16(h + H_HEADER_SIZE) != TRK_RECORDING_HEADER_SIZE) {
+        hl_fail(err, "%s: byte %d: header size %u, version 1 has %d", path, H_HEADER_SIZE, hl_le_get_u16(h + H_HEADER_SIZE),
                 TRK_RECORDING_HEADER_SIZE);
         goto fail;
     }
-    if (get_u32(h + H_CRC) != trk_crc32(0, h, H_CRC)) {
+    if (hl_le_get_u32(h + H_CRC) != trk_crc32(0, h, H_CRC)) {
         hl_fail(err, "%s: byte %d: header CRC mismatch (the header is corrupt)", path, H_CRC);
         goto fail;
     }
-    unsigned kind = get_u16(h + H_KIND);
+    unsigned kind = hl_le_get_u16(h + H_KIND);
     if (kind > KIND_LAST) {
         hl_fail(err, "%s: byte %d: unknown device kind %u", path, H_KIND, kind);
         goto fail;
     }
-    r->info.version = get_u16(h + H_VERSION);
+    r->info.version = hl_le_get_u16(h + H_VERSION);
     r->info.kind = (enum trk_device_kind)kind;
-    r->info.vid = get_u16(h + H_VID);
-    r->info.pid = get_u16(h + H_PID);
+    r->info.vid = hl_le_get_u16(h + H_VID);
+    r->info.pid = hl_le_get_u16(h + H_PID);
     memcpy(r->info.name, h + H_NAME, TRK_RECORDING_NAME_SIZE);
     r->info.name[TRK_RECORDING_NAME_SIZE] = '\0';
     r->info.host_start_ns = get_i64(h + H_HOST_START);
@@ -325,7 +291,7 @@ int trk_recording_next(struct trk_recording_reader *r, int64_t *host_time_ns, ui
         return end_torn(r); /* not even a length field: a write cut short */
     if (read_at(r, at, r->buf, 4) != 0)
         return hl_fail(err, "%s: byte %llu: read failed", r->path, (unsigned long long)at);
-    uint32_t n = get_u32(r->buf + R_LENGTH);
+    uint32_t n = hl_le_get_u32(r->buf + R_LENGTH);
     /* Checked before anything else is read: a corrupt length never sizes a read or an allocation. */
     if (n == 0 || n > TRK_RECORDING_MAX_REPORT) {
         if (rest_is_zero(r, at))
@@ -338,7 +304,7 @@ int trk_recording_next(struct trk_recording_reader *r, int64_t *host_time_ns, ui
         return end_torn(r); /* the last record is incomplete: the writer died during its write */
     if (read_at(r, at, r->buf, (size_t)size) != 0)
         return hl_fail(err, "%s: byte %llu: read failed", r->path, (unsigned long long)at);
-    if (get_u32(r->buf + R_REPORT + n) != trk_crc32(0, r->buf, R_REPORT + n)) {
+    if (hl_le_get_u32(r->buf + R_REPORT + n) != trk_crc32(0, r->buf, R_REPORT + n)) {
         /* A bad last record (it reaches the end of the file), or a bad record followed only by
          * zeros, is what an interrupted write leaves; anywhere else it is damage to report. */
         if (size == left || rest_is_zero(r, at))

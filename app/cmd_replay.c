@@ -191,13 +191,9 @@ static int parse_replay_options(int argc, char **argv, struct rpl_options *o, lo
                 fprintf(stderr, "hmdlod: --cost-correction: '%s' is not on, ratio, affine or off\n", val);
                 return 1;
             }
-        } else if (!strcmp(opt, "--within-share")) {
+        } else if (!strcmp(opt, "--within-share")) { /* its range: frm_options_check */
             if (app_parse_double(opt, val, &o->frame.within_share))
                 return 1;
-            if (!(o->frame.within_share > 0.5 && o->frame.within_share < 1.0)) {
-                fprintf(stderr, "hmdlod: --within-share: %s is not a share in (0.5, 1)\n", val);
-                return 1;
-            }
         } else if (!strcmp(opt, "--gaze")) {
             enum acu_gaze_model model;
             if (strcmp(val, "auto") && acu_gaze_model_parse(val, &model) != 0) {

@@ -51,6 +51,8 @@ int frm_options_check(const struct frm_options *o, enum frm_selector *selector, 
         return hl_fail(err, "--opt-limit-us: %g us is outside [0, 1e7]", o->opt_limit_us);
     if (!(o->static_px_per_triangle > 0.0) || !isfinite(o->static_px_per_triangle))
         return hl_fail(err, "--static-px: %g is not a positive number of pixels", o->static_px_per_triangle);
+    if (!(o->within_share == 0.0 || (o->within_share > 0.5 && o->within_share < 1.0)))
+        return hl_fail(err, "--within-share: %g is not a share in (0.5, 1)", o->within_share);
     if (!(o->acuity_scale > 0.0 && o->acuity_scale <= 1.0))
         return hl_fail(err, "--acuity-scale: %g is outside (0, 1]", o->acuity_scale);
     enum frm_visibility_criterion criterion;
@@ -251,7 +253,7 @@ int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, s
                             sizeof s->cost_label, err) != 0 ||
         frm_select_init(&s->select, &s->scene, err) != 0)
         return -1;
-    if (o->within_share > 0.0)
+    if (o->within_share > 0.0) /* 0: the default; the range was checked (frm_options_check) */
         s->select.rls.within_share = o->within_share;
     enum frm_foveation_mode foveation;
     if (frm_foveation_parse(o->foveation, &foveation, err) != 0 ||

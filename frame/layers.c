@@ -240,7 +240,7 @@ void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, c
     }
     l->slowest_degps = isfinite(slowest) ? slowest : 0.0;
     fill_needed_scales(l, acuity, contrast, xi_cpd);
-    /* The resolution loss only lossy settings need: filled on first use (frm_layers_benefit_share). */
+    /* The resolution loss only lossy settings need: filled on first use (candidate_loss). */
     l->loss = (struct frm_layers_loss_inputs){acuity, contrast, eccentricity_deg, velocity_degps, count, 0};
     double ceilings[FRM_LAYER_SCALES] = {0.0};
     for (int i = 1; i < FRM_LAYER_SCALES; ++i)
@@ -371,10 +371,10 @@ int frm_layers_outcome_better(const struct frm_layer_outcome *a, const struct fr
     return a->cost_ms < b->cost_ms;
 }
 
-double frm_layers_benefit_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k)
+/* Object k's resolution loss D under candidate c, and the share of its image the periphery draws
+ * (*periphery). The first call for a lossy candidate in a frame fills every visible object's D. */
+static double candidate_loss(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k, double *periphery)
 {
-    if (c->scale >= 1.0 || !c->loses)
-        return 1.0;
     if (!l->loss.ready) { /* once a frame, and only in frames that weigh a lossy setting */
         const struct frm_layers_loss_inputs *in = &l->loss;
         for (size_t j = 0; j < in->count; ++j)
@@ -382,11 +382,33 @@ double frm_layers_benefit_share(struct frm_layers *l, const struct frm_layer_can
                                  in->velocity_degps[j]);
         l->loss.ready = 1;
     }
-    int i = scale_index(c->scale);
     double theta = l->centre_angle_deg[k], half = l->radius_deg[k];
-    double periphery = 1.0 - share_within(theta, half, c->inset_radius_deg + 0.5 * l->blend_deg);
+    *periphery = 1.0 - share_within(theta, half, c->inset_radius_deg + 0.5 * l->blend_deg);
+    return l->resolution_loss[k * FRM_LAYER_SCALES + scale_index(c->scale)];
+}
+
+double frm_layers_benefit_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k)
+{
+    if (c->scale >= 1.0 || !c->loses)
+        return 1.0;
+    double periphery, d = candidate_loss(l, c, k, &periphery);
     /* The inset's part keeps its detail; the periphery's part is worth 1 / (1 + D) of it. */
-    return (1.0 - periphery) + periphery / (1.0 + l->resolution_loss[k * FRM_LAYER_SCALES + i]);
+    return (1.0 - periphery) + periphery / (1.0 + d);
+}
+
+double frm_layers_level_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k,
+                              const struct lod_benefit_params *p, double samples, double pixels_px)
+{
+    if (c->scale >= 1.0 || !c->loses)
+        return 1.0;
+    double periphery, d = candidate_loss(l, c, k, &periphery);
+    if (!(d > 0.0) || !(periphery > 0.0))
+        return 1.0; /* nothing visible lost on it: a finer scale would earn nothing */
+    /* Funkhouser & Séquin §5: Samples never more than the pixels covered — the periphery covers the
+     * object with s² of its pixels. */
+    double full = lod_benefit_accuracy(p, samples, pixels_px);
+    double coarse = lod_benefit_accuracy(p, samples, c->scale * c->scale * pixels_px);
+    return full > 0.0 ? (1.0 - periphery) + periphery * coarse / full : 1.0;
 }
 
 void frm_layers_setting(const struct frm_layers *l, const struct hmd_eye eyes[2], const hl_quatd orientation[2],

@@ -17,12 +17,15 @@
  *     takes the LOD ceiling).
  * The periphery draws each object no finer than its LOD ceiling at s·ξ (periphery_ceiling): detail
  * the periphery's pixels cannot show costs geometry for nothing; the inset draws the chosen level.
- * An object's benefit under a lossy candidate is scaled by (1 − f) + f / (1 + D), D the visible loss of the
- * periphery's scale on it in threshold units — Σ over the octave bands the scale cannot show of
- * max(0, c·S·k − 1), c its ring's content contrast, S at its eccentricity and retinal speed: the units
- * of the perceptual benefit's lost LOD detail (lod_visible_loss_contrast) — and f the share of it in
- * the periphery (its part in the inset keeps its detail): a scale coarser than the ceiling costs
- * benefit where it shows, a finer one earns nothing. docs/foveation.md. */
+ * What a lossy candidate takes from an object's benefit, in the units its levels are valued in. D is
+ * the visible loss of the periphery's scale on it in threshold units — Σ over the octave bands the
+ * scale cannot show of max(0, c·S·k − 1), c its ring's content contrast, S at its eccentricity and
+ * retinal speed (the units of the perceptual benefit's lost LOD detail, lod_visible_loss_contrast) —
+ * and f the share of it in the periphery (its part in the inset keeps its detail). Under the
+ * perceptual benefit the object is scaled by (1 − f) + f / (1 + D); under Funkhouser's, where D > 0,
+ * each level's periphery part is worth its accuracy with Samples at most s²·pixels (§5), so a scale
+ * weighs against a level as their accuracies do (frm_layers_level_share). Either way a scale coarser
+ * than the ceiling costs benefit where it shows, a finer one earns nothing. docs/foveation.md. */
 #ifndef HMDLOD_FRAME_LAYERS_H
 #define HMDLOD_FRAME_LAYERS_H
 
@@ -201,6 +204,16 @@ double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_lay
  * in a frame computes every visible object's resolution loss (from frm_layers_plan's inputs, which
  * must still hold); frames that weigh no lossy setting never pay for it. */
 double frm_layers_benefit_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k);
+/* The same under Funkhouser's benefit, for one level of object k (samples: the level's, or its LOD
+ * ceiling's where it is finer; pixels_px: the object's): where the candidate's scale loses visible
+ * detail on the object (D > 0), its periphery's part is worth the level's accuracy with Samples at
+ * most s²·pixels_px over its accuracy at pixels_px (lod_benefit_accuracy; §5: Samples never more
+ * than the pixels covered) — resolution in the units the levels are valued in. 1 where D = 0. The
+ * share 1/(1 + D) above, next to accuracies 10⁻⁵–10⁻³ apart, made fs take the finest scale that fit
+ * and starve the geometry (docs/RESULTS.md, issue 32 sixth round). */
+struct lod_benefit_params;
+double frm_layers_level_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k,
+                              const struct lod_benefit_params *p, double samples, double pixels_px);
 
 /* After selection: the chosen candidate as render's setting for these eye views (orientation per
  * eye), and each draw entry's mask (visible objects, then n_extra group impostors: both layers). */

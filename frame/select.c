@@ -236,9 +236,26 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
                 s->cand_benefit[j] *= scene->importance[in->visible[k]];
     if (layer && layer->loses) /* what a coarser periphery than the ceiling takes away (frame/layers.h) */
         for (size_t k = 0; k < in->count; ++k) {
-            double share = frm_layers_benefit_share(s->layers, layer, k);
-            for (uint32_t j = s->first[k]; j < s->first[k] + s->count[k]; ++j)
-                s->cand_benefit[j] *= share;
+            if (s->visible_loss_valid) { /* the perceptual benefit: its own units, D */
+                double share = frm_layers_benefit_share(s->layers, layer, k);
+                for (uint32_t j = s->first[k]; j < s->first[k] + s->count[k]; ++j)
+                    s->cand_benefit[j] *= share;
+                continue;
+            }
+            /* Funkhouser's: each level at its accuracy with the periphery's samples; a level finer
+             * than the ceiling is valued as the ceiling (coarsest first, so it comes before them). */
+            double ceiling_samples = 0.0;
+            for (uint32_t j = s->first[k]; j < s->first[k] + s->count[k]; ++j) {
+                if (s->cand_level[j] == LOD_DROP)
+                    continue;
+                double samples = s->cand_samples[j];
+                if (s->cand_level[j] == s->ceiling_level[k])
+                    ceiling_samples = samples;
+                else if (s->cand_level[j] < s->ceiling_level[k] && ceiling_samples > 0.0)
+                    samples = ceiling_samples;
+                s->cand_benefit[j] *=
+                    frm_layers_level_share(s->layers, layer, k, &s->benefit, samples, s->pixels_px[k]);
+            }
         }
     lod_hull_reduce(in->count, s->first, s->count, s->cand_cost_ms, s->cand_benefit, s->cand_level, budget_ms,
                     (int64_t *)s->scratch); /* before the optimizer: the scratch is free */

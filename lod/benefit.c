@@ -27,6 +27,11 @@ static double accuracy(const struct lod_benefit_params *p, double samples, doubl
     return fmax(0.0, 1.0 - error);
 }
 
+double lod_benefit_accuracy(const struct lod_benefit_params *p, double samples, double size_px)
+{
+    return accuracy(p, samples, size_px, 0);
+}
+
 static int levels_changed(uint8_t level, uint8_t previous)
 {
     if (previous == LOD_UNSEEN)

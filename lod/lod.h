@@ -224,6 +224,9 @@ struct lod_benefit_params {
     double hysteresis_per_level; /* 1: a level one step from last frame's counts its error twice */
 };
 void lod_benefit_params_default(struct lod_benefit_params *p);
+/* Funkhouser's accuracy of one rendering (§5): 1 − base_error / Samples^m, Samples = min(samples,
+ * size_px) and at least 1, without hysteresis; in [0, 1). What lod_benefit_fill values a level by. */
+double lod_benefit_accuracy(const struct lod_benefit_params *p, double samples, double size_px);
 /* visible_loss: NULL for Funkhouser's accuracy above. Else the perceptual benefit (docs/optimizer.md
  * "Perceptual benefit"; lod_visible_loss_contrast): object i's level l is worth
  *   size_px · importance / (1 + D_il · (1 + h·|level − previous|)),

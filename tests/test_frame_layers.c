@@ -102,6 +102,23 @@ static void test_candidates(struct fixture *f)
         printf("scale 0.25, inset 5 deg: the object at the gaze keeps %.3f, at 12 deg %.3f, at 45 deg %.3f\n",
                at_gaze, at_12, frm_layers_benefit_share(&l, &l.cand[quarter], 3));
         CHECK(at_gaze == 1.0 && at_12 < 1.0); /* inside the inset and its blend: whole; across its edge: less */
+        /* Under Funkhouser's benefit the same loss is in accuracy units (§5, Samples ≤ pixels): a level
+         * of 400 samples on 1 600 pixels has 100 at s 0.25 — 1 − 0.5/100² against 1 − 0.5/400²; one
+         * of 50 samples loses nothing (50 < 100); the objects at the gaze and at 45° (D = 0 there) keep all. */
+        struct lod_benefit_params bp;
+        lod_benefit_params_default(&bp);
+        double fine = frm_layers_level_share(&l, &l.cand[quarter], 1, &bp, 400.0, 1600.0);
+        double coarse = frm_layers_level_share(&l, &l.cand[quarter], 1, &bp, 50.0, 1600.0);
+        /* the periphery's share f of the object at 12°, from share = (1 − f) + f / (1 + D) */
+        double f1 = (1.0 - at_12) / (1.0 - 1.0 / (1.0 + l.resolution_loss[1 * FRM_LAYER_SCALES + FRM_LAYER_SCALES - 1]));
+        double want = (1.0 - f1) + f1 * (1.0 - 0.5 / (100.0 * 100.0)) / (1.0 - 0.5 / (400.0 * 400.0));
+        printf("Funkhouser units, scale 0.25, object at 12 deg: 400 samples keep %.8f (want %.8f), 50 keep %.8f\n",
+               fine, want, coarse);
+        CHECK(fabs(fine - want) < 1e-12 && fine < 1.0 && fine > 1.0 - 1e-4);
+        CHECK(coarse == 1.0);
+        CHECK(frm_layers_level_share(&l, &l.cand[quarter], 0, &bp, 400.0, 1600.0) == 1.0); /* in the inset */
+        CHECK(frm_layers_level_share(&l, &l.cand[quarter], 3, &bp, 400.0, 1600.0) == 1.0); /* D = 0 at 45° */
+        CHECK(frm_layers_level_share(&l, &l.cand[0], 1, &bp, 400.0, 1600.0) == 1.0);       /* the plain frame */
     }
     /* Lower content contrast: smaller insets for the same scale. */
     double full = ceiling_of[FRM_LAYER_SCALES - 1], low = INFINITY;

@@ -21,13 +21,15 @@ static const char usage[] =
     "forms with non-negative coefficients on a random 75 % of the grid points and measures them on the\n"
     "other 25 %, keeps the form with the lower held-out 95th-percentile relative error and writes the\n"
     "machine cost profile (docs/cost-model.md). The same grid is then drawn as the foveated periphery\n"
-    "at each layer scale (0.75, 0.5, 0.35, 0.25) and fitted again: the periphery's own models.\n"
+    "at each layer scale (0.75, 0.5, 0.35, 0.25) and fitted again: the periphery's own models; and\n"
+    "once more as the foveal inset alone (5 degrees and its 5-degree blend band around the lens centre,\n"
+    "full resolution under its scissor, pixels counted within it): the inset's redrawn geometry.\n"
     "  --out FILE        the cost profile JSON to write (atomically)\n"
     "  --quick           a small grid (24 points, 3 repeats): seconds, for tests\n"
     "  --seed N          the split and visiting order (default 1)\n"
     "  --render-scale S  per-eye resolution factor in (0, 4] (default 1: the display's pixels)\n"
     "  --display NAME    built-in display or profile JSON (default vive)\n"
-    "  --no-layers       the plain frames only (a profile without periphery models)\n"
+    "  --no-layers       the plain frames only (a profile without periphery or inset models)\n"
     "  --csv FILE        also write every grid point (counts, measured and predicted ms) as CSV\n";
 
 struct calibrate_args {
@@ -96,7 +98,7 @@ static int check_writable(const char *path)
 /* One grid measured and fitted: both forms on the training points with c0 measured (the expectile
  * chosen as below), the ordinary intercept fits beside them, held-out accuracy, the form kept. */
 struct calibration_fit {
-    double periphery_scale;
+    double periphery_scale, inset_radius_deg;
     struct rnd_calibration cal;
     uint32_t *order;
     size_t train;
@@ -123,8 +125,8 @@ static void print_fit(const char *name, const struct lod_cost_model *m, const st
            100.0 * acc->p95_rel, 100.0 * acc->under5_share);
 }
 
-/* One row per grid point of every measured grid (the plain frames, then each periphery scale): its
- * sums over objects, the measured median and both fits' predictions. */
+/* One row per grid point of every measured grid (the plain frames, each periphery scale, the inset):
+ * its sums over objects, the measured median and both fits' predictions. */
 static int write_csv(const char *path, const struct calibration_fit *fits, int count)
 {
     struct hl_out out;
@@ -135,7 +137,7 @@ static int write_csv(const char *path, const struct calibration_fit *fits, int c
     }
     FILE *f = out.f;
     fprintf(f, "periphery_scale,point,objects,triangles,vertices,pixels_px,draws,measured_ms,predicted_max_ms,"
-               "predicted_additive_ms,held_out\n");
+               "predicted_additive_ms,held_out,inset_radius_deg\n");
     for (int i = 0; i < count; ++i) {
         const struct calibration_fit *c = &fits[i];
         for (size_t n = 0; n < c->cal.frame_count; ++n) {
@@ -145,9 +147,9 @@ static int write_csv(const char *path, const struct calibration_fit *fits, int c
                 const struct rnd_cost_object *o = &c->cal.objects[fr->first_object + k];
                 t += o->triangles, v += o->vertices, p += o->pixels_px, d += o->draws;
             }
-            fprintf(f, "%g,%u,%u,%.0f,%.0f,%.0f,%.0f,%.4f,%.4f,%.4f,%d\n", c->periphery_scale, c->order[n],
+            fprintf(f, "%g,%u,%u,%.0f,%.0f,%.0f,%.0f,%.4f,%.4f,%.4f,%d,%g\n", c->periphery_scale, c->order[n],
                     fr->object_count, t, v, p, d, fr->measured_ms, frm_cost_predict_frame_ms(&c->fits[0], fr, c->cal.objects),
-                    frm_cost_predict_frame_ms(&c->fits[1], fr, c->cal.objects), n >= c->train);
+                    frm_cost_predict_frame_ms(&c->fits[1], fr, c->cal.objects), n >= c->train, c->inset_radius_deg);
         }
     }
     if (hl_out_commit(&out, &err) != 0) {
@@ -173,13 +175,14 @@ static double load_average(void)
 
 static const enum lod_cost_form calibrate_forms[2] = {LOD_COST_MAX, LOD_COST_ADDITIVE};
 
-/* Measures grid g (its periphery_scale says plain frames or a periphery) and fits it. 0 or −1 (the
- * message printed). */
+/* Measures grid g (its periphery_scale and inset_radius_deg say plain frames, a periphery or the
+ * inset) and fits it. 0 or −1 (the message printed). */
 static int measure_and_fit(const struct hmd_profile *display, struct rnd_cost_grid *g, long seed,
                            struct calibration_fit *c)
 {
     memset(c, 0, sizeof *c);
     c->periphery_scale = g->periphery_scale;
+    c->inset_radius_deg = g->inset_radius_deg;
     struct hl_error err = {{0}};
     if (frm_cost_calibrate(display, g, (uint64_t)seed, &c->cal, &err) != 0) {
         fprintf(stderr, "hmdlod calibrate: %s\n", err.msg);
@@ -265,14 +268,17 @@ int cmd_calibrate(int argc, char **argv)
     rnd_cost_grid_default(g, a.quick);
     g->render_scale = a.render_scale;
     /* The plain frames first, then (unless --no-layers) each periphery scale of the foveated layers
-     * (frame/layers.h), the same grid drawn as that periphery over the whole eye. */
-    struct calibration_fit fits[1 + FRM_COST_PERIPHERY_MAX];
+     * (frame/layers.h), the same grid drawn as that periphery over the whole eye, then the inset alone
+     * at the fovea's radius (what fs gives it, FRM_LAYER_FOVEA_DEG) around the lens centre. */
+    struct calibration_fit fits[1 + FRM_COST_PERIPHERY_MAX + 1];
     memset(fits, 0, sizeof fits);
     int measured = 0, rc = 0;
     prof.load_before = load_average();
-    for (int i = 0; i < (a.layers ? FRM_LAYER_SCALES : 1) && rc == 0; ++i) {
+    for (int i = 0; i < (a.layers ? FRM_LAYER_SCALES + 1 : 1) && rc == 0; ++i) {
         struct rnd_cost_grid grid = *g;
-        grid.periphery_scale = frm_layer_scales[i];
+        grid.periphery_scale = i < FRM_LAYER_SCALES ? frm_layer_scales[i] : 1.0;
+        if (i == FRM_LAYER_SCALES)
+            grid.inset_radius_deg = FRM_LAYER_FOVEA_DEG, grid.inset_blend_deg = FRM_LAYER_BLEND_DEG_DEFAULT;
         if (measure_and_fit(&display, &grid, a.seed, &fits[measured++]) != 0)
             rc = 1;
         else if (i == 0)
@@ -289,7 +295,7 @@ int cmd_calibrate(int argc, char **argv)
            "  display %s at %d x %d per eye%s, measured in %.1f s\n",
            plain->cal.frame_count, g->families, g->levels, g->coverages, g->counts, g->repeats, plain->cal.renderer,
            display.name, g->eye_width_px, g->eye_height_px,
-           measured > 1 ? ", plain and as the periphery at each layer scale" : "", seconds);
+           measured > 1 ? ", plain, as the periphery at each layer scale and as the inset" : "", seconds);
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     if (prof.load_before >= 0)
         printf("  machine load (1-min average) %.2f before, %.2f after, on %ld cores%s\n", prof.load_before,
@@ -305,7 +311,7 @@ int cmd_calibrate(int argc, char **argv)
         /* Each periphery's kept form; its c0 is its own empty frame (the layer's clear, not the eye's). */
         printf("periphery layers (inset radius 0, pixels at the periphery's resolution; held out as above):\n");
         print_header();
-        for (int i = 1; i < measured; ++i) {
+        for (int i = 1; i < measured - 1; ++i) {
             const struct calibration_fit *c = &fits[i];
             char name[32];
             snprintf(name, sizeof name, "s %.2f %c", c->periphery_scale, calibrate_forms[c->keep] == LOD_COST_MAX ? 'M' : 'A');
@@ -318,7 +324,25 @@ int cmd_calibrate(int argc, char **argv)
                                                c->cal.empty_frames};
         }
         printf("  (M: the max form kept, A: the additive; c0 the periphery's empty frame, median of %u … %u)\n",
-               fits[1].cal.empty_frames, fits[measured - 1].cal.empty_frames);
+               fits[1].cal.empty_frames, fits[measured - 2].cal.empty_frames);
+        /* The inset: its triangles are mostly outside its scissor (set up, not filled), its pixels
+         * those within its rectangle; c0 its scissored clears. */
+        const struct calibration_fit *c = &fits[measured - 1];
+        printf("inset layer alone (%.0f degrees + %.0f blend around the lens centre, full resolution under its "
+               "scissor; pixels within its rectangle):\n", c->inset_radius_deg, (double)FRM_LAYER_BLEND_DEG_DEFAULT);
+        print_header();
+        print_fit(calibrate_forms[c->keep] == LOD_COST_MAX ? "inset M" : "inset A", &c->fits[c->keep],
+                  &c->reports[c->keep], &c->acc[c->keep]);
+        /* The redrawn geometry against the plain frame's: the chair at its finest level in both eyes
+         * (2 × 600 triangles, 2 × 640 vertices, 2 draws), no pixels filled. */
+        printf("  the chair's finest level redrawn with no pixels filled: %.3f ms in the inset, %.3f ms in the plain "
+               "frame\n", lod_cost_object_ms(&c->fits[c->keep], 1200.0, 1280.0, 0.0, 2.0),
+               lod_cost_object_ms(&plain->fits[plain->keep], 1200.0, 1280.0, 0.0, 2.0));
+        prof.inset_measured = 1;
+        prof.inset = (struct frm_cost_inset){c->inset_radius_deg, FRM_LAYER_BLEND_DEG_DEFAULT, c->fits[c->keep],
+                                             c->acc[c->keep],
+                                             {c->cal.empty_ms, c->cal.empty_p25_ms, c->cal.empty_p75_ms,
+                                              c->cal.empty_frames}};
     }
     if (a.csv && write_csv(a.csv, fits, measured) != 0) {
         rc = 1;

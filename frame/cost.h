@@ -86,11 +86,23 @@ struct frm_cost_periphery {
     struct frm_cost_accuracy held_out;
     struct frm_cost_fixed fixed;
 };
+/* The foveal inset's own model (issue 32 item 4): calibrate's grid drawn as the inset alone — the
+ * objects over the whole eye, drawn at full resolution under the scissor of the inset's rectangle
+ * around the lens centre — pixels counted within the rectangle. Its triangle terms are the redrawn
+ * geometry's: most of an inset's triangles fall outside its scissor and are set up, not filled. */
+struct frm_cost_inset {
+    double radius_deg, blend_deg;     /* the inset measured (> 0) */
+    struct lod_cost_model model;
+    struct frm_cost_accuracy held_out;
+    struct frm_cost_fixed fixed;      /* its empty frame: the scissored clears */
+};
 struct frm_cost_profile {
     struct lod_cost_model model;          /* what lod/ and the frame use */
     int periphery_count;                  /* 0: a profile without layer models (the periphery is priced
                                            * with `model`, its pixels at the periphery's resolution) */
     struct frm_cost_periphery periphery[FRM_COST_PERIPHERY_MAX];
+    int inset_measured;                   /* 0: no inset model (the inset is priced with `model`) */
+    struct frm_cost_inset inset;
     struct frm_cost_accuracy held_out;    /* of the kept form */
     struct frm_cost_accuracy held_out_other; /* of the form not kept (frames 0: unknown) */
     struct frm_cost_fixed fixed;          /* the measured fixed cost c0 was taken from */

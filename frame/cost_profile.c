@@ -232,6 +232,30 @@ static int read_periphery(const cJSON *root, struct frm_cost_profile *out, const
     return 0;
 }
 
+/* "inset": the inset's model (frm_cost_inset), {"radius_deg", "blend_deg", "form", "coefficients",
+ * "held_out", "fixed_cost"}. */
+static int read_inset(const cJSON *root, struct frm_cost_profile *out, const char *path, struct hl_error *err)
+{
+    static const char *const keys[] = {"radius_deg", "blend_deg", "form", "coefficients", "held_out", "fixed_cost"};
+    const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, "inset");
+    if (!o)
+        return 0;
+    const char *prefix = "'inset': ";
+    struct frm_cost_inset *p = &out->inset;
+    if (!cJSON_IsObject(o))
+        return hl_fail(err, "%s: %snot an object", path, prefix);
+    if (check_keys(o, keys, 6, path, prefix, err) != 0 ||
+        read_number(o, "radius_deg", 1, 0.0, &p->radius_deg, path, prefix, err) != 0 ||
+        read_number(o, "blend_deg", 1, 0.0, &p->blend_deg, path, prefix, err) != 0 ||
+        read_model(o, 6, &p->model, path, prefix, err) != 0 ||
+        read_accuracy(o, "held_out", &p->held_out, path, prefix, err) != 0 || read_fixed(o, &p->fixed, path, prefix, err) != 0)
+        return -1;
+    if (!(p->radius_deg > 0.0 && p->radius_deg <= 45.0 && p->blend_deg > 0.0 && p->blend_deg <= 45.0))
+        return hl_fail(err, "%s: %sexpected radius_deg and blend_deg in (0, 45]", path, prefix);
+    out->inset_measured = 1;
+    return 0;
+}
+
 static int read_grid(const cJSON *root, struct rnd_cost_grid *g, const char *path, struct hl_error *err)
 {
     static const char *const keys[] = {"families", "levels", "coverage", "objects", "repeats", "render_scale"};
@@ -262,7 +286,7 @@ int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct
 {
     static const char *const keys[] = {"format", "label", "form", "coefficients", "renderer", "display", "eye_px",
                                        "held_out", "held_out_other_form", "grid", "date", "commit",
-                                       "load_average_1min", "fixed_cost", "periphery"};
+                                       "load_average_1min", "fixed_cost", "periphery", "inset"};
     memset(out, 0, sizeof *out);
     char *text = read_text(path, err);
     if (!text)
@@ -305,7 +329,7 @@ int frm_cost_profile_read(const char *path, struct frm_cost_profile *out, struct
         read_accuracy(root, "held_out", &out->held_out, path, "", err) != 0 ||
         read_accuracy(root, "held_out_other_form", &out->held_out_other, path, "", err) != 0 ||
         read_fixed(root, &out->fixed, path, "", err) != 0 || read_grid(root, &out->grid, path, err) != 0 ||
-        read_periphery(root, out, path, err) != 0)
+        read_periphery(root, out, path, err) != 0 || read_inset(root, out, path, err) != 0)
         goto done;
     if (strcmp(format, COST_FORMAT_TAG) != 0) { /* said wherever the label is shown (summary, report) */
         size_t len = strlen(out->label);
@@ -396,6 +420,8 @@ int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, s
     for (int i = 0; i < p->periphery_count; ++i)
         if (check_model(&p->periphery[i].model, path, err) != 0)
             return -1;
+    if (p->inset_measured && check_model(&p->inset.model, path, err) != 0)
+        return -1;
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "format", COST_FORMAT_TAG);
     cJSON_AddStringToObject(root, "label", p->label);
@@ -423,6 +449,15 @@ int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, s
             add_fixed(o, &p->periphery[i].fixed);
             cJSON_AddItemToArray(a, o);
         }
+    }
+    if (p->inset_measured) {
+        cJSON *o = cJSON_AddObjectToObject(root, "inset");
+        cJSON_AddNumberToObject(o, "radius_deg", p->inset.radius_deg);
+        cJSON_AddNumberToObject(o, "blend_deg", p->inset.blend_deg);
+        add_model(o, &p->inset.model);
+        if (p->inset.held_out.frames)
+            cJSON_AddItemToObject(o, "held_out", accuracy_json(&p->inset.held_out));
+        add_fixed(o, &p->inset.fixed);
     }
     if (p->grid.repeats > 0) {
         const struct rnd_cost_grid *g = &p->grid;

@@ -318,12 +318,10 @@ void frm_layers_inset_pixels(struct frm_layers *l, int c, const struct scn_scene
         if (rect[2] < 1 || rect[3] < 1)
             continue;
         const struct acu_eye *y = &eyes[e];
-        double tx = (y->tan_left + y->tan_right) / y->width_px, ty = (y->tan_up + y->tan_down) / y->height_px;
+        double t[4];
+        rnd_layer_rect_tangents(y->tan_left, y->tan_right, y->tan_down, y->tan_up, y->width_px, y->height_px, rect, t);
         inset[n] = *y;
-        inset[n].tan_left = y->tan_left - rect[0] * tx;
-        inset[n].tan_right = -y->tan_left + (rect[0] + rect[2]) * tx;
-        inset[n].tan_down = y->tan_down - rect[1] * ty;
-        inset[n].tan_up = -y->tan_down + (rect[1] + rect[3]) * ty;
+        inset[n].tan_left = t[0], inset[n].tan_right = t[1], inset[n].tan_down = t[2], inset[n].tan_up = t[3];
         inset[n].width_px = rect[2], inset[n].height_px = rect[3];
         ++n;
     }
@@ -349,11 +347,11 @@ double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_lay
     double outer = c->inset_radius_deg + l->blend_deg;
     double cost = 0.0;
     if (c->inset_radius_deg > 0.0 && theta - half < outer) /* the inset draws the band too */
-        cost += frm_level_cost_ms(m, ch, level, l->inset_px[k], boxed);
+        cost += frm_level_cost_ms(l->costed ? &l->cost.inset : m, ch, level, l->inset_px[k], boxed);
     int periphery = periphery_level(l, c, level, k);
     if (theta + half > c->inset_radius_deg && periphery != LOD_DROP) /* DROP: invisible at that scale */
-        cost += frm_level_cost_ms(l->periphery_costed ? &l->periphery_cost[scale_index(c->scale)] : m, ch,
-                                  periphery, pixels_px * c->scale * c->scale, boxed);
+        cost += frm_level_cost_ms(l->costed ? &l->cost.periphery[scale_index(c->scale)] : m, ch, periphery,
+                                  pixels_px * c->scale * c->scale, boxed);
     return cost;
 }
 

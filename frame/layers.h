@@ -62,6 +62,15 @@ enum { FRM_LAYER_CANDIDATES_MAX = FRM_LAYER_SCALES };
  * the inset spreads over ~50 pixels of a Vive's eye (test_layers: no step across its edges). */
 #define FRM_LAYER_BLEND_DEG_DEFAULT 5.0
 
+/* The cost models of the layers (a cost profile's, frame/cost.h): per scale the periphery's (the
+ * plain model where the profile has none, and at scale 1), and the inset's (the plain model where
+ * it has none); the counts say how many the profile had. */
+struct frm_layer_costs {
+    struct lod_cost_model periphery[FRM_LAYER_SCALES];
+    struct lod_cost_model inset;
+    int periphery_count, inset_measured;
+};
+
 struct frm_layer_candidate {
     double scale, inset_radius_deg;
     struct rnd_layer_plan plan; /* what render will draw for it: the insets' rectangles, the sizes */
@@ -96,12 +105,10 @@ struct frm_layers {
     double forced_scale;       /* > 0: --periphery-scale fixes s */
     double forced_radius_deg;  /* ≥ 0: --inset-deg fixes the radius; < 0: from the ceiling */
     double overhead_ms[FRM_LAYER_SCALES]; /* per scale, measured at warm-up (0 for s = 1) */
-    /* Per scale, the cost model of what an object costs in the periphery (frm_cost_model_load: the
-     * profile's periphery model, or the plain one where it has none); the inset is priced with the
-     * plain model. Set by the session after frm_layers_init; periphery_costed 0: the plain model
-     * everywhere. */
-    struct lod_cost_model periphery_cost[FRM_LAYER_SCALES];
-    int periphery_costed;
+    /* What an object costs in each layer (frm_cost_model_load). Set by the session after
+     * frm_layers_init; costed 0: the plain model everywhere. */
+    struct frm_layer_costs cost;
+    int costed;
     /* this frame */
     struct frm_layer_candidate cand[FRM_LAYER_CANDIDATES_MAX];
     int cand_count, chosen, evaluated; /* evaluated: candidates fs solved */
@@ -192,9 +199,9 @@ int frm_layers_outcome_better(const struct frm_layer_outcome *a, const struct fr
 
 /* An object's cost under a candidate (both eyes, cost-profile units): frm_level_cost_ms for its
  * pixels in the inset rectangles (frm_layers_inset_pixels, computed for c first) at full resolution
- * with m, plus, where it reaches past the inner disc, its whole image at s² in the periphery (the
- * periphery draws the whole eye) with the periphery's model at that scale (periphery_cost; m where
- * none is set), each layer paying the geometry. */
+ * with the inset's model, plus, where it reaches past the inner disc, its whole image at s² in the
+ * periphery (the periphery draws the whole eye) with the periphery's model at that scale (l->cost;
+ * m for both where none is set), each layer paying the geometry. */
 struct lod_cost_model;
 struct scn_chain;
 double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_layer_candidate *c,

@@ -32,8 +32,8 @@ int frm_benefit_parse(const char *name, int *perceptual, struct hl_error *err)
     return 0;
 }
 
-int frm_cost_model_load(const char *path, struct lod_cost_model *out, struct lod_cost_model *periphery_out,
-                        int *periphery_count, char *label_out, size_t label_size, struct hl_error *err)
+int frm_cost_model_load(const char *path, struct lod_cost_model *out, struct frm_layer_costs *layers_out,
+                        char *label_out, size_t label_size, struct hl_error *err)
 {
     struct frm_cost_profile profile;
     if (path) {
@@ -46,22 +46,23 @@ int frm_cost_model_load(const char *path, struct lod_cost_model *out, struct lod
         snprintf(label_out, label_size, "%s", profile.label);
     }
     *out = profile.model;
-    if (periphery_out) {
+    if (layers_out) {
         for (int i = 0; i < FRM_LAYER_SCALES; ++i) {
-            periphery_out[i] = profile.model; /* where the profile has no model for a scale */
+            layers_out->periphery[i] = profile.model; /* where the profile has no model for a scale */
             for (int k = 0; k < profile.periphery_count && i > 0; ++k)
                 if (fabs(profile.periphery[k].scale - frm_layer_scales[i]) <= 1e-9)
-                    periphery_out[i] = profile.periphery[k].model;
+                    layers_out->periphery[i] = profile.periphery[k].model;
         }
+        layers_out->inset = profile.inset_measured ? profile.inset.model : profile.model;
+        layers_out->periphery_count = profile.periphery_count;
+        layers_out->inset_measured = profile.inset_measured;
     }
-    if (periphery_count)
-        *periphery_count = profile.periphery_count;
-    if (profile.periphery_count > 0) {
-        size_t len = strlen(label_out);
-        if (len < label_size)
-            snprintf(label_out + len, label_size - len, "; periphery models at %d layer scales",
-                     profile.periphery_count);
-    }
+    size_t len = strlen(label_out);
+    if (profile.periphery_count > 0 && len < label_size)
+        snprintf(label_out + len, label_size - len, "; periphery models at %d layer scales", profile.periphery_count);
+    len = strlen(label_out);
+    if (profile.inset_measured && len < label_size)
+        snprintf(label_out + len, label_size - len, "; an inset model (%g degrees)", profile.inset.radius_deg);
     return 0;
 }
 

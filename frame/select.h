@@ -142,12 +142,12 @@ struct frm_select_record {
 };
 
 /* The machine cost profile: `path` (a JSON file written by hmdlod calibrate) or, for NULL, the
- * built-in profile for llvmpipe; label_out says which, for the summary. periphery_out (NULL: not
- * wanted) gets FRM_LAYER_SCALES models, one per layer scale: the profile's periphery model at that
- * scale, or where it has none (and at scale 1) the plain model; *periphery_count (may be NULL) how
- * many it had. */
-int frm_cost_model_load(const char *path, struct lod_cost_model *out, struct lod_cost_model *periphery_out,
-                        int *periphery_count, char *label_out, size_t label_size, struct hl_error *err);
+ * built-in profile for llvmpipe; label_out says which, for the summary. layers_out (NULL: not
+ * wanted) gets the layers' models (frame/layers.h struct frm_layer_costs): per layer scale the
+ * profile's periphery model at that scale, or where it has none (and at scale 1) the plain model;
+ * the inset's model, or the plain one where the profile has none; and how many it had of each. */
+int frm_cost_model_load(const char *path, struct lod_cost_model *out, struct frm_layer_costs *layers_out,
+                        char *label_out, size_t label_size, struct hl_error *err);
 
 int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct hl_error *err);
 void frm_select_free(struct frm_select *s);

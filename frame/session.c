@@ -248,8 +248,8 @@ int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, s
         return -1;
     s->select.saccade_onset_degps = o->saccade_onset_degps; /* frame/saccade_step.c */
     s->select.saccade_off = s->gaze != ACU_GAZE_TRACKED; /* head, vor: no eye tracker, no saccades known */
-    struct lod_cost_model periphery_cost[FRM_LAYER_SCALES];
-    if (frm_cost_model_load(o->cost_profile, &s->select.cost, periphery_cost, NULL, s->cost_label,
+    struct frm_layer_costs layer_costs;
+    if (frm_cost_model_load(o->cost_profile, &s->select.cost, &layer_costs, s->cost_label,
                             sizeof s->cost_label, err) != 0 ||
         frm_select_init(&s->select, &s->scene, err) != 0)
         return -1;
@@ -260,8 +260,8 @@ int frm_session_open_scene(struct frm_session *s, const struct frm_options *o, s
         frm_layers_init(&s->layers, foveation, o->blend_deg, o->periphery_scale, o->inset_deg, n,
                         s->scene.group_count, err) != 0)
         return -1;
-    memcpy(s->layers.periphery_cost, periphery_cost, sizeof periphery_cost);
-    s->layers.periphery_costed = 1;
+    s->layers.cost = layer_costs;
+    s->layers.costed = 1;
     s->select.layers = &s->layers;
 
     int eye_w = (int)lround(s->display.eye_width_px * o->render_scale);

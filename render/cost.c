@@ -107,17 +107,20 @@ static void grid_point(const struct rnd_cost_grid *g, size_t p, int *family, int
     *family = (int)(p / (size_t)g->levels);
 }
 
-/* Draws grid point p once, plainly or as the periphery `layers` describes (NULL: plainly); *ms gets
- * the time of draw + glFinish. The periphery's composite is not timed: it is the compositor's, and a
- * replay frame does not count it either (docs/foveation.md "What a frame pays"). */
+/* Draws grid point p once, plainly, as the periphery `layers` describes (inset radius 0) or as its
+ * inset alone (radius > 0; NULL: plainly); *ms gets the time of draw + glFinish. The periphery's
+ * composite is not timed: it is the compositor's, and a replay frame does not count it either
+ * (docs/foveation.md "What a frame pays"). */
 static int draw_point(struct rnd_renderer *r, struct scn_scene *scene, const struct rnd_eye_view views[2],
                       const struct rnd_layers *layers, const uint32_t *index, uint8_t *lod, uint32_t count,
                       int level, double *ms)
 {
     memset(lod, level, count);
     int64_t t0 = hl_clock_now_ns();
-    int rc = layers ? rnd_renderer_draw_layers(r, scene, views, layers, index, lod, NULL, NULL, count, NULL)
-                    : rnd_renderer_draw_stereo(r, scene, views, index, lod, count, NULL);
+    int rc = !layers                           ? rnd_renderer_draw_stereo(r, scene, views, index, lod, count, NULL)
+             : layers->inset_radius_deg > 0.0 ? rnd_renderer_draw_inset(r, scene, views, layers, index, lod, count, NULL)
+                                               : rnd_renderer_draw_layers(r, scene, views, layers, index, lod, NULL,
+                                                                          NULL, count, NULL);
     *ms = (double)(hl_clock_now_ns() - t0) * 1e-6;
     return rc;
 }
@@ -135,6 +138,11 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
     if (!(grid->periphery_scale >= RND_LAYER_SCALE_MIN && grid->periphery_scale <= 1.0))
         return hl_fail(err, "calibrate: periphery scale %g is outside [%g, 1]", grid->periphery_scale,
                        RND_LAYER_SCALE_MIN);
+    if (!(grid->inset_radius_deg >= 0.0 && grid->inset_radius_deg <= 45.0) ||
+        (grid->inset_radius_deg > 0.0 && !(grid->inset_blend_deg > 0.0 && grid->inset_blend_deg <= 45.0)) ||
+        (grid->inset_radius_deg > 0.0 && grid->periphery_scale < 1.0))
+        return hl_fail(err, "calibrate: inset radius %g / blend %g: expected radius 0, or radius in (0, 45] and "
+                       "blend in (0, 45] with plain frames' scale 1", grid->inset_radius_deg, grid->inset_blend_deg);
     grid->eye_width_px = (int)lround(display->eye_width_px * grid->render_scale);
     grid->eye_height_px = (int)lround(display->eye_height_px * grid->render_scale);
     snprintf(grid->display, sizeof grid->display, "%s", display->name);
@@ -208,19 +216,41 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
     snprintf(out->renderer, sizeof out->renderer, "%s", rnd_renderer_name(r));
 
     struct rnd_eye_view views[2];
-    struct rnd_cost_eye *eyes = out->eyes;
-    /* The periphery alone: inset radius 0 makes the whole eye one layer at the scale. */
-    struct rnd_layers periphery = {.periphery_scale = grid->periphery_scale, .inset_radius_deg = 0.0,
-                                   .blend_deg = 1.0, .centre_eye = {hl_v3(0, 0, -1), hl_v3(0, 0, -1)}};
-    const struct rnd_layers *layers = grid->periphery_scale < 1.0 ? &periphery : NULL;
+    struct rnd_cost_eye eyes[2]; /* where the objects are placed: each whole eye */
+    /* The periphery alone: inset radius 0 makes the whole eye one layer at the scale. The inset alone:
+     * its rectangle around the lens centre (the placement's centre too), the periphery not drawn —
+     * the scale only has to be below 1 for the plan to have an inset. */
+    int inset = grid->inset_radius_deg > 0.0;
+    struct rnd_layers layer = {.periphery_scale = inset ? 0.5 : grid->periphery_scale,
+                               .inset_radius_deg = grid->inset_radius_deg,
+                               .blend_deg = inset ? grid->inset_blend_deg : 1.0,
+                               .centre_eye = {hl_v3(0, 0, -1), hl_v3(0, 0, -1)}};
+    const struct rnd_layers *layers = inset || grid->periphery_scale < 1.0 ? &layer : NULL;
     for (int e = 0; e < 2; ++e) {
         struct hmd_eye he = hmd_eye_frustum(display, e == 0 ? HMD_EYE_LEFT : HMD_EYE_RIGHT);
-        periphery.eyes[e] = he;
+        layer.eyes[e] = he;
         views[e].position_m[0] = he.offset_x_m, views[e].position_m[1] = 0, views[e].position_m[2] = 0;
         views[e].orientation = hl_q_identity();
         hmd_eye_projection(&he, cost_near_m, cost_far_m, views[e].projection);
         eyes[e] = (struct rnd_cost_eye){he.offset_x_m, he.tan_left, he.tan_right, he.tan_up, he.tan_down,
                                         grid->eye_width_px, grid->eye_height_px};
+    }
+    struct rnd_layer_plan plan;
+    if (inset && (rnd_layer_plan_make(&layer, grid->eye_width_px, grid->eye_height_px, &plan) != 0 ||
+                  plan.inset_rect_px[0][2] < 1 || plan.inset_rect_px[1][2] < 1 || plan.inset_rect_px[0][3] < 1 ||
+                  plan.inset_rect_px[1][3] < 1)) {
+        hl_fail(err, "calibrate: no inset of %g degrees on %s", grid->inset_radius_deg, display->name);
+        goto done;
+    }
+    for (int e = 0; e < 2; ++e) {
+        out->eyes[e] = eyes[e];
+        if (!inset)
+            continue;
+        const int *rect = plan.inset_rect_px[e];
+        double t[4];
+        rnd_layer_rect_tangents(eyes[e].tan_left, eyes[e].tan_right, eyes[e].tan_down, eyes[e].tan_up,
+                                eyes[e].width_px, eyes[e].height_px, rect, t);
+        out->eyes[e] = (struct rnd_cost_eye){eyes[e].offset_x_m, t[0], t[1], t[3], t[2], rect[2], rect[3]};
     }
     for (uint32_t i = 0; i < max_objects; ++i)
         index[i] = i;

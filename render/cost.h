@@ -48,6 +48,12 @@ struct rnd_cost_grid {
                                               * periphery of that linear scale covering the whole eye
                                               * (rnd_renderer_draw_layers, inset radius 0) — the
                                               * periphery layer's cost (frame/layers.h) */
+    double inset_radius_deg, inset_blend_deg; /* radius > 0 (scale then 1): each frame drawn as the
+                                              * foveal inset alone, that radius and blend band around
+                                              * the lens centre, at full resolution under its scissor
+                                              * (rnd_renderer_draw_inset) — the inset layer's redrawn
+                                              * geometry; the objects are placed over the whole eye
+                                              * as for the plain frames, so most straddle the scissor */
     char display[HMD_NAME_MAX];
 };
 /* The default grid (2 families × 4 levels × 5 coverages × 5 counts, 7 repeats) or --quick's
@@ -61,7 +67,8 @@ struct rnd_cost_eye {
     int width_px, height_px;
 };
 struct rnd_calibration {
-    struct rnd_cost_eye eyes[2];
+    struct rnd_cost_eye eyes[2];     /* the images the objects' pixels are counted in: each whole eye,
+                                      * or under an inset grid each eye's inset rectangle */
     struct rnd_cost_frame *frames;   /* one per grid point, in grid order */
     struct rnd_cost_object *objects;
     size_t frame_count, object_count;
@@ -82,7 +89,9 @@ struct rnd_calibration {
  * comes first, as llvmpipe compiles shaders on first use. Takes seconds; allocates *out (free with
  * rnd_calibration_free). grid->eye_width_px/height_px and display are filled in. With
  * grid->periphery_scale < 1 every frame, the empty ones too, is drawn as that periphery over the whole
- * eye: the objects' counts are the same, their pixels s² as many (frm_cost_calibrate). */
+ * eye: the objects' counts are the same, their pixels s² as many (frm_cost_calibrate). With
+ * grid->inset_radius_deg > 0 every frame is drawn as the inset alone: the same counts, out->eyes
+ * the inset's rectangles. */
 int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
                      struct rnd_calibration *out, struct hl_error *err);
 void rnd_calibration_free(struct rnd_calibration *c);

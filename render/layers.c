@@ -176,6 +176,16 @@ int rnd_layer_plan_make(const struct rnd_layers *l, int eye_w, int eye_h, struct
     return 0;
 }
 
+void rnd_layer_rect_tangents(double tan_left, double tan_right, double tan_down, double tan_up, double width_px,
+                             double height_px, const int rect[4], double out[4])
+{
+    double tx = (tan_left + tan_right) / width_px, ty = (tan_up + tan_down) / height_px;
+    out[0] = tan_left - rect[0] * tx;
+    out[1] = -tan_left + (rect[0] + rect[2]) * tx;
+    out[2] = tan_down - rect[1] * ty;
+    out[3] = -tan_down + (rect[1] + rect[3]) * ty;
+}
+
 /* The composite's mesh for one eye: the band strip (inner ring t = 0, outer ring t = 1), then the
  * outer strip from the outer ring to far outside the viewport (t = 1). The three rings of an azimuth
  * lie on one line through the centre's image (they share the plane of the centre and that azimuth,
@@ -429,6 +439,31 @@ int rnd_renderer_draw_layers(struct rnd_renderer *r, const struct scn_scene *sce
     r->layers->plan = plan;
     r->layers->pending = 1;
     return 0;
+}
+
+int rnd_renderer_draw_inset(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view views[2],
+                            const struct rnd_layers *layers, const uint32_t *index, const uint8_t *lod, size_t count,
+                            struct rnd_draw_stats *stats)
+{
+    struct rnd_draw_stats st = {0};
+    if (stats)
+        *stats = st;
+    struct rnd_layer_plan plan;
+    if (!r || !views || !layers || layers->periphery_scale >= 1.0 || !(layers->inset_radius_deg > 0.0) ||
+        rnd_layer_plan_make(layers, r->eye_w, r->eye_h, &plan) != 0 || rnd_check_draw(r, scene, index, lod, count) != 0 ||
+        rnd_renderer_current(r) != 0)
+        return -1;
+    if (r->layers)
+        r->layers->pending = 0;
+    glUseProgram(r->program);
+    glBindVertexArray(r->vao);
+    draw_insets(r, scene, views, &plan, index, lod, NULL, count, &st);
+    glBindVertexArray(0);
+    glFinish(); /* the caller's timer covers the GPU work */
+    st.inset_px = plan.inset_px;
+    if (stats)
+        *stats = st;
+    return glGetError() != GL_NO_ERROR ? -1 : 0;
 }
 
 int rnd_renderer_composite_layers(struct rnd_renderer *r, double *composite_px)

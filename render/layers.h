@@ -55,6 +55,12 @@ struct rnd_layer_plan {
  * a non-positive tangent). Pure: no GL. */
 int rnd_layer_plan_make(const struct rnd_layers *l, int eye_w_px, int eye_h_px, struct rnd_layer_plan *out);
 
+/* The tangents {left, right, down, up} of the part of an eye image that rect (x, y, width, height in
+ * pixels, y from the bottom) covers, for an eye of those tangents and width_px × height_px: the
+ * rectangle as an image of its own, for coverage estimates within an inset. Pure. */
+void rnd_layer_rect_tangents(double tan_left, double tan_right, double tan_down, double tan_up, double width_px,
+                             double height_px, const int rect[4], double out[4]);
+
 /* ---- what the content needs (ring_contrast.c) ------------------------------------------------
  * The band-limited contrast (Peli 1990) of the last frame by eccentricity: the FBO reduced to
  * 1/RND_RING_DOWNSAMPLE of its size per axis by a linear down-blit (one for both eyes when the

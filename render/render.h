@@ -55,6 +55,13 @@ int rnd_renderer_draw_layers(struct rnd_renderer *r, const struct scn_scene *sce
                              const struct rnd_layers *layers, const uint32_t *index, const uint8_t *lod,
                              const uint8_t *periphery_lod, const uint8_t *mask, size_t count,
                              struct rnd_draw_stats *stats);
+/* The insets alone — rnd_renderer_draw_layers' first step, each eye's full-resolution inset under its
+ * scissor into the FBO, every listed instance at lod[k] — and glFinish: the layer's redrawn geometry
+ * and pixels as `calibrate` times them (render/cost.h). Nothing is left to composite. layers' scale
+ * must be below 1 and its radius above 0; −1 otherwise, on a bad list, or on a GL error. */
+int rnd_renderer_draw_inset(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view views[2],
+                            const struct rnd_layers *layers, const uint32_t *index, const uint8_t *lod, size_t count,
+                            struct rnd_draw_stats *stats);
 /* Composites the last rnd_renderer_draw_layers into the FBO that rnd_renderer_read_rgba, the mean
  * luminance and the distortion pass read, and waits for it; a no-op (0) after a plain frame. Apart
  * from the draw because it is the compositor's work: a headset runtime composites submitted layers

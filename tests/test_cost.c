@@ -397,13 +397,29 @@ static void test_profile(void)
     CHECK(q.periphery[0].held_out.p95_rel == 0.3 && q.periphery[1].fixed.frames == 182 &&
           q.periphery[1].fixed.p75_ms == 0.25);
     /* The replay takes each scale's model for the periphery and the plain one where there is none. */
-    struct lod_cost_model plain, per_scale[FRM_LAYER_SCALES];
-    int models = 0;
+    struct lod_cost_model plain;
+    struct frm_layer_costs lc;
     char label[300];
-    CHECK(frm_cost_model_load(path, &plain, per_scale, &models, label, sizeof label, &err) == 0);
-    CHECK(models == 2 && plain.c0_ms == 1.25 && per_scale[0].c0_ms == 1.25 && per_scale[1].c0_ms == 1.25 &&
+    CHECK(frm_cost_model_load(path, &plain, &lc, label, sizeof label, &err) == 0);
+    const struct lod_cost_model *per_scale = lc.periphery;
+    CHECK(lc.periphery_count == 2 && plain.c0_ms == 1.25 && per_scale[0].c0_ms == 1.25 && per_scale[1].c0_ms == 1.25 &&
           per_scale[2].c0_ms == 0.6 && per_scale[3].c0_ms == 1.25 && per_scale[4].c5_ms_per_edge_px == 9.5e-5);
     CHECK(strstr(label, "periphery models at 2 layer scales") != NULL);
+    /* No inset model in that profile: the inset is priced with the plain one. */
+    CHECK(!lc.inset_measured && lc.inset.c0_ms == 1.25 && lc.inset.c1_ms_per_triangle == plain.c1_ms_per_triangle);
+
+    /* The inset's model comes back whole, and the replay prices the inset with it. */
+    p.inset_measured = 1;
+    p.inset = (struct frm_cost_inset){5.0, 5.0, {LOD_COST_ADDITIVE, 0.4, 2.5e-5, 0, 5.0e-6, 0.006, 0},
+                                      {0.12, 0.35, 0.03, 50}, {0.4, 0.3, 0.5, 60}};
+    CHECK(frm_cost_profile_write(path, &p, &err) == 0 && frm_cost_profile_read(path, &q, &err) == 0);
+    CHECK(q.inset_measured && q.inset.radius_deg == 5.0 && q.inset.blend_deg == 5.0 &&
+          q.inset.model.form == LOD_COST_ADDITIVE && q.inset.model.c1_ms_per_triangle == 2.5e-5 &&
+          q.inset.model.c3_ms_per_pixel == 5.0e-6 && q.inset.held_out.p95_rel == 0.35 && q.inset.fixed.frames == 60);
+    CHECK(frm_cost_model_load(path, &plain, &lc, label, sizeof label, &err) == 0);
+    CHECK(lc.inset_measured && lc.inset.c1_ms_per_triangle == 2.5e-5 && lc.inset.c0_ms == 0.4 &&
+          lc.periphery[2].c0_ms == 0.6 && strstr(label, "an inset model (5 degrees)") != NULL);
+    p.inset_measured = 0;
 
     /* The unwritable: one message, nothing left. */
     CHECK(frm_cost_profile_write("/nonexistent-dir/x.json", &p, &err) != 0 && strstr(err.msg, "/nonexistent-dir"));
@@ -479,6 +495,13 @@ static void test_profile(void)
                "\"median_ms\": 1, \"p25_ms\": 2, \"p75_ms\": 3}}]}",
                "'periphery'[0]: 'fixed_cost': expected p25_ms");
     expect_bad("layer_list.json", V3_HEAD "\"periphery\": {\"scale\": 0.5}}", "'periphery': expected an array");
+#define GOOD_INSET "{\"radius_deg\": 5, \"blend_deg\": 5, \"form\": \"additive\", \"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, \"c5_ms_per_edge_px\": 0}"
+    expect_bad("inset_radius.json", V3_HEAD "\"inset\": {\"radius_deg\": 0, \"blend_deg\": 5, \"form\": \"max\", "
+               "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, \"c5_ms_per_edge_px\": 0}}}",
+               "'inset': expected radius_deg and blend_deg in (0, 45]");
+    expect_bad("inset_key.json", V3_HEAD "\"inset\": " GOOD_INSET ", \"scale\": 0.5}}", "'inset': 'scale': unknown key");
+    expect_bad("inset_form.json", V3_HEAD "\"inset\": {\"radius_deg\": 5, \"blend_deg\": 5}}", "'inset': 'form': missing");
+    expect_bad("inset_list.json", V3_HEAD "\"inset\": [" GOOD_INSET "}]}", "'inset': not an object");
     expect_bad("format.json", "{\"format\": \"hmdlod-display-1\"}", "'format'");
     expect_bad("notjson.json", "{\"format\": ", "not valid JSON");
     expect_bad("array.json", "[1, 2]", "expected a JSON object");
@@ -552,6 +575,30 @@ static void test_measure(void)
         CHECK(q->triangles == o->triangles && per.frames[0].measured_ms > 0.0);
         rnd_calibration_free(&per);
     }
+    /* The inset alone (5° + 5° around the lens centre): the same objects, their pixels counted within
+     * its rectangles — none for an object wholly outside them, at most the rectangles' own. */
+    struct rnd_cost_grid gi = g;
+    gi.inset_radius_deg = 5.0, gi.inset_blend_deg = 5.0;
+    struct rnd_calibration ins;
+    rc = frm_cost_calibrate(vive, &gi, 1, &ins, &err);
+    CHECK(rc == 0);
+    if (rc == 0) {
+        CHECK(ins.frame_count == cal.frame_count && ins.object_count == cal.object_count && ins.empty_frames == 4);
+        double rect_px = (double)ins.eyes[0].width_px * ins.eyes[0].height_px + (double)ins.eyes[1].width_px * ins.eyes[1].height_px;
+        CHECK(ins.eyes[0].width_px < 270 && ins.eyes[0].height_px < 300 && rect_px > 100.0);
+        CHECK(ins.eyes[0].tan_left + ins.eyes[0].tan_right < cal.eyes[0].tan_left + cal.eyes[0].tan_right);
+        const struct rnd_cost_object *q = &ins.objects[ins.frames[0].first_object];
+        CHECK(q->pixels_px > 0.0 && q->pixels_px <= o->pixels_px && q->pixels_px <= q->fill * rect_px * 1.001);
+        CHECK(q->triangles == o->triangles && ins.frames[0].measured_ms > 0.0);
+        const struct rnd_cost_frame *many = &ins.frames[5]; /* 32 spheres over 30 % of each eye */
+        int outside = 0;
+        for (uint32_t k = 0; k < many->object_count; ++k)
+            outside += ins.objects[many->first_object + k].pixels_px == 0.0;
+        CHECK(many->object_count == 32 && outside > 0);
+        rnd_calibration_free(&ins);
+    }
+    gi.periphery_scale = 0.5; /* an inset over a periphery is not a grid of one layer */
+    CHECK(rnd_cost_measure(vive, &gi, 1, &ins, &err) != 0 && strstr(err.msg, "inset radius 5"));
     gp.periphery_scale = 0.1;
     struct rnd_calibration none0;
     CHECK(rnd_cost_measure(vive, &gp, 1, &none0, &err) != 0 && strstr(err.msg, "periphery scale 0.1"));

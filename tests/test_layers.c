@@ -184,6 +184,63 @@ static void test_global_and_masks(struct rnd_renderer *r, const struct scn_scene
     free(mask);
 }
 
+/* The inset alone (what calibrate times): inside each eye's rectangle the full render, bit for bit;
+ * outside it the FBO as the frame before left it; every listed instance drawn there, nothing in a
+ * periphery, nothing to composite. */
+static void test_inset_alone(struct rnd_renderer *r, const struct scn_scene *s, const uint32_t *index,
+                             const uint8_t *lod)
+{
+    struct rnd_eye_view va[2], vb[2];
+    hl_vec3d ahead = hl_v3(0, 0, -1);
+    struct rnd_layers l = {.periphery_scale = 0.5, .inset_radius_deg = 5.0, .blend_deg = 5.0, .centre_eye = {ahead, ahead}};
+    struct hmd_eye unused[2];
+    views_at(0, -8, va, l.eyes);
+    views_at(30, 0, vb, unused);
+    size_t bytes = (size_t)2 * EW * EH * 4;
+    uint8_t *a = malloc(bytes), *b = malloc(bytes), *img = malloc(bytes);
+    struct hl_error err = {""};
+    struct rnd_draw_stats st;
+    CHECK(rnd_renderer_draw_stereo(r, s, va, index, lod, s->instance_count, NULL) == 0);
+    CHECK(rnd_renderer_read_rgba(r, a, &err) == 0);
+    CHECK(rnd_renderer_draw_stereo(r, s, vb, index, lod, s->instance_count, NULL) == 0);
+    CHECK(rnd_renderer_read_rgba(r, b, &err) == 0);
+    CHECK(rnd_renderer_draw_inset(r, s, va, &l, index, lod, s->instance_count, &st) == 0);
+    CHECK(rnd_renderer_read_rgba(r, img, &err) == 0);
+    struct rnd_layer_plan plan;
+    CHECK(rnd_layer_plan_make(&l, EW, EH, &plan) == 0);
+    CHECK(st.inset_triangles > 0 && st.periphery_triangles == 0 && st.periphery_px == 0.0 &&
+          st.inset_px == plan.inset_px && st.triangles_per_eye[0] + st.triangles_per_eye[1] == st.inset_triangles);
+    long in = 0, in_diff = 0, out = 0, out_diff = 0, differs_ab = 0;
+    for (int e = 0; e < 2; ++e) {
+        const int *rect = plan.inset_rect_px[e];
+        for (int y = 0; y < EH; ++y)
+            for (int x = 0; x < EW; ++x) {
+                int gl_y = EH - 1 - y; /* rows top to bottom; the rectangle counts from the bottom */
+                int inside = x >= rect[0] && x < rect[0] + rect[2] && gl_y >= rect[1] && gl_y < rect[1] + rect[3];
+                const uint8_t *p = pix(img, e, x, y);
+                differs_ab += memcmp(pix(a, e, x, y), pix(b, e, x, y), 4) != 0;
+                if (inside)
+                    ++in, in_diff += memcmp(p, pix(a, e, x, y), 4) != 0;
+                else
+                    ++out, out_diff += memcmp(p, pix(b, e, x, y), 4) != 0;
+            }
+    }
+    printf("inset alone: rectangles %ld px (%ld differ from the full render), outside %ld px (%ld changed)\n", in,
+           in_diff, out, out_diff);
+    CHECK(differs_ab > 1000); /* the two poses differ, so the checks below can fail */
+    CHECK(in > 1000 && in_diff == 0 && out > in && out_diff == 0);
+    double px = -1.0;
+    CHECK(rnd_renderer_composite_layers(r, &px) == 0 && px == 0.0);
+    struct rnd_layers bad = l;
+    bad.periphery_scale = 1.0;
+    CHECK(rnd_renderer_draw_inset(r, s, va, &bad, index, lod, s->instance_count, &st) != 0);
+    bad = l, bad.inset_radius_deg = 0.0;
+    CHECK(rnd_renderer_draw_inset(r, s, va, &bad, index, lod, s->instance_count, &st) != 0);
+    free(a);
+    free(b);
+    free(img);
+}
+
 /* The distortion pass as the composite (live): with a lens-free profile and an output the FBO's size
  * it samples each pixel's centre, so inside the inner disc it must equal the plain frame's pass bit
  * for bit, beyond the band the composite pass's image within a level or two (the same bilinear
@@ -422,6 +479,7 @@ int main(void)
     test_composite(r, &s, index, lod, 20, -5, hl_v3(0.25, -0.15, -1.0), 0.35); /* gaze off the axis */
     test_step_detected(r, &s, index, lod);
     test_global_and_masks(r, &s, index, lod);
+    test_inset_alone(r, &s, index, lod);
     test_distortion_composite(r, &s, index, lod);
     test_ring_contrast(r, &s, index, lod);
     free(index);

@@ -146,7 +146,7 @@ static int run_selection(enum frm_selector selector, double limit_after_saccade_
     s.opt_limit_us = 0.0; /* fs: none until the saccade */
     s.static_px = 64.0;
     char label[160];
-    int rc = frm_cost_model_load(NULL, &s.cost, NULL, NULL, label, sizeof label, &err) != 0 || frm_select_init(&s, &scene, &err) != 0;
+    int rc = frm_cost_model_load(NULL, &s.cost, NULL, label, sizeof label, &err) != 0 || frm_select_init(&s, &scene, &err) != 0;
     uint32_t n_all = scene.instance_count, n = 0;
     uint32_t *visible = calloc(n_all, sizeof *visible);
     double *ecc = calloc(n_all, sizeof(double)), *vel = calloc(n_all, sizeof(double)), *diam = calloc(n_all, sizeof(double));

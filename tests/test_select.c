@@ -79,7 +79,7 @@ static void select_once(struct field *f, int correct, enum frm_selector selector
     s.correct = correct;
     char label[160];
     memset(rec, 0, sizeof *rec);
-    if (frm_cost_model_load(NULL, &s.cost, NULL, NULL, label, sizeof label, &err) != 0 ||
+    if (frm_cost_model_load(NULL, &s.cost, NULL, label, sizeof label, &err) != 0 ||
         frm_select_init(&s, &f->scene, &err) != 0) {
         fprintf(stderr, "select: %s\n", err.msg);
         CHECK(0);
@@ -98,7 +98,7 @@ static void test_drop_last(struct field *f)
     struct lod_cost_model model;
     char label[160];
     struct hl_error err = {{0}};
-    CHECK(frm_cost_model_load(NULL, &model, NULL, NULL, label, sizeof label, &err) == 0);
+    CHECK(frm_cost_model_load(NULL, &model, NULL, label, sizeof label, &err) == 0);
     /* What every visible object at its coarsest costs (the model's objects' part, c0 aside). */
     select_once(f, FRM_CORRECTION_OFF, FRM_SELECT_STATIC, 1000.0, &rec);
     double c0 = model.c0_ms, coarsest_ms = rec.predicted_ms - c0;

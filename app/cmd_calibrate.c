@@ -99,6 +99,10 @@ static int check_writable(const char *path)
  * chosen as below), the ordinary intercept fits beside them, held-out accuracy, the form kept. */
 struct calibration_fit {
     double periphery_scale, inset_radius_deg;
+    struct frm_inset_cost inset;          /* an inset grid's own model (frm_cost_fit_inset) */
+    struct frm_cost_fit_report inset_report;
+    struct frm_cost_accuracy inset_acc;
+    double inset_tau;
     struct rnd_calibration cal;
     uint32_t *order;
     size_t train;
@@ -137,19 +141,22 @@ static int write_csv(const char *path, const struct calibration_fit *fits, int c
     }
     FILE *f = out.f;
     fprintf(f, "periphery_scale,point,objects,triangles,vertices,pixels_px,draws,measured_ms,predicted_max_ms,"
-               "predicted_additive_ms,held_out,inset_radius_deg\n");
+               "predicted_additive_ms,held_out,inset_radius_deg,triangles_inside,predicted_inset_ms\n");
     for (int i = 0; i < count; ++i) {
         const struct calibration_fit *c = &fits[i];
         for (size_t n = 0; n < c->cal.frame_count; ++n) {
             const struct rnd_cost_frame *fr = &c->cal.frames[c->order[n]];
-            double t = 0, v = 0, p = 0, d = 0;
+            double t = 0, v = 0, p = 0, d = 0, inside = 0;
             for (uint32_t k = 0; k < fr->object_count; ++k) {
                 const struct rnd_cost_object *o = &c->cal.objects[fr->first_object + k];
                 t += o->triangles, v += o->vertices, p += o->pixels_px, d += o->draws;
+                inside += o->inside_share * o->triangles;
             }
-            fprintf(f, "%g,%u,%u,%.0f,%.0f,%.0f,%.0f,%.4f,%.4f,%.4f,%d,%g\n", c->periphery_scale, c->order[n],
+            int inset = c->inset_radius_deg > 0.0;
+            fprintf(f, "%g,%u,%u,%.0f,%.0f,%.0f,%.0f,%.4f,%.4f,%.4f,%d,%g,%.0f,%.4f\n", c->periphery_scale, c->order[n],
                     fr->object_count, t, v, p, d, fr->measured_ms, frm_cost_predict_frame_ms(&c->fits[0], fr, c->cal.objects),
-                    frm_cost_predict_frame_ms(&c->fits[1], fr, c->cal.objects), n >= c->train, c->inset_radius_deg);
+                    frm_cost_predict_frame_ms(&c->fits[1], fr, c->cal.objects), n >= c->train, c->inset_radius_deg,
+                    inside, inset ? frm_cost_predict_inset_frame_ms(&c->inset, fr, c->cal.objects) : 0.0);
         }
     }
     if (hl_out_commit(&out, &err) != 0) {
@@ -174,6 +181,26 @@ static double load_average(void)
 }
 
 static const enum lod_cost_form calibrate_forms[2] = {LOD_COST_MAX, LOD_COST_ADDITIVE};
+static const double expectiles[] = {0.5, 0.75, 0.9, 0.95, 0.98};
+
+/* An inset grid's own model, with the expectile chosen as for the forms. 0 or −1 (printed). */
+static int fit_inset(struct calibration_fit *c)
+{
+    struct hl_error err = {{0}};
+    for (size_t t = 0; t < sizeof expectiles / sizeof *expectiles; ++t) {
+        c->inset_tau = expectiles[t];
+        if (frm_cost_fit_inset(c->cal.empty_ms, c->inset_tau, c->cal.frames, c->order, c->train, c->cal.objects,
+                               &c->inset, &c->inset_report, &err) != 0) {
+            fprintf(stderr, "hmdlod calibrate: fitting the inset's model: %s\n", err.msg);
+            return -1;
+        }
+        if (frm_cost_evaluate_inset(&c->inset, c->cal.frames, c->order, c->train, c->cal.objects).under5_share <= 0.05)
+            break;
+    }
+    c->inset_acc = frm_cost_evaluate_inset(&c->inset, c->cal.frames, c->order + c->train,
+                                           c->cal.frame_count - c->train, c->cal.objects);
+    return 0;
+}
 
 /* Measures grid g (its periphery_scale and inset_radius_deg say plain frames, a periphery or the
  * inset) and fits it. 0 or −1 (the message printed). */
@@ -199,7 +226,6 @@ static int measure_and_fit(const struct hmd_profile *display, struct rnd_cost_gr
         /* Kept: c0 as measured and the smallest expectile whose fit under-predicts at most 5 % of the
          * training points by more than 5 % — under-prediction is what breaks a budget, and the goal
          * for held-out points is 10 %. The intercept fit is printed beside it as the old reference. */
-        static const double expectiles[] = {0.5, 0.75, 0.9, 0.95, 0.98};
         int rc = 0;
         for (size_t t = 0; t < sizeof expectiles / sizeof *expectiles && rc == 0; ++t) {
             c->tau[f] = expectiles[t];
@@ -221,7 +247,7 @@ static int measure_and_fit(const struct hmd_profile *display, struct rnd_cost_gr
         c->free_acc[f] = frm_cost_evaluate(&c->free_fits[f], c->cal.frames, c->order + c->train, held, c->cal.objects);
     }
     c->keep = c->acc[1].p95_rel < c->acc[0].p95_rel ? 1 : 0; /* a tie keeps Funkhouser's max */
-    return 0;
+    return g->inset_radius_deg > 0.0 ? fit_inset(c) : 0;
 }
 
 static void print_header(void)
@@ -325,22 +351,30 @@ int cmd_calibrate(int argc, char **argv)
         }
         printf("  (M: the max form kept, A: the additive; c0 the periphery's empty frame, median of %u … %u)\n",
                fits[1].cal.empty_frames, fits[measured - 2].cal.empty_frames);
-        /* The inset: its triangles are mostly outside its scissor (set up, not filled), its pixels
-         * those within its rectangle; c0 its scissored clears. */
+        /* The inset: its own model, and the plain frame's on the same frames (how a replay priced
+         * the inset before it had one, every triangle a plain frame's). */
         const struct calibration_fit *c = &fits[measured - 1];
+        size_t held = c->cal.frame_count - c->train;
+        struct frm_cost_accuracy as_plain = frm_cost_evaluate(&plain->fits[plain->keep], c->cal.frames,
+                                                              c->order + c->train, held, c->cal.objects);
+        double ratio = 0.0;
+        for (size_t n = c->train; n < c->cal.frame_count; ++n) {
+            const struct rnd_cost_frame *fr = &c->cal.frames[c->order[n]];
+            ratio += fr->measured_ms / frm_cost_predict_frame_ms(&plain->fits[plain->keep], fr, c->cal.objects);
+        }
         printf("inset layer alone (%.0f degrees + %.0f blend around the lens centre, full resolution under its "
-               "scissor; pixels within its rectangle):\n", c->inset_radius_deg, (double)FRM_LAYER_BLEND_DEG_DEFAULT);
+               "scissor; pixels within its rectangle; c1 a triangle inside it):\n",
+               c->inset_radius_deg, (double)FRM_LAYER_BLEND_DEG_DEFAULT);
         print_header();
-        print_fit(calibrate_forms[c->keep] == LOD_COST_MAX ? "inset M" : "inset A", &c->fits[c->keep],
-                  &c->reports[c->keep], &c->acc[c->keep]);
-        /* The redrawn geometry against the plain frame's: the chair at its finest level in both eyes
-         * (2 × 600 triangles, 2 × 640 vertices, 2 draws), no pixels filled. */
-        printf("  the chair's finest level redrawn with no pixels filled: %.3f ms in the inset, %.3f ms in the plain "
-               "frame\n", lod_cost_object_ms(&c->fits[c->keep], 1200.0, 1280.0, 0.0, 2.0),
-               lod_cost_object_ms(&plain->fits[plain->keep], 1200.0, 1280.0, 0.0, 2.0));
+        print_fit("inset", &c->inset.model, &c->inset_report, &c->inset_acc);
+        printf("  a triangle outside the scissor: %.1f ns (inside: %.1f ns + its vertices); expectile %.2f\n",
+               c->inset.outside_ms_per_triangle * 1e6, c->inset.model.c1_ms_per_triangle * 1e6, c->inset_tau);
+        printf("  the plain frame's model on these frames, every triangle a plain frame's: held-out median %.1f %%, "
+               "p95 %.1f %%, measured / predicted %.2f on average\n",
+               100.0 * as_plain.median_rel, 100.0 * as_plain.p95_rel, held ? ratio / (double)held : 0.0);
         prof.inset_measured = 1;
-        prof.inset = (struct frm_cost_inset){c->inset_radius_deg, FRM_LAYER_BLEND_DEG_DEFAULT, c->fits[c->keep],
-                                             c->acc[c->keep],
+        prof.inset = (struct frm_cost_inset){c->inset_radius_deg, FRM_LAYER_BLEND_DEG_DEFAULT, c->inset,
+                                             c->inset_acc,
                                              {c->cal.empty_ms, c->cal.empty_p25_ms, c->cal.empty_p75_ms,
                                               c->cal.empty_frames}};
     }

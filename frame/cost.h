@@ -55,6 +55,29 @@ int frm_cost_fit_fixed(enum lod_cost_form form, double c0_ms, double expectile, 
                        const uint32_t *rows, size_t row_count, const struct rnd_cost_object *objects,
                        struct lod_cost_model *out, struct frm_cost_fit_report *report, struct hl_error *err);
 
+/* ---- the inset's model (issue 32 item 4) ------------------------------------------------------
+ * The foveal inset redraws, at full resolution under the scissor of its rectangle, every object that
+ * reaches it. Of an object whose image lies a share a within the rectangle, the triangles inside are
+ * set up and filled as in a plain frame; those outside are transformed, clipped and dropped at setup
+ * — cheaper, not free (docs/cost-model.md) —; every vertex is shaded:
+ *   lod_cost_object_ms(model, a·T, V, pixels within, D) + outside_ms_per_triangle · (1 − a)·T.
+ * model is additive; its c0 the inset's empty frame (the scissored clears). a is clamped to [0, 1]. */
+struct frm_inset_cost {
+    struct lod_cost_model model;
+    double outside_ms_per_triangle;
+};
+double frm_inset_object_ms(const struct frm_inset_cost *m, double triangles, double vertices, double pixels_px,
+                           double draws, double inside_share);
+/* c0 + Σ frm_inset_object_ms over the frame's objects (their inside_share). O(object_count). */
+double frm_cost_predict_inset_frame_ms(const struct frm_inset_cost *m, const struct rnd_cost_frame *frame,
+                                       const struct rnd_cost_object *objects);
+/* Fits the inset's model to an inset grid (frm_cost_calibrate with grid.inset_radius_deg > 0) as
+ * frm_cost_fit_fixed fits the additive form: c0 measured, one NNLS on the six columns a·T, V, pixels,
+ * draws, √(a·T·pixels), (1 − a)·T with the relative weighting and the expectile τ. 0 or −1. */
+int frm_cost_fit_inset(double c0_ms, double expectile, const struct rnd_cost_frame *frames, const uint32_t *rows,
+                       size_t row_count, const struct rnd_cost_object *objects, struct frm_inset_cost *out,
+                       struct frm_cost_fit_report *report, struct hl_error *err);
+
 /* Relative error (predicted − measured) / measured over the listed frames: median and 95th
  * percentile of its magnitude, and the share of frames under-predicted by more than 5 % (what
  * breaks a budget). Allocates row_count doubles; all zero when row_count is 0 or allocation fails. */
@@ -65,6 +88,10 @@ struct frm_cost_accuracy {
 struct frm_cost_accuracy frm_cost_evaluate(const struct lod_cost_model *m, const struct rnd_cost_frame *frames,
                                            const uint32_t *rows, size_t row_count,
                                            const struct rnd_cost_object *objects);
+/* The same for the inset's model. */
+struct frm_cost_accuracy frm_cost_evaluate_inset(const struct frm_inset_cost *m, const struct rnd_cost_frame *frames,
+                                                 const uint32_t *rows, size_t row_count,
+                                                 const struct rnd_cost_object *objects);
 
 
 /* ---- the cost profile (cost_profile.c, docs/cost-model.md) -------------------------------------- */
@@ -86,13 +113,12 @@ struct frm_cost_periphery {
     struct frm_cost_accuracy held_out;
     struct frm_cost_fixed fixed;
 };
-/* The foveal inset's own model (issue 32 item 4): calibrate's grid drawn as the inset alone — the
- * objects over the whole eye, drawn at full resolution under the scissor of the inset's rectangle
- * around the lens centre — pixels counted within the rectangle. Its triangle terms are the redrawn
- * geometry's: most of an inset's triangles fall outside its scissor and are set up, not filled. */
+/* The foveal inset's own model (issue 32 item 4, frm_inset_cost above): calibrate's grid drawn as the
+ * inset alone — the objects over the whole eye, drawn at full resolution under the scissor of the
+ * inset's rectangle around the lens centre — pixels counted within the rectangle. */
 struct frm_cost_inset {
     double radius_deg, blend_deg;     /* the inset measured (> 0) */
-    struct lod_cost_model model;
+    struct frm_inset_cost cost;
     struct frm_cost_accuracy held_out;
     struct frm_cost_fixed fixed;      /* its empty frame: the scissored clears */
 };

@@ -10,26 +10,34 @@
 
 enum { NNLS_MAX_COLS = 16, COST_COLS = 6, MAX_ROUNDS = 50 };
 
+static struct acu_eye acu_eye_of(const struct rnd_cost_eye *m)
+{
+    return (struct acu_eye){hl_v3(m->offset_x_m, 0, 0), hl_q_identity(), m->tan_left, m->tan_right,
+                            m->tan_up, m->tan_down, m->width_px, m->height_px};
+}
+
 /* The coverage is acuity's estimate from each object's sphere, for the eyes render measured with:
  * the very numbers a replay frame prices its candidates with (frame/select.c) — in a periphery of
- * scale s, s² of them, as frm_layers_level_cost_ms charges the periphery. */
+ * scale s, s² of them, as frm_layers_level_cost_ms charges the periphery; in an inset grid within
+ * the inset's rectangles (as frm_layers_inset_pixels), with the share of the whole image that is. */
 int frm_cost_calibrate(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
                        struct rnd_calibration *out, struct hl_error *err)
 {
     if (rnd_cost_measure(display, grid, seed, out, err) != 0)
         return -1;
-    struct acu_eye eyes[2];
-    for (int e = 0; e < 2; ++e) {
-        const struct rnd_cost_eye *m = &out->eyes[e];
-        eyes[e] = (struct acu_eye){hl_v3(m->offset_x_m, 0, 0), hl_q_identity(), m->tan_left, m->tan_right,
-                                   m->tan_up, m->tan_down, m->width_px, m->height_px};
-    }
+    struct acu_eye eyes[2] = {acu_eye_of(&out->eyes[0]), acu_eye_of(&out->eyes[1])};
+    struct acu_eye insets[2] = {acu_eye_of(&out->inset_eyes[0]), acu_eye_of(&out->inset_eyes[1])};
+    int inset = grid->inset_radius_deg > 0.0;
     const uint32_t first = 0;
     for (size_t k = 0; k < out->object_count; ++k) {
         struct rnd_cost_object *o = &out->objects[k];
-        acu_compute_pixels(eyes, 2, o->center_m, &o->radius_m, &first, 1, &o->pixels_px);
-        o->pixels_px *= o->fill * grid->periphery_scale * grid->periphery_scale; /* the fragments, as the
-                                                                                 * replay charges them */
+        double whole_px = 0.0, inside_px = 0.0;
+        acu_compute_pixels(eyes, 2, o->center_m, &o->radius_m, &first, 1, &whole_px);
+        if (inset)
+            acu_compute_pixels(insets, 2, o->center_m, &o->radius_m, &first, 1, &inside_px);
+        o->inside_share = !inset ? 1.0 : whole_px > 0.0 ? fmin(1.0, inside_px / whole_px) : 0.0;
+        /* the fragments, as the replay charges them */
+        o->pixels_px = (inset ? inside_px : whole_px) * o->fill * grid->periphery_scale * grid->periphery_scale;
     }
     return 0;
 }
@@ -290,6 +298,29 @@ static size_t assign_stages(const struct lod_cost_model *m, const struct rnd_cos
     return changed;
 }
 
+/* Every listed frame has a positive finite time and finite non-negative counts; *object_end gets one
+ * past the last object they use. */
+static int check_frames(const struct rnd_cost_frame *frames, const uint32_t *rows, size_t row_count,
+                        const struct rnd_cost_object *objects, size_t *object_end, struct hl_error *err)
+{
+    for (size_t r = 0; r < row_count; ++r) {
+        const struct rnd_cost_frame *f = &frames[rows[r]];
+        if (!(f->measured_ms > 0.0) || !isfinite(f->measured_ms))
+            return hl_fail(err, "cost fit: frame %u: measured time %g ms is not positive and finite", rows[r],
+                           f->measured_ms);
+        for (uint32_t k = 0; k < f->object_count; ++k) {
+            const struct rnd_cost_object *o = &objects[f->first_object + k];
+            if (!isfinite(o->triangles) || !isfinite(o->vertices) || !isfinite(o->pixels_px) || !isfinite(o->draws) ||
+                !isfinite(o->inside_share) || o->triangles < 0 || o->vertices < 0 || o->pixels_px < 0 || o->draws < 0 ||
+                o->inside_share < 0 || o->inside_share > 1)
+                return hl_fail(err, "cost fit: frame %u object %u: counts must be finite and ≥ 0", rows[r], k);
+        }
+        if ((size_t)f->first_object + f->object_count > *object_end)
+            *object_end = (size_t)f->first_object + f->object_count;
+    }
+    return 0;
+}
+
 static int fit_form(enum lod_cost_form form, double fixed_c0_ms, const double *weight,
                     const struct rnd_cost_frame *frames, const uint32_t *rows, size_t row_count,
                     const struct rnd_cost_object *objects, struct lod_cost_model *out,
@@ -300,20 +331,8 @@ static int fit_form(enum lod_cost_form form, double fixed_c0_ms, const double *w
     if (form != LOD_COST_MAX && form != LOD_COST_ADDITIVE)
         return hl_fail(err, "cost fit: unknown form %d", (int)form);
     size_t object_end = 0;
-    for (size_t r = 0; r < row_count; ++r) {
-        const struct rnd_cost_frame *f = &frames[rows[r]];
-        if (!(f->measured_ms > 0.0) || !isfinite(f->measured_ms))
-            return hl_fail(err, "cost fit: frame %u: measured time %g ms is not positive and finite", rows[r],
-                           f->measured_ms);
-        for (uint32_t k = 0; k < f->object_count; ++k) {
-            const struct rnd_cost_object *o = &objects[f->first_object + k];
-            if (!isfinite(o->triangles) || !isfinite(o->vertices) || !isfinite(o->pixels_px) || !isfinite(o->draws) ||
-                o->triangles < 0 || o->vertices < 0 || o->pixels_px < 0 || o->draws < 0)
-                return hl_fail(err, "cost fit: frame %u object %u: counts must be finite and ≥ 0", rows[r], k);
-        }
-        if ((size_t)f->first_object + f->object_count > object_end)
-            object_end = (size_t)f->first_object + f->object_count;
-    }
+    if (check_frames(frames, rows, row_count, objects, &object_end, err) != 0)
+        return -1;
     double *a = malloc(row_count * (COST_COLS + 1) * sizeof *a);
     uint8_t *assign = calloc(object_end ? object_end : 1, 1);
     if (!a || !assign) {
@@ -373,16 +392,41 @@ int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, c
 /* Asymmetric least squares (Newey & Powell 1987): rows the model under-predicts weigh τ, the others
  * 1 − τ, refitted until no row changes side (≤ 30 rounds). τ = ½ is the ordinary fit. */
 enum { EXPECTILE_ROUNDS = 30 };
-int frm_cost_fit_fixed(enum lod_cost_form form, double c0_ms, double expectile, const struct rnd_cost_frame *frames,
-                       const uint32_t *rows, size_t row_count, const struct rnd_cost_object *objects,
-                       struct lod_cost_model *out, struct frm_cost_fit_report *report, struct hl_error *err)
+/* A model's prediction of one frame: a lod_cost_model (plain_predict) or a frm_inset_cost
+ * (inset_predict) with the objects' counts. */
+struct prediction {
+    const void *model;
+    const struct rnd_cost_object *objects;
+};
+
+static double plain_predict(const void *ctx, const struct rnd_cost_frame *frame)
 {
-    if (!isfinite(c0_ms) || c0_ms < 0.0)
-        return hl_fail(err, "cost fit: the measured fixed cost %g ms is not finite and ≥ 0", c0_ms);
+    const struct prediction *p = ctx;
+    return frm_cost_predict_frame_ms(p->model, frame, p->objects);
+}
+
+static double inset_predict(const void *ctx, const struct rnd_cost_frame *frame)
+{
+    const struct prediction *p = ctx;
+    return frm_cost_predict_inset_frame_ms(p->model, frame, p->objects);
+}
+
+/* A fit repeated under expectile weights: fit() on the rows with weight (NULL: unweighted), then
+ * predict() one frame with the model it wrote. */
+struct weighted_fit {
+    int (*fit)(void *ctx, const double *weight, struct hl_error *err);
+    void *ctx;
+    double (*predict)(const void *ctx, const struct rnd_cost_frame *f);
+    struct prediction prediction;
+};
+
+static int fit_expectile(const struct weighted_fit *w, double expectile, const struct rnd_cost_frame *frames,
+                         const uint32_t *rows, size_t row_count, struct hl_error *err)
+{
     if (!(expectile > 0.0 && expectile < 1.0))
         return hl_fail(err, "cost fit: expectile %g is outside (0, 1)", expectile);
     if (expectile == 0.5)
-        return fit_form(form, c0_ms, NULL, frames, rows, row_count, objects, out, report, err);
+        return w->fit(w->ctx, NULL, err);
     double *weight = malloc((row_count ? row_count : 1) * sizeof *weight);
     uint8_t *under = calloc(row_count ? row_count : 1, 1);
     if (!weight || !under) {
@@ -394,12 +438,12 @@ int frm_cost_fit_fixed(enum lod_cost_form form, double c0_ms, double expectile, 
         weight[r] = 0.5;
     int rc = 0;
     for (int round = 0; round < EXPECTILE_ROUNDS; ++round) {
-        if ((rc = fit_form(form, c0_ms, weight, frames, rows, row_count, objects, out, report, err)) != 0)
+        if ((rc = w->fit(w->ctx, weight, err)) != 0)
             break;
         size_t changed = 0;
         for (size_t r = 0; r < row_count; ++r) {
             const struct rnd_cost_frame *f = &frames[rows[r]];
-            uint8_t u = frm_cost_predict_frame_ms(out, f, objects) < f->measured_ms;
+            uint8_t u = w->predict(&w->prediction, f) < f->measured_ms;
             changed += round == 0 || u != under[r];
             under[r] = u;
             weight[r] = u ? expectile : 1.0 - expectile;
@@ -409,6 +453,123 @@ int frm_cost_fit_fixed(enum lod_cost_form form, double c0_ms, double expectile, 
     }
     free(weight);
     free(under);
+    return rc;
+}
+
+struct form_fit {
+    enum lod_cost_form form;
+    double c0_ms;
+    const struct rnd_cost_frame *frames;
+    const uint32_t *rows;
+    size_t row_count;
+    const struct rnd_cost_object *objects;
+    struct lod_cost_model *out;
+    struct frm_cost_fit_report *report;
+};
+
+static int form_fit(void *ctx, const double *weight, struct hl_error *err)
+{
+    struct form_fit *f = ctx;
+    return fit_form(f->form, f->c0_ms, weight, f->frames, f->rows, f->row_count, f->objects, f->out, f->report, err);
+}
+
+int frm_cost_fit_fixed(enum lod_cost_form form, double c0_ms, double expectile, const struct rnd_cost_frame *frames,
+                       const uint32_t *rows, size_t row_count, const struct rnd_cost_object *objects,
+                       struct lod_cost_model *out, struct frm_cost_fit_report *report, struct hl_error *err)
+{
+    if (!isfinite(c0_ms) || c0_ms < 0.0)
+        return hl_fail(err, "cost fit: the measured fixed cost %g ms is not finite and ≥ 0", c0_ms);
+    struct form_fit ctx = {form, c0_ms, frames, rows, row_count, objects, out, report};
+    struct weighted_fit w = {form_fit, &ctx, plain_predict, {out, objects}};
+    return fit_expectile(&w, expectile, frames, rows, row_count, err);
+}
+
+/* ---- the inset's model ------------------------------------------------------------------------ */
+
+double frm_inset_object_ms(const struct frm_inset_cost *m, double triangles, double vertices, double pixels_px,
+                           double draws, double inside_share)
+{
+    double a = fmax(0.0, fmin(1.0, inside_share)); /* NaN: fmin keeps the 1 */
+    return lod_cost_object_ms(&m->model, a * triangles, vertices, pixels_px, draws) +
+           m->outside_ms_per_triangle * (1.0 - a) * triangles;
+}
+
+double frm_cost_predict_inset_frame_ms(const struct frm_inset_cost *m, const struct rnd_cost_frame *frame,
+                                       const struct rnd_cost_object *objects)
+{
+    double sum = m->model.c0_ms;
+    for (uint32_t k = 0; k < frame->object_count; ++k) {
+        const struct rnd_cost_object *o = &objects[frame->first_object + k];
+        sum += frm_inset_object_ms(m, o->triangles, o->vertices, o->pixels_px, o->draws, o->inside_share);
+    }
+    return sum;
+}
+
+enum { INSET_COLS = 6 };
+struct inset_fit {
+    double c0_ms;
+    const struct rnd_cost_frame *frames;
+    const uint32_t *rows;
+    size_t row_count;
+    const struct rnd_cost_object *objects;
+    double *a, *b; /* row_count × INSET_COLS, row_count */
+    struct frm_inset_cost *out;
+};
+
+/* One NNLS on rows [Σa·t, Σv, Σp, Σd, Σ√(a·t·p), Σ(1 − a)·t] / measured against 1 − c0 / measured. */
+static int inset_fit(void *ctx, const double *weight, struct hl_error *err)
+{
+    struct inset_fit *f = ctx;
+    for (size_t r = 0; r < f->row_count; ++r) {
+        const struct rnd_cost_frame *fr = &f->frames[f->rows[r]];
+        double col[INSET_COLS] = {0};
+        for (uint32_t k = 0; k < fr->object_count; ++k) {
+            const struct rnd_cost_object *o = &f->objects[fr->first_object + k];
+            double inside = o->inside_share * o->triangles;
+            col[0] += inside, col[1] += o->vertices, col[2] += o->pixels_px, col[3] += o->draws;
+            col[4] += sqrt(inside * o->pixels_px), col[5] += o->triangles - inside;
+        }
+        double w = weight ? sqrt(weight[r]) : 1.0;
+        for (int j = 0; j < INSET_COLS; ++j)
+            f->a[r * INSET_COLS + j] = col[j] * w / fr->measured_ms;
+        f->b[r] = (1.0 - f->c0_ms / fr->measured_ms) * w;
+    }
+    double c[INSET_COLS];
+    if (frm_cost_nnls(f->a, f->row_count, INSET_COLS, f->b, c, NULL, err) != 0)
+        return -1;
+    f->out->model = (struct lod_cost_model){LOD_COST_ADDITIVE, f->c0_ms, c[0], c[1], c[2], c[3], c[4]};
+    f->out->outside_ms_per_triangle = c[5];
+    return 0;
+}
+
+int frm_cost_fit_inset(double c0_ms, double expectile, const struct rnd_cost_frame *frames, const uint32_t *rows,
+                       size_t row_count, const struct rnd_cost_object *objects, struct frm_inset_cost *out,
+                       struct frm_cost_fit_report *report, struct hl_error *err)
+{
+    if (!frames || !rows || !objects || !out || row_count == 0)
+        return hl_fail(err, "cost fit: no frames to fit");
+    if (!isfinite(c0_ms) || c0_ms < 0.0)
+        return hl_fail(err, "cost fit: the measured fixed cost %g ms is not finite and ≥ 0", c0_ms);
+    size_t object_end = 0;
+    if (check_frames(frames, rows, row_count, objects, &object_end, err) != 0)
+        return -1;
+    double *a = malloc(row_count * (INSET_COLS + 1) * sizeof *a);
+    if (!a)
+        return hl_fail(err, "cost fit: out of memory (%zu frames)", row_count);
+    struct inset_fit ctx = {c0_ms, frames, rows, row_count, objects, a, a + row_count * INSET_COLS, out};
+    struct weighted_fit w = {inset_fit, &ctx, inset_predict, {out, objects}};
+    int rc = fit_expectile(&w, expectile, frames, rows, row_count, err);
+    free(a);
+    if (rc == 0 && report) {
+        double sum = 0.0;
+        for (size_t r = 0; r < row_count; ++r) {
+            const struct rnd_cost_frame *f = &frames[rows[r]];
+            double e = (frm_cost_predict_inset_frame_ms(out, f, objects) - f->measured_ms) / f->measured_ms;
+            sum += e * e;
+        }
+        report->rms_relative = sqrt(sum / (double)row_count);
+        report->rounds = 1;
+    }
     return rc;
 }
 
@@ -423,9 +584,10 @@ static double quantile_sorted(const double *v, size_t n, double q)
     return v[lo] + (pos - (double)lo) * (v[hi] - v[lo]);
 }
 
-struct frm_cost_accuracy frm_cost_evaluate(const struct lod_cost_model *m, const struct rnd_cost_frame *frames,
-                                           const uint32_t *rows, size_t row_count,
-                                           const struct rnd_cost_object *objects)
+/* Median and p95 of |relative error| and the share under-predicted by > 5 % of predict() on the rows. */
+static struct frm_cost_accuracy accuracy_of(double (*predict)(const void *ctx, const struct rnd_cost_frame *f),
+                                            const void *ctx, const struct rnd_cost_frame *frames, const uint32_t *rows,
+                                            size_t row_count)
 {
     struct frm_cost_accuracy acc = {0, 0, 0, 0};
     double *e = row_count ? malloc(row_count * sizeof *e) : NULL;
@@ -434,7 +596,7 @@ struct frm_cost_accuracy frm_cost_evaluate(const struct lod_cost_model *m, const
     size_t under = 0;
     for (size_t r = 0; r < row_count; ++r) {
         const struct rnd_cost_frame *f = &frames[rows[r]];
-        double rel = (frm_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
+        double rel = (predict(ctx, f) - f->measured_ms) / f->measured_ms;
         under += rel < -0.05;
         e[r] = fabs(rel);
     }
@@ -445,4 +607,20 @@ struct frm_cost_accuracy frm_cost_evaluate(const struct lod_cost_model *m, const
     acc.frames = (uint32_t)row_count;
     free(e);
     return acc;
+}
+
+struct frm_cost_accuracy frm_cost_evaluate(const struct lod_cost_model *m, const struct rnd_cost_frame *frames,
+                                           const uint32_t *rows, size_t row_count,
+                                           const struct rnd_cost_object *objects)
+{
+    struct prediction p = {m, objects};
+    return accuracy_of(plain_predict, &p, frames, rows, row_count);
+}
+
+struct frm_cost_accuracy frm_cost_evaluate_inset(const struct frm_inset_cost *m, const struct rnd_cost_frame *frames,
+                                                 const uint32_t *rows, size_t row_count,
+                                                 const struct rnd_cost_object *objects)
+{
+    struct prediction p = {m, objects};
+    return accuracy_of(inset_predict, &p, frames, rows, row_count);
 }

@@ -233,10 +233,11 @@ static int read_periphery(const cJSON *root, struct frm_cost_profile *out, const
 }
 
 /* "inset": the inset's model (frm_cost_inset), {"radius_deg", "blend_deg", "form", "coefficients",
- * "held_out", "fixed_cost"}. */
+ * "outside_ms_per_triangle", "held_out", "fixed_cost"}. */
 static int read_inset(const cJSON *root, struct frm_cost_profile *out, const char *path, struct hl_error *err)
 {
-    static const char *const keys[] = {"radius_deg", "blend_deg", "form", "coefficients", "held_out", "fixed_cost"};
+    static const char *const keys[] = {"radius_deg",  "blend_deg", "form",      "coefficients",
+                                       "outside_ms_per_triangle", "held_out",  "fixed_cost"};
     const cJSON *o = cJSON_GetObjectItemCaseSensitive(root, "inset");
     if (!o)
         return 0;
@@ -244,10 +245,11 @@ static int read_inset(const cJSON *root, struct frm_cost_profile *out, const cha
     struct frm_cost_inset *p = &out->inset;
     if (!cJSON_IsObject(o))
         return hl_fail(err, "%s: %snot an object", path, prefix);
-    if (check_keys(o, keys, 6, path, prefix, err) != 0 ||
+    if (check_keys(o, keys, 7, path, prefix, err) != 0 ||
         read_number(o, "radius_deg", 1, 0.0, &p->radius_deg, path, prefix, err) != 0 ||
         read_number(o, "blend_deg", 1, 0.0, &p->blend_deg, path, prefix, err) != 0 ||
-        read_model(o, 6, &p->model, path, prefix, err) != 0 ||
+        read_model(o, 6, &p->cost.model, path, prefix, err) != 0 ||
+        read_number(o, "outside_ms_per_triangle", 1, 0.0, &p->cost.outside_ms_per_triangle, path, prefix, err) != 0 ||
         read_accuracy(o, "held_out", &p->held_out, path, prefix, err) != 0 || read_fixed(o, &p->fixed, path, prefix, err) != 0)
         return -1;
     if (!(p->radius_deg > 0.0 && p->radius_deg <= 45.0 && p->blend_deg > 0.0 && p->blend_deg <= 45.0))
@@ -420,8 +422,10 @@ int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, s
     for (int i = 0; i < p->periphery_count; ++i)
         if (check_model(&p->periphery[i].model, path, err) != 0)
             return -1;
-    if (p->inset_measured && check_model(&p->inset.model, path, err) != 0)
-        return -1;
+    if (p->inset_measured && (check_model(&p->inset.cost.model, path, err) != 0 ||
+                              !(p->inset.cost.outside_ms_per_triangle >= 0.0 &&
+                                isfinite(p->inset.cost.outside_ms_per_triangle))))
+        return hl_fail(err, "%s: the inset's model: a coefficient is negative or not finite", path);
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "format", COST_FORMAT_TAG);
     cJSON_AddStringToObject(root, "label", p->label);
@@ -454,7 +458,8 @@ int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, s
         cJSON *o = cJSON_AddObjectToObject(root, "inset");
         cJSON_AddNumberToObject(o, "radius_deg", p->inset.radius_deg);
         cJSON_AddNumberToObject(o, "blend_deg", p->inset.blend_deg);
-        add_model(o, &p->inset.model);
+        add_model(o, &p->inset.cost.model);
+        cJSON_AddNumberToObject(o, "outside_ms_per_triangle", p->inset.cost.outside_ms_per_triangle);
         if (p->inset.held_out.frames)
             cJSON_AddItemToObject(o, "held_out", accuracy_json(&p->inset.held_out));
         add_fixed(o, &p->inset.fixed);

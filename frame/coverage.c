@@ -61,3 +61,11 @@ double frm_level_cost_ms(const struct lod_cost_model *m, const struct scn_chain 
     double fragments_px = pixels_px * scn_lod_fill(ch, level, boxed);
     return lod_cost_object_ms(m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, fragments_px, 2.0);
 }
+
+double frm_level_inset_cost_ms(const struct frm_inset_cost *m, const struct scn_chain *ch, int level,
+                               double pixels_px, double inside_share, int boxed)
+{
+    const struct scn_lod *lod = &ch->lods[level];
+    double fragments_px = pixels_px * scn_lod_fill(ch, level, boxed);
+    return frm_inset_object_ms(m, 2.0 * lod->triangle_count, 2.0 * lod->vertex_count, fragments_px, 2.0, inside_share);
+}

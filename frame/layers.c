@@ -347,7 +347,10 @@ double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_lay
     double outer = c->inset_radius_deg + l->blend_deg;
     double cost = 0.0;
     if (c->inset_radius_deg > 0.0 && theta - half < outer) /* the inset draws the band too */
-        cost += frm_level_cost_ms(l->costed ? &l->cost.inset : m, ch, level, l->inset_px[k], boxed);
+        cost += l->costed && l->cost.inset_measured
+                    ? frm_level_inset_cost_ms(&l->cost.inset, ch, level, l->inset_px[k],
+                                              pixels_px > 0.0 ? l->inset_px[k] / pixels_px : 1.0, boxed)
+                    : frm_level_cost_ms(m, ch, level, l->inset_px[k], boxed);
     int periphery = periphery_level(l, c, level, k);
     if (theta + half > c->inset_radius_deg && periphery != LOD_DROP) /* DROP: invisible at that scale */
         cost += frm_level_cost_ms(l->costed ? &l->cost.periphery[scale_index(c->scale)] : m, ch, periphery,

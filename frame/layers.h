@@ -32,6 +32,7 @@
 #include "acuity/acuity.h"
 #include "lod/lod.h"
 #include "render/render.h"
+#include "frame/cost.h"
 
 /* adaptive: no inset — the whole eye at one scale a reactive controller sets from the measured draw
  * time, as Valve's adaptive quality does (the comparison issue 32 asks for; frm_adaptive_*). */
@@ -63,11 +64,11 @@ enum { FRM_LAYER_CANDIDATES_MAX = FRM_LAYER_SCALES };
 #define FRM_LAYER_BLEND_DEG_DEFAULT 5.0
 
 /* The cost models of the layers (a cost profile's, frame/cost.h): per scale the periphery's (the
- * plain model where the profile has none, and at scale 1), and the inset's (the plain model where
- * it has none); the counts say how many the profile had. */
+ * plain model where the profile has none, and at scale 1), and the inset's where the profile has
+ * one; the counts say how many it had. */
 struct frm_layer_costs {
     struct lod_cost_model periphery[FRM_LAYER_SCALES];
-    struct lod_cost_model inset;
+    struct frm_inset_cost inset; /* inset_measured 0: unused (the plain model prices the inset) */
     int periphery_count, inset_measured;
 };
 

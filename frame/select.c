@@ -53,7 +53,7 @@ int frm_cost_model_load(const char *path, struct lod_cost_model *out, struct frm
                 if (fabs(profile.periphery[k].scale - frm_layer_scales[i]) <= 1e-9)
                     layers_out->periphery[i] = profile.periphery[k].model;
         }
-        layers_out->inset = profile.inset_measured ? profile.inset.model : profile.model;
+        layers_out->inset = profile.inset.cost; /* zero where the profile has none: not used then */
         layers_out->periphery_count = profile.periphery_count;
         layers_out->inset_measured = profile.inset_measured;
     }

@@ -202,5 +202,9 @@ void frm_coverage_compute(const struct scn_scene *scene, const struct acu_eye *e
  * times the level's fill of the bound pixels_px measured (boxed 1: the model box; scn_lod_fill). */
 double frm_level_cost_ms(const struct lod_cost_model *m, const struct scn_chain *ch, int level, double pixels_px,
                          int boxed);
+/* The same in the foveal inset (frm_inset_object_ms): pixels_px within its rectangles, inside_share
+ * the share of the object's image they are. */
+double frm_level_inset_cost_ms(const struct frm_inset_cost *m, const struct scn_chain *ch, int level,
+                               double pixels_px, double inside_share, int boxed);
 
 #endif

@@ -85,6 +85,7 @@ static void place_objects(struct scn_scene *s, const struct rnd_cost_eye eyes[2]
         objects[i].draws = 2.0;
         objects[i].pixels_px = 0.0;
         objects[i].fill = scn_lod_fill(chain, level, 0);
+        objects[i].inside_share = 1.0;
         for (int a = 0; a < 3; ++a)
             objects[i].center_m[a] = s->center_m[3 * i + a];
         objects[i].radius_m = radius_m;
@@ -216,7 +217,7 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
     snprintf(out->renderer, sizeof out->renderer, "%s", rnd_renderer_name(r));
 
     struct rnd_eye_view views[2];
-    struct rnd_cost_eye eyes[2]; /* where the objects are placed: each whole eye */
+    struct rnd_cost_eye *eyes = out->eyes;
     /* The periphery alone: inset radius 0 makes the whole eye one layer at the scale. The inset alone:
      * its rectangle around the lens centre (the placement's centre too), the periphery not drawn —
      * the scale only has to be below 1 for the plan to have an inset. */
@@ -242,15 +243,12 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
         hl_fail(err, "calibrate: no inset of %g degrees on %s", grid->inset_radius_deg, display->name);
         goto done;
     }
-    for (int e = 0; e < 2; ++e) {
-        out->eyes[e] = eyes[e];
-        if (!inset)
-            continue;
+    for (int e = 0; e < 2 && inset; ++e) {
         const int *rect = plan.inset_rect_px[e];
         double t[4];
         rnd_layer_rect_tangents(eyes[e].tan_left, eyes[e].tan_right, eyes[e].tan_down, eyes[e].tan_up,
                                 eyes[e].width_px, eyes[e].height_px, rect, t);
-        out->eyes[e] = (struct rnd_cost_eye){eyes[e].offset_x_m, t[0], t[1], t[3], t[2], rect[2], rect[3]};
+        out->inset_eyes[e] = (struct rnd_cost_eye){eyes[e].offset_x_m, t[0], t[1], t[3], t[2], rect[2], rect[3]};
     }
     for (uint32_t i = 0; i < max_objects; ++i)
         index[i] = i;

@@ -19,6 +19,8 @@ struct rnd_cost_object {
     double triangles, vertices, pixels_px, draws;
     double center_m[3], radius_m;
     double fill; /* the level's fill of its bounding disc (scn_lod_fill): pixels_px is the disc's times this */
+    double inside_share; /* in an inset grid the share of its image within the inset's rectangles (filled
+                          * by replay with pixels_px); 1 otherwise */
 };
 struct rnd_cost_frame {
     double measured_ms;
@@ -67,8 +69,9 @@ struct rnd_cost_eye {
     int width_px, height_px;
 };
 struct rnd_calibration {
-    struct rnd_cost_eye eyes[2];     /* the images the objects' pixels are counted in: each whole eye,
-                                      * or under an inset grid each eye's inset rectangle */
+    struct rnd_cost_eye eyes[2];
+    struct rnd_cost_eye inset_eyes[2]; /* an inset grid's: each eye's inset rectangle as an image of its
+                                        * own (0 × 0 otherwise) */
     struct rnd_cost_frame *frames;   /* one per grid point, in grid order */
     struct rnd_cost_object *objects;
     size_t frame_count, object_count;
@@ -90,7 +93,7 @@ struct rnd_calibration {
  * rnd_calibration_free). grid->eye_width_px/height_px and display are filled in. With
  * grid->periphery_scale < 1 every frame, the empty ones too, is drawn as that periphery over the whole
  * eye: the objects' counts are the same, their pixels s² as many (frm_cost_calibrate). With
- * grid->inset_radius_deg > 0 every frame is drawn as the inset alone: the same counts, out->eyes
+ * grid->inset_radius_deg > 0 every frame is drawn as the inset alone: the same counts, out->inset_eyes
  * the inset's rectangles. */
 int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *grid, uint64_t seed,
                      struct rnd_calibration *out, struct hl_error *err);

@@ -187,6 +187,53 @@ static void check_recovered(const struct lod_cost_model *fit, const struct lod_c
     CHECK_NEAR(fit->c5_ms_per_edge_px, truth->c5_ms_per_edge_px, rel * truth->c5_ms_per_edge_px);
 }
 
+/* The inset's model: objects with every share of their image inside the scissor; on exact data the
+ * six terms come back (c0 given), with 2 % noise within 10 % and the held-out error of the noise. */
+static void test_fit_inset(void)
+{
+    struct frm_inset_cost truth = {{LOD_COST_ADDITIVE, 0.3, 4e-5, 1e-5, 5e-6, 0.008, 3e-5}, 1.5e-5};
+    uint32_t order[FRAMES];
+    size_t train = 0;
+    rnd_cost_split(FRAMES, 11, order, &train);
+    struct hl_error err = {""};
+    struct frm_inset_cost fit;
+    struct frm_cost_fit_report rep;
+    for (int noisy = 0; noisy < 2; ++noisy) {
+        uint32_t next = 0;
+        for (int f = 0; f < FRAMES; ++f) {
+            frames[f].first_object = next;
+            frames[f].object_count = 1 + (uint32_t)(uniform() * MAX_PER_FRAME) % MAX_PER_FRAME;
+            for (uint32_t k = 0; k < frames[f].object_count; ++k) {
+                struct rnd_cost_object *o = &objects[next++];
+                o->triangles = pow(10, 2 + 3 * uniform());
+                o->vertices = o->triangles * (0.3 + 1.2 * uniform());
+                o->inside_share = uniform() < 0.2 ? 0.0 : uniform();
+                o->pixels_px = o->inside_share * pow(10, 3 + 2 * uniform());
+                o->draws = 2.0 * (1 + (int)(4 * uniform()));
+            }
+            frames[f].measured_ms = frm_cost_predict_inset_frame_ms(&truth, &frames[f], objects) *
+                                    (1 + (noisy ? 0.02 : 0.0) * gaussian());
+        }
+        CHECK(frm_cost_fit_inset(truth.model.c0_ms, 0.5, frames, order, train, objects, &fit, &rep, &err) == 0);
+        double tol = noisy ? 0.1 : 1e-6;
+        check_recovered(&fit.model, &truth.model, noisy ? 0.35 : tol); /* the edge term is the loosest */
+        CHECK_NEAR(fit.outside_ms_per_triangle, truth.outside_ms_per_triangle, tol * truth.outside_ms_per_triangle);
+        CHECK_NEAR(fit.model.c1_ms_per_triangle, truth.model.c1_ms_per_triangle, tol * truth.model.c1_ms_per_triangle);
+        struct frm_cost_accuracy acc = frm_cost_evaluate_inset(&fit, frames, order + train, FRAMES - train, objects);
+        printf("fit inset, %s: inside %.4g outside %.4g per triangle, c2 %.4g c3 %.4g; held-out p95 %.3g\n",
+               noisy ? "2 %% noise" : "exact data", fit.model.c1_ms_per_triangle, fit.outside_ms_per_triangle,
+               fit.model.c2_ms_per_vertex, fit.model.c3_ms_per_pixel, acc.p95_rel);
+        CHECK(acc.p95_rel < (noisy ? 0.05 : 1e-6));
+    }
+    objects[0].inside_share = 1.5; /* a share outside [0, 1] is refused */
+    CHECK(frm_cost_fit_inset(0.3, 0.5, frames, order, train, objects, &fit, &rep, &err) != 0 &&
+          strstr(err.msg, "object"));
+    objects[0].inside_share = 0.5;
+    CHECK(frm_cost_fit_inset(NAN, 0.5, frames, order, train, objects, &fit, &rep, &err) != 0);
+    for (size_t i = 0; i < FRAMES * MAX_PER_FRAME; ++i)
+        objects[i].inside_share = 0.0;
+}
+
 static void test_fit_form(enum lod_cost_form form)
 {
     const char *name = frm_cost_form_name(form);
@@ -405,20 +452,27 @@ static void test_profile(void)
     CHECK(lc.periphery_count == 2 && plain.c0_ms == 1.25 && per_scale[0].c0_ms == 1.25 && per_scale[1].c0_ms == 1.25 &&
           per_scale[2].c0_ms == 0.6 && per_scale[3].c0_ms == 1.25 && per_scale[4].c5_ms_per_edge_px == 9.5e-5);
     CHECK(strstr(label, "periphery models at 2 layer scales") != NULL);
-    /* No inset model in that profile: the inset is priced with the plain one. */
-    CHECK(!lc.inset_measured && lc.inset.c0_ms == 1.25 && lc.inset.c1_ms_per_triangle == plain.c1_ms_per_triangle);
+    CHECK(!lc.inset_measured); /* no inset model in that profile: the plain one prices the inset */
 
     /* The inset's model comes back whole, and the replay prices the inset with it. */
     p.inset_measured = 1;
-    p.inset = (struct frm_cost_inset){5.0, 5.0, {LOD_COST_ADDITIVE, 0.4, 2.5e-5, 0, 5.0e-6, 0.006, 0},
+    p.inset = (struct frm_cost_inset){5.0, 5.0, {{LOD_COST_ADDITIVE, 0.4, 2.5e-5, 0, 5.0e-6, 0.006, 0}, 1.25e-5},
                                       {0.12, 0.35, 0.03, 50}, {0.4, 0.3, 0.5, 60}};
     CHECK(frm_cost_profile_write(path, &p, &err) == 0 && frm_cost_profile_read(path, &q, &err) == 0);
     CHECK(q.inset_measured && q.inset.radius_deg == 5.0 && q.inset.blend_deg == 5.0 &&
-          q.inset.model.form == LOD_COST_ADDITIVE && q.inset.model.c1_ms_per_triangle == 2.5e-5 &&
-          q.inset.model.c3_ms_per_pixel == 5.0e-6 && q.inset.held_out.p95_rel == 0.35 && q.inset.fixed.frames == 60);
+          q.inset.cost.model.form == LOD_COST_ADDITIVE && q.inset.cost.model.c1_ms_per_triangle == 2.5e-5 &&
+          q.inset.cost.model.c3_ms_per_pixel == 5.0e-6 && q.inset.cost.outside_ms_per_triangle == 1.25e-5 &&
+          q.inset.held_out.p95_rel == 0.35 && q.inset.fixed.frames == 60);
     CHECK(frm_cost_model_load(path, &plain, &lc, label, sizeof label, &err) == 0);
-    CHECK(lc.inset_measured && lc.inset.c1_ms_per_triangle == 2.5e-5 && lc.inset.c0_ms == 0.4 &&
-          lc.periphery[2].c0_ms == 0.6 && strstr(label, "an inset model (5 degrees)") != NULL);
+    CHECK(lc.inset_measured && lc.inset.model.c1_ms_per_triangle == 2.5e-5 && lc.inset.model.c0_ms == 0.4 &&
+          lc.inset.outside_ms_per_triangle == 1.25e-5 && lc.periphery[2].c0_ms == 0.6 &&
+          strstr(label, "an inset model (5 degrees)") != NULL);
+    /* An object half inside: half its triangles at the inside rate, half at the outside one, every
+     * vertex, its pixels within and its draws (additive). */
+    CHECK_NEAR(frm_inset_object_ms(&lc.inset, 1000, 800, 2000, 2, 0.5),
+               500 * 2.5e-5 + 500 * 1.25e-5 + 2000 * 5.0e-6 + 2 * 0.006, 1e-12);
+    CHECK_NEAR(frm_inset_object_ms(&lc.inset, 1000, 800, 0, 2, NAN), 1000 * 2.5e-5 + 2 * 0.006, 1e-12);
+    CHECK_NEAR(frm_inset_object_ms(&lc.inset, 1000, 800, 0, 2, -3), 1000 * 1.25e-5 + 2 * 0.006, 1e-12);
     p.inset_measured = 0;
 
     /* The unwritable: one message, nothing left. */
@@ -495,10 +549,19 @@ static void test_profile(void)
                "\"median_ms\": 1, \"p25_ms\": 2, \"p75_ms\": 3}}]}",
                "'periphery'[0]: 'fixed_cost': expected p25_ms");
     expect_bad("layer_list.json", V3_HEAD "\"periphery\": {\"scale\": 0.5}}", "'periphery': expected an array");
-#define GOOD_INSET "{\"radius_deg\": 5, \"blend_deg\": 5, \"form\": \"additive\", \"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, \"c5_ms_per_edge_px\": 0}"
+#define GOOD_INSET "{\"radius_deg\": 5, \"blend_deg\": 5, \"form\": \"additive\", \"outside_ms_per_triangle\": 1e-5, " \
+                   "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, \"c5_ms_per_edge_px\": 0}"
     expect_bad("inset_radius.json", V3_HEAD "\"inset\": {\"radius_deg\": 0, \"blend_deg\": 5, \"form\": \"max\", "
-               "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, \"c5_ms_per_edge_px\": 0}}}",
+               "\"outside_ms_per_triangle\": 1e-5, \"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, "
+               "\"c5_ms_per_edge_px\": 0}}}",
                "'inset': expected radius_deg and blend_deg in (0, 45]");
+    expect_bad("inset_outside.json", V3_HEAD "\"inset\": {\"radius_deg\": 5, \"blend_deg\": 5, \"form\": \"max\", "
+               "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, \"c5_ms_per_edge_px\": 0}}}",
+               "'inset': 'outside_ms_per_triangle': missing");
+    expect_bad("inset_negative.json", V3_HEAD "\"inset\": {\"radius_deg\": 5, \"blend_deg\": 5, \"form\": \"max\", "
+               "\"outside_ms_per_triangle\": -1e-5, \"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, "
+               "\"c5_ms_per_edge_px\": 0}}}",
+               "'inset': 'outside_ms_per_triangle'");
     expect_bad("inset_key.json", V3_HEAD "\"inset\": " GOOD_INSET ", \"scale\": 0.5}}", "'inset': 'scale': unknown key");
     expect_bad("inset_form.json", V3_HEAD "\"inset\": {\"radius_deg\": 5, \"blend_deg\": 5}}", "'inset': 'form': missing");
     expect_bad("inset_list.json", V3_HEAD "\"inset\": [" GOOD_INSET "}]}", "'inset': not an object");
@@ -584,16 +647,24 @@ static void test_measure(void)
     CHECK(rc == 0);
     if (rc == 0) {
         CHECK(ins.frame_count == cal.frame_count && ins.object_count == cal.object_count && ins.empty_frames == 4);
-        double rect_px = (double)ins.eyes[0].width_px * ins.eyes[0].height_px + (double)ins.eyes[1].width_px * ins.eyes[1].height_px;
-        CHECK(ins.eyes[0].width_px < 270 && ins.eyes[0].height_px < 300 && rect_px > 100.0);
-        CHECK(ins.eyes[0].tan_left + ins.eyes[0].tan_right < cal.eyes[0].tan_left + cal.eyes[0].tan_right);
+        const struct rnd_cost_eye *r0 = &ins.inset_eyes[0], *r1 = &ins.inset_eyes[1];
+        double rect_px = (double)r0->width_px * r0->height_px + (double)r1->width_px * r1->height_px;
+        CHECK(r0->width_px < 270 && r0->height_px < 300 && rect_px > 100.0 && ins.eyes[0].width_px == 270);
+        CHECK(r0->tan_left + r0->tan_right < cal.eyes[0].tan_left + cal.eyes[0].tan_right);
+        /* The rectangle's tangents per pixel are the eye's: the same image, cut. */
+        CHECK_NEAR((r0->tan_left + r0->tan_right) / r0->width_px, (cal.eyes[0].tan_left + cal.eyes[0].tan_right) / 270.0,
+                   1e-12);
         const struct rnd_cost_object *q = &ins.objects[ins.frames[0].first_object];
         CHECK(q->pixels_px > 0.0 && q->pixels_px <= o->pixels_px && q->pixels_px <= q->fill * rect_px * 1.001);
+        CHECK_NEAR(q->inside_share, q->pixels_px / o->pixels_px, 1e-9); /* the same sphere, the same fill */
+        CHECK(o->inside_share == 1.0 && q->inside_share > 0.0 && q->inside_share < 1.0);
         CHECK(q->triangles == o->triangles && ins.frames[0].measured_ms > 0.0);
         const struct rnd_cost_frame *many = &ins.frames[5]; /* 32 spheres over 30 % of each eye */
         int outside = 0;
-        for (uint32_t k = 0; k < many->object_count; ++k)
-            outside += ins.objects[many->first_object + k].pixels_px == 0.0;
+        for (uint32_t k = 0; k < many->object_count; ++k) {
+            const struct rnd_cost_object *m = &ins.objects[many->first_object + k];
+            outside += m->pixels_px == 0.0 && m->inside_share == 0.0;
+        }
         CHECK(many->object_count == 32 && outside > 0);
         rnd_calibration_free(&ins);
     }
@@ -622,6 +693,7 @@ int main(void)
     test_fit_form(LOD_COST_ADDITIVE);
     test_fit_form(LOD_COST_MAX);
     test_fit_misc();
+    test_fit_inset();
     test_split();
     test_profile();
     test_measure();

@@ -348,7 +348,13 @@ int cmd_calibrate(int argc, char **argv)
             p->held_out = c->acc[c->keep];
             p->fixed = (struct frm_cost_fixed){c->cal.empty_ms, c->cal.empty_p25_ms, c->cal.empty_p75_ms,
                                                c->cal.empty_frames};
+            p->composite_ms = c->cal.composite_ms;
         }
+        printf("  composite (the compositor's, not in the frame time; the periphery over both whole eyes, median of %u):",
+               fits[1].cal.composite_frames);
+        for (int i = 1; i < measured - 1; ++i)
+            printf("%s s %.2f %.3f ms", i > 1 ? "," : "", fits[i].periphery_scale, fits[i].cal.composite_ms);
+        printf("\n");
         printf("  (M: the max form kept, A: the additive; c0 the periphery's empty frame, median of %u … %u)\n",
                fits[1].cal.empty_frames, fits[measured - 2].cal.empty_frames);
         /* The inset: its own model, and the plain frame's on the same frames (how a replay priced

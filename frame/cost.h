@@ -112,6 +112,8 @@ struct frm_cost_periphery {
     struct lod_cost_model model;
     struct frm_cost_accuracy held_out;
     struct frm_cost_fixed fixed;
+    double composite_ms;              /* its composite over both whole eyes (the compositor's work,
+                                       * not in a frame's time; reported); 0: not measured */
 };
 /* The foveal inset's own model (issue 32 item 4, frm_inset_cost above): calibrate's grid drawn as the
  * inset alone — the objects over the whole eye, drawn at full resolution under the scissor of the

@@ -195,10 +195,11 @@ static int read_model(const cJSON *obj, int coefficients, struct lod_cost_model 
 }
 
 /* "periphery": the layer models (frm_cost_periphery), at most one per scale below 1 of the layers'
- * grid (frame/layers.h), each {"scale", "form", "coefficients", "held_out", "fixed_cost"}. */
+ * grid (frame/layers.h), each {"scale", "form", "coefficients", "held_out", "fixed_cost",
+ * "composite_ms"}. */
 static int read_periphery(const cJSON *root, struct frm_cost_profile *out, const char *path, struct hl_error *err)
 {
-    static const char *const keys[] = {"scale", "form", "coefficients", "held_out", "fixed_cost"};
+    static const char *const keys[] = {"scale", "form", "coefficients", "held_out", "fixed_cost", "composite_ms"};
     const cJSON *a = cJSON_GetObjectItemCaseSensitive(root, "periphery");
     if (!a)
         return 0;
@@ -213,7 +214,8 @@ static int read_periphery(const cJSON *root, struct frm_cost_profile *out, const
         snprintf(prefix, sizeof prefix, "'periphery'[%d]: ", i);
         if (!cJSON_IsObject(o))
             return hl_fail(err, "%s: %snot an object", path, prefix);
-        if (check_keys(o, keys, 5, path, prefix, err) != 0 || read_number(o, "scale", 1, 0.0, &p->scale, path, prefix, err) ||
+        if (check_keys(o, keys, 6, path, prefix, err) != 0 || read_number(o, "scale", 1, 0.0, &p->scale, path, prefix, err) ||
+            read_number(o, "composite_ms", 0, 0.0, &p->composite_ms, path, prefix, err) != 0 ||
             read_model(o, 6, &p->model, path, prefix, err) != 0 ||
             read_accuracy(o, "held_out", &p->held_out, path, prefix, err) != 0 ||
             read_fixed(o, &p->fixed, path, prefix, err) != 0)
@@ -451,6 +453,8 @@ int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, s
             if (p->periphery[i].held_out.frames)
                 cJSON_AddItemToObject(o, "held_out", accuracy_json(&p->periphery[i].held_out));
             add_fixed(o, &p->periphery[i].fixed);
+            if (p->periphery[i].composite_ms > 0.0)
+                cJSON_AddNumberToObject(o, "composite_ms", p->periphery[i].composite_ms);
             cJSON_AddItemToArray(a, o);
         }
     }

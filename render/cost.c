@@ -171,10 +171,10 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
     double *times = malloc(points * (size_t)grid->repeats * sizeof *times);
     /* One empty frame before each family's points and after every RND_COST_EMPTY_EVERY of them. */
     size_t empty_cap = ((points / RND_COST_EMPTY_EVERY) + 2 * (size_t)grid->families + 1) * (size_t)grid->repeats;
-    double *empty = malloc(empty_cap * sizeof *empty);
-    size_t empty_n = 0;
+    double *empty = malloc(empty_cap * sizeof *empty), *composite = malloc(empty_cap * sizeof *composite);
+    size_t empty_n = 0, composite_n = 0;
     int rc = -1;
-    if (!index || !lod || !scratch || !order || !times || !empty) {
+    if (!index || !lod || !scratch || !order || !times || !empty || !composite) {
         hl_fail(err, "calibrate: out of memory (%zu grid points)", points);
         goto done;
     }
@@ -292,6 +292,14 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
                         hl_fail(err, "calibrate: drawing an empty frame failed");
                         goto done;
                     }
+                    if (layers && !inset) { /* a periphery: its composite, after its empty frame */
+                        int64_t t0 = hl_clock_now_ns();
+                        if (rnd_renderer_composite_layers(r, NULL) != 0) {
+                            hl_fail(err, "calibrate: compositing the periphery failed");
+                            goto done;
+                        }
+                        composite[composite_n++] = (double)(hl_clock_now_ns() - t0) * 1e-6;
+                    }
                     since_empty = 0;
                 }
                 ++since_empty;
@@ -327,6 +335,9 @@ int rnd_cost_measure(const struct hmd_profile *display, struct rnd_cost_grid *gr
     out->empty_ms = empty_n ? empty[empty_n / 2] : 0.0;
     out->empty_p25_ms = empty_n ? empty[empty_n / 4] : 0.0;
     out->empty_p75_ms = empty_n ? empty[(3 * empty_n) / 4] : 0.0;
+    hl_sort_doubles(composite, composite_n);
+    out->composite_frames = (uint32_t)composite_n;
+    out->composite_ms = composite_n ? composite[composite_n / 2] : 0.0;
     out->seconds = (double)(hl_clock_now_ns() - start_ns) * 1e-9;
     rc = 0;
 done:
@@ -339,6 +350,7 @@ done:
     free(order);
     free(times);
     free(empty);
+    free(composite);
     if (rc != 0)
         rnd_calibration_free(out);
     return rc;

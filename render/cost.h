@@ -82,6 +82,11 @@ struct rnd_calibration {
      * quartiles. The fit takes the median as c0 instead of guessing it as an intercept. */
     double empty_ms, empty_p25_ms, empty_p75_ms;
     uint32_t empty_frames;
+    /* A periphery grid's composite (rnd_renderer_composite_layers: the periphery upsampled over each
+     * whole eye), the compositor's work and so not in the frames' times: timed after each empty
+     * frame, the median; 0 frames for plain and inset grids. */
+    double composite_ms;
+    uint32_t composite_frames;
 };
 /* Renders the field's bumpy sphere and the auditorium's chair (scene/) in stereo on `display` at
  * render_scale: empty frames (the fixed cost, RND_COST_EMPTY_EVERY points apart) and, for every grid point, k copies (at most the 150 chairs the auditorium has) in a grid in front of both eyes sized so their projected coverage totals the

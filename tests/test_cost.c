@@ -157,8 +157,10 @@ static struct rnd_cost_frame frames[FRAMES];
 static struct rnd_cost_object objects[FRAMES * MAX_PER_FRAME];
 
 /* Frames of 1…6 objects with triangles, vertices (not proportional: the two must be separable) and
- * pixels spread over decades, so that each stage of the max form dominates in some objects. */
-static void synthesize(const struct lod_cost_model *truth, double noise)
+ * pixels spread over decades, so that each stage of the max form dominates in some objects; with
+ * `inset`, each object's share inside an inset too (a fifth of them wholly outside, no pixels), and
+ * the frames timed by the inset's model instead. */
+static void synthesize_frames(const struct lod_cost_model *truth, const struct frm_inset_cost *inset, double noise)
 {
     uint32_t next = 0;
     for (int f = 0; f < FRAMES; ++f) {
@@ -170,10 +172,19 @@ static void synthesize(const struct lod_cost_model *truth, double noise)
             o->vertices = o->triangles * (0.3 + 1.2 * uniform());
             o->pixels_px = pow(10, 2 + 4 * uniform());
             o->draws = 2.0 * (1 + (int)(4 * uniform())); /* several sub-meshes: draws separable from objects */
+            o->inside_share = !inset ? 0.0 : uniform() < 0.2 ? 0.0 : uniform();
+            if (inset)
+                o->pixels_px *= o->inside_share;
         }
-        double ms = frm_cost_predict_frame_ms(truth, &frames[f], objects);
+        double ms = inset ? frm_cost_predict_inset_frame_ms(inset, &frames[f], objects)
+                          : frm_cost_predict_frame_ms(truth, &frames[f], objects);
         frames[f].measured_ms = ms * (1 + noise * gaussian());
     }
+}
+
+static void synthesize(const struct lod_cost_model *truth, double noise)
+{
+    synthesize_frames(truth, NULL, noise);
 }
 
 static void check_recovered(const struct lod_cost_model *fit, const struct lod_cost_model *truth, double rel)
@@ -199,21 +210,7 @@ static void test_fit_inset(void)
     struct frm_inset_cost fit;
     struct frm_cost_fit_report rep;
     for (int noisy = 0; noisy < 2; ++noisy) {
-        uint32_t next = 0;
-        for (int f = 0; f < FRAMES; ++f) {
-            frames[f].first_object = next;
-            frames[f].object_count = 1 + (uint32_t)(uniform() * MAX_PER_FRAME) % MAX_PER_FRAME;
-            for (uint32_t k = 0; k < frames[f].object_count; ++k) {
-                struct rnd_cost_object *o = &objects[next++];
-                o->triangles = pow(10, 2 + 3 * uniform());
-                o->vertices = o->triangles * (0.3 + 1.2 * uniform());
-                o->inside_share = uniform() < 0.2 ? 0.0 : uniform();
-                o->pixels_px = o->inside_share * pow(10, 3 + 2 * uniform());
-                o->draws = 2.0 * (1 + (int)(4 * uniform()));
-            }
-            frames[f].measured_ms = frm_cost_predict_inset_frame_ms(&truth, &frames[f], objects) *
-                                    (1 + (noisy ? 0.02 : 0.0) * gaussian());
-        }
+        synthesize_frames(NULL, &truth, noisy ? 0.02 : 0.0);
         CHECK(frm_cost_fit_inset(truth.model.c0_ms, 0.5, frames, order, train, objects, &fit, &rep, &err) == 0);
         double tol = noisy ? 0.1 : 1e-6;
         check_recovered(&fit.model, &truth.model, noisy ? 0.35 : tol); /* the edge term is the loosest */
@@ -411,9 +408,9 @@ static void test_profile(void)
     p.fixed = (struct frm_cost_fixed){1.75, 1.5, 2.25, 28};
     p.periphery_count = 2;
     p.periphery[0] = (struct frm_cost_periphery){0.5, {LOD_COST_ADDITIVE, 0.6, 4.0e-5, 0, 6.5e-6, 0.0075, 6.0e-5},
-                                                 {0.1, 0.3, 0.04, 50}, {0.6, 0.5, 0.7, 182}};
+                                                 {0.1, 0.3, 0.04, 50}, {0.6, 0.5, 0.7, 182}, 0.9};
     p.periphery[1] = (struct frm_cost_periphery){0.25, {LOD_COST_MAX, 0.2, 5.5e-5, 1e-6, 4.0e-6, 0.007, 9.5e-5},
-                                                 {0.2, 0.45, 0.02, 50}, {0.2, 0.15, 0.25, 182}};
+                                                 {0.2, 0.45, 0.02, 50}, {0.2, 0.15, 0.25, 182}, 0.0};
     char path[128];
     snprintf(path, sizeof path, "%s/round.json", dir);
     struct hl_error err = {""};
@@ -441,6 +438,7 @@ static void test_profile(void)
     CHECK(q.periphery[0].model.form == LOD_COST_ADDITIVE && q.periphery[1].model.form == LOD_COST_MAX &&
           q.periphery[1].model.c5_ms_per_edge_px == 9.5e-5 && q.periphery[0].model.c0_ms == 0.6 &&
           q.periphery[1].model.c2_ms_per_vertex == 1e-6);
+    CHECK(q.periphery[0].composite_ms == 0.9 && q.periphery[1].composite_ms == 0.0); /* 0: not measured, absent */
     CHECK(q.periphery[0].held_out.p95_rel == 0.3 && q.periphery[1].fixed.frames == 182 &&
           q.periphery[1].fixed.p75_ms == 0.25);
     /* The replay takes each scale's model for the periphery and the plain one where there is none. */
@@ -548,6 +546,8 @@ static void test_profile(void)
     expect_bad("layer_fixed.json", V3_HEAD "\"periphery\": [" GOOD_LAYER ", \"fixed_cost\": {\"frames\": 2, "
                "\"median_ms\": 1, \"p25_ms\": 2, \"p75_ms\": 3}}]}",
                "'periphery'[0]: 'fixed_cost': expected p25_ms");
+    expect_bad("layer_composite.json", V3_HEAD "\"periphery\": [" GOOD_LAYER ", \"composite_ms\": -2}]}",
+               "'periphery'[0]: 'composite_ms': -2 is negative");
     expect_bad("layer_list.json", V3_HEAD "\"periphery\": {\"scale\": 0.5}}", "'periphery': expected an array");
 #define GOOD_INSET "{\"radius_deg\": 5, \"blend_deg\": 5, \"form\": \"additive\", \"outside_ms_per_triangle\": 1e-5, " \
                    "\"coefficients\": {" GOOD_COEF ", \"c4_ms_per_draw\": 0, \"c5_ms_per_edge_px\": 0}"
@@ -636,6 +636,8 @@ static void test_measure(void)
         const struct rnd_cost_object *q = &per.objects[per.frames[0].first_object];
         CHECK_NEAR(q->pixels_px, 0.25 * o->pixels_px, 1e-9 * o->pixels_px);
         CHECK(q->triangles == o->triangles && per.frames[0].measured_ms > 0.0);
+        /* Its composite, timed after each empty frame; the plain grid has none. */
+        CHECK(per.composite_frames == per.empty_frames && per.composite_ms > 0.0 && cal.composite_frames == 0);
         rnd_calibration_free(&per);
     }
     /* The inset alone (5° + 5° around the lens centre): the same objects, their pixels counted within
@@ -646,7 +648,8 @@ static void test_measure(void)
     rc = frm_cost_calibrate(vive, &gi, 1, &ins, &err);
     CHECK(rc == 0);
     if (rc == 0) {
-        CHECK(ins.frame_count == cal.frame_count && ins.object_count == cal.object_count && ins.empty_frames == 4);
+        CHECK(ins.frame_count == cal.frame_count && ins.object_count == cal.object_count && ins.empty_frames == 4 &&
+              ins.composite_frames == 0);
         const struct rnd_cost_eye *r0 = &ins.inset_eyes[0], *r1 = &ins.inset_eyes[1];
         double rect_px = (double)r0->width_px * r0->height_px + (double)r1->width_px * r1->height_px;
         CHECK(r0->width_px < 270 && r0->height_px < 300 && rect_px > 100.0 && ins.eyes[0].width_px == 270);

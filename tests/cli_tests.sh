@@ -477,9 +477,14 @@ grep -q '"format":[[:space:]]*"hmdlod-cost-profile-3"' "$tmp/cost.json" && grep 
 expect_ok "calibrate --quick periphery" "^  s 0.25 [AM] +[0-9.]+ " -- "$bin" calibrate --quick --render-scale 0.25 \
   --out "$tmp/cost-layers.json"
 [ "$(grep -c '"scale":' "$tmp/cost-layers.json")" = 4 ] || fail "calibrate wrote no periphery model per layer scale"
+# The inset's model and the composites: written with the layers, read back by a replay that names them.
+[ "$(grep -c '"composite_ms":' "$tmp/cost-layers.json")" = 4 ] || fail "calibrate timed no composite per layer scale"
+grep -q '"outside_ms_per_triangle"' "$tmp/cost-layers.json" || fail "calibrate wrote no inset model"
+expect_ok "replay with the inset model" "an inset model \(5 degrees\)" -- "$bin" replay --scene field --frames 3 \
+  --render-scale 0.25 --foveation fixed --cost-profile "$tmp/cost-layers.json" --out "$tmp/inset-replay"
 expect_ok "calibrate --quick --no-layers" "kept: " -- "$bin" calibrate --quick --no-layers --render-scale 0.25 \
   --out "$tmp/cost-plain.json"
-! grep -q '"periphery"' "$tmp/cost-plain.json" || fail "calibrate --no-layers wrote periphery models"
+! grep -q '"periphery"\|"inset"' "$tmp/cost-plain.json" || fail "calibrate --no-layers wrote layer models"
 [ -z "$(find "$tmp" -maxdepth 1 -name 'cost.json.tmp.*')" ] || fail "calibrate left its temporary file"
 expect_error "calibrate without --out" "--out FILE is required" -- "$bin" calibrate --quick
 expect_error "calibrate unwritable" "no-such-dir/c.json: cannot create" -- \

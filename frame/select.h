@@ -145,7 +145,8 @@ struct frm_select_record {
  * built-in profile for llvmpipe; label_out says which, for the summary. layers_out (NULL: not
  * wanted) gets the layers' models (frame/layers.h struct frm_layer_costs): per layer scale the
  * profile's periphery model at that scale, or where it has none (and at scale 1) the plain model;
- * the inset's model, or the plain one where the profile has none; and how many it had of each. */
+ * the inset's model where it has one (inset_measured; the plain model prices the inset where not);
+ * and how many periphery models it had. */
 int frm_cost_model_load(const char *path, struct lod_cost_model *out, struct frm_layer_costs *layers_out,
                         char *label_out, size_t label_size, struct hl_error *err);
 

@@ -55,7 +55,8 @@ struct rnd_cost_grid {
                                               * the lens centre, at full resolution under its scissor
                                               * (rnd_renderer_draw_inset) — the inset layer's redrawn
                                               * geometry; the objects are placed over the whole eye
-                                              * as for the plain frames, so most straddle the scissor */
+                                              * as for the plain frames: some inside the scissor,
+                                              * some across its edge, some outside it */
     char display[HMD_NAME_MAX];
 };
 /* The default grid (2 families × 4 levels × 5 coverages × 5 counts, 7 repeats) or --quick's

@@ -234,17 +234,43 @@ static void model_from(enum lod_cost_form form, const double c[COST_COLS], struc
     *m = (struct lod_cost_model){form, c[0], c[1], c[2], c[3], c[4], c[5]};
 }
 
-/* Relative error objective of a model on the listed frames: Σ((pred − meas)/meas)². */
-static double fit_objective(const struct lod_cost_model *m, const struct rnd_cost_frame *frames, const uint32_t *rows,
-                            size_t row_count, const struct rnd_cost_object *objects)
+/* A model's prediction of one frame: a lod_cost_model (plain_predict) or a frm_inset_cost
+ * (inset_predict) with the objects' counts. */
+struct prediction {
+    const void *model;
+    const struct rnd_cost_object *objects;
+};
+
+static double plain_predict(const void *ctx, const struct rnd_cost_frame *frame)
+{
+    const struct prediction *p = ctx;
+    return frm_cost_predict_frame_ms(p->model, frame, p->objects);
+}
+
+static double inset_predict(const void *ctx, const struct rnd_cost_frame *frame)
+{
+    const struct prediction *p = ctx;
+    return frm_cost_predict_inset_frame_ms(p->model, frame, p->objects);
+}
+
+/* Relative error objective of predict() on the listed frames: Σ((pred − meas)/meas)². */
+static double relative_sse(double (*predict)(const void *ctx, const struct rnd_cost_frame *f), const void *ctx,
+                           const struct rnd_cost_frame *frames, const uint32_t *rows, size_t row_count)
 {
     double sum = 0.0;
     for (size_t r = 0; r < row_count; ++r) {
         const struct rnd_cost_frame *f = &frames[rows[r]];
-        double e = (frm_cost_predict_frame_ms(m, f, objects) - f->measured_ms) / f->measured_ms;
+        double e = (predict(ctx, f) - f->measured_ms) / f->measured_ms;
         sum += e * e;
     }
     return sum;
+}
+
+static double fit_objective(const struct lod_cost_model *m, const struct rnd_cost_frame *frames, const uint32_t *rows,
+                            size_t row_count, const struct rnd_cost_object *objects)
+{
+    struct prediction p = {m, objects};
+    return relative_sse(plain_predict, &p, frames, rows, row_count);
 }
 
 /* One NNLS on rows [1, Σt, Σv, Σp, Σd, Σ√(t·p)] / measured against 1 (the relative-error weighting). With
@@ -392,25 +418,6 @@ int frm_cost_fit(enum lod_cost_form form, const struct rnd_cost_frame *frames, c
 /* Asymmetric least squares (Newey & Powell 1987): rows the model under-predicts weigh τ, the others
  * 1 − τ, refitted until no row changes side (≤ 30 rounds). τ = ½ is the ordinary fit. */
 enum { EXPECTILE_ROUNDS = 30 };
-/* A model's prediction of one frame: a lod_cost_model (plain_predict) or a frm_inset_cost
- * (inset_predict) with the objects' counts. */
-struct prediction {
-    const void *model;
-    const struct rnd_cost_object *objects;
-};
-
-static double plain_predict(const void *ctx, const struct rnd_cost_frame *frame)
-{
-    const struct prediction *p = ctx;
-    return frm_cost_predict_frame_ms(p->model, frame, p->objects);
-}
-
-static double inset_predict(const void *ctx, const struct rnd_cost_frame *frame)
-{
-    const struct prediction *p = ctx;
-    return frm_cost_predict_inset_frame_ms(p->model, frame, p->objects);
-}
-
 /* A fit repeated under expectile weights: fit() on the rows with weight (NULL: unweighted), then
  * predict() one frame with the model it wrote. */
 struct weighted_fit {
@@ -561,13 +568,7 @@ int frm_cost_fit_inset(double c0_ms, double expectile, const struct rnd_cost_fra
     int rc = fit_expectile(&w, expectile, frames, rows, row_count, err);
     free(a);
     if (rc == 0 && report) {
-        double sum = 0.0;
-        for (size_t r = 0; r < row_count; ++r) {
-            const struct rnd_cost_frame *f = &frames[rows[r]];
-            double e = (frm_cost_predict_inset_frame_ms(out, f, objects) - f->measured_ms) / f->measured_ms;
-            sum += e * e;
-        }
-        report->rms_relative = sqrt(sum / (double)row_count);
+        report->rms_relative = sqrt(relative_sse(inset_predict, &w.prediction, frames, rows, row_count) / (double)row_count);
         report->rounds = 1;
     }
     return rc;

@@ -424,10 +424,12 @@ int frm_cost_profile_write(const char *path, const struct frm_cost_profile *p, s
     for (int i = 0; i < p->periphery_count; ++i)
         if (check_model(&p->periphery[i].model, path, err) != 0)
             return -1;
-    if (p->inset_measured && (check_model(&p->inset.cost.model, path, err) != 0 ||
-                              !(p->inset.cost.outside_ms_per_triangle >= 0.0 &&
-                                isfinite(p->inset.cost.outside_ms_per_triangle))))
-        return hl_fail(err, "%s: the inset's model: a coefficient is negative or not finite", path);
+    if (p->inset_measured && check_model(&p->inset.cost.model, path, err) != 0)
+        return -1;
+    if (p->inset_measured && !(p->inset.cost.outside_ms_per_triangle >= 0.0 &&
+                               isfinite(p->inset.cost.outside_ms_per_triangle)))
+        return hl_fail(err, "%s: 'inset': 'outside_ms_per_triangle': %g is negative or not finite", path,
+                       p->inset.cost.outside_ms_per_triangle);
     cJSON *root = cJSON_CreateObject();
     cJSON_AddStringToObject(root, "format", COST_FORMAT_TAG);
     cJSON_AddStringToObject(root, "label", p->label);

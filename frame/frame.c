@@ -190,7 +190,9 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
         int w, h;
         rnd_renderer_size(s->renderer, &w, &h);
         double xi = s->limits.xi_cpd * fmin(1.0, 0.5 * w / s->display.eye_width_px); /* what the image shows */
-        struct frm_layers_view lv = {&viewer, pose.orientation, s->eyes, w / 2, h, 0.5 * s->display.ipd_m};
+        const struct frm_saccade *q = &s->select.saccade; /* active: a measured gaze this frame */
+        struct frm_layers_view lv = {&viewer, pose.orientation, s->eyes, w / 2, h, 0.5 * s->display.ipd_m,
+                                     q->active && q->state.phase == ACU_SACCADE_NONE};
         frm_layers_plan(&s->layers, &lv, &s->limits, vis->table ? &vis->limits : NULL, xi, s->scene.center_m,
                         s->scene.radius_m, a->visible, n, a->eccentricity_deg, a->velocity_degps);
     }

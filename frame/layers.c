@@ -238,7 +238,7 @@ void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, c
         l->radius_deg[k] = reach;
         slowest = fmin(slowest, velocity_degps[k]);
     }
-    l->slowest_degps = isfinite(slowest) ? slowest : 0.0;
+    l->slowest_degps = isfinite(slowest) && !view->fovea_held ? slowest : 0.0;
     fill_needed_scales(l, acuity, contrast, xi_cpd);
     /* The resolution loss only lossy settings need: filled on first use (candidate_loss). */
     l->loss = (struct frm_layers_loss_inputs){acuity, contrast, eccentricity_deg, velocity_degps, count, 0};
@@ -434,6 +434,15 @@ void frm_layers_masks(struct frm_layers *l, size_t count, size_t extra)
         l->mask[k] = m;
     }
     memset(l->mask + count, RND_LAYER_BOTH, extra); /* group impostors: not planned per layer */
+}
+
+uint8_t frm_layers_shown_ceiling(const struct frm_layers *l, const struct frm_layer_candidate *c, size_t k)
+{
+    uint8_t own = l->periphery_ceiling[k * FRM_LAYER_SCALES];
+    if (c->scale >= 1.0 || (c->inset_radius_deg > 0.0 &&
+                            l->centre_angle_deg[k] - l->radius_deg[k] < c->inset_radius_deg + l->blend_deg))
+        return own;
+    return (uint8_t)periphery_level(l, c, own, k);
 }
 
 void frm_layers_periphery_levels(struct frm_layers *l, const uint8_t *lod, size_t count, size_t extra)

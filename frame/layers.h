@@ -116,7 +116,7 @@ struct frm_layers {
     int first_loss;                    /* cand[first_loss …] lose visible detail (those before: none) */
     hl_vec3d centre_world;      /* the inset's centre, unit world direction */
     double centre_offset_deg;   /* its angle from the gaze model's gaze */
-    double slowest_degps;       /* the slowest visible object's retinal speed */
+    double slowest_degps;       /* the slowest visible object's retinal speed (0 when the fovea is held) */
     double xi_cpd;              /* the rendered image's ξ (frm_layers_plan's) */
     /* what the content needs: the last frame's band contrast by ring of eccentricity around its gaze
      * (render/layers.h; not valid before the first frame: full contrast), and per ring the coarsest
@@ -163,6 +163,12 @@ struct frm_layers_view {
     const struct hmd_eye *eyes;          /* two: the frusta */
     int eye_w_px, eye_h_px;              /* the rendered eye images */
     double half_ipd_m;
+    /* 1: the eye holds what it looks at still on the fovea — a measured gaze outside a saccade and its
+     * suppression (a fixation, or a pursuit, which cancels its target's motion). The resolution the
+     * inset needs is then taken at retinal speed 0, not at the slowest object's: a measured gaze's
+     * velocity carries the tracker's noise (EDVAM's 0.1 m rounding reads as 25–45 deg/s), which made
+     * every object look fast and the inset unneeded on one frame in ten (docs/foveation.md). */
+    int fovea_held;
 };
 void frm_layers_plan(struct frm_layers *l, const struct frm_layers_view *view, const struct acu_limits *acuity,
                      const struct acu_contrast_limits *contrast, double xi_cpd, const double *center_m,
@@ -231,6 +237,10 @@ void frm_layers_masks(struct frm_layers *l, size_t count, size_t extra);
 /* The periphery's levels for the chosen setting: each visible object's level, or its periphery
  * ceiling at the chosen scale where that is coarser; group impostors as they are. */
 void frm_layers_periphery_levels(struct frm_layers *l, const uint8_t *lod, size_t count, size_t extra);
+/* The finest level setting c shows of visible object k: its LOD ceiling where part of it lies within
+ * the inset and its blend band, else (the periphery alone shows it) its periphery ceiling at c's scale.
+ * After frm_layers_periphery_ceilings. */
+uint8_t frm_layers_shown_ceiling(const struct frm_layers *l, const struct frm_layer_candidate *c, size_t k);
 /* The periphery ceilings (periphery_ceiling) under the frame's criterion: the LOD ceiling with ξ
  * replaced by s·ξ for each scale this frame's candidates use (ξ: frm_layers_plan's), never finer than the object's own ceiling (a saccade's lowered
  * ones included). Called by the selection (frame/select.c) after the ceilings. */

@@ -75,6 +75,7 @@ int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct 
     s->boxed = calloc(n, 1);
     s->ceiling_level = calloc(n, 1);
     s->previous_level = calloc(n, 1);
+    s->seen_level = calloc(n, 1);
     s->keep = calloc(n, 1);
     s->coarsest_ms = calloc(n, sizeof(double));
     s->choice = calloc(n, 1);
@@ -90,12 +91,14 @@ int frm_select_init(struct frm_select *s, const struct scn_scene *scene, struct 
     s->chain_lod_count = calloc(chains, 1);
     s->scratch = malloc(lod_scratch_bytes(n, cands));
     s->saccade.level_before = malloc(n);
+    s->saccade.refine = calloc(n, sizeof *s->saccade.refine);
     if (s->perceptual_benefit && (s->selector == FRM_SELECT_FS || s->selector == FRM_SELECT_MB) &&
         !(s->visible_loss = calloc(n * LOD_MAX_LEVELS, sizeof(double))))
         return hl_fail(err, "scene '%s': out of memory for the visible loss of %zu objects", scene->name, n);
-    if (!s->pixels_px || !s->boxed || !s->ceiling_level || !s->previous_level || !s->keep || !s->coarsest_ms || !s->choice || !s->first || !s->count ||
+    if (!s->pixels_px || !s->boxed || !s->ceiling_level || !s->previous_level || !s->seen_level || !s->keep || !s->coarsest_ms || !s->choice || !s->first || !s->count ||
         !s->cand_cost_ms || !s->cand_benefit || !s->cand_level || !s->cand_samples || !s->level_of_instance ||
-        !s->last_visible || !s->chain_triangles || !s->chain_lod_count || !s->scratch || !s->saccade.level_before)
+        !s->last_visible || !s->chain_triangles || !s->chain_lod_count || !s->scratch || !s->saccade.level_before ||
+        !s->saccade.refine)
         return hl_fail(err, "scene '%s': out of memory for the selector's arrays (%zu objects)", scene->name, n);
     memset(s->level_of_instance, LOD_UNSEEN, n);
     s->level_capacity = n;
@@ -130,6 +133,7 @@ void frm_select_free(struct frm_select *s)
     free(s->boxed);
     free(s->ceiling_level);
     free(s->previous_level);
+    free(s->seen_level);
     free(s->keep);
     free(s->coarsest_ms);
     free(s->choice);
@@ -146,6 +150,7 @@ void frm_select_free(struct frm_select *s)
     free(s->chain_lod_count);
     free(s->scratch);
     free(s->saccade.level_before);
+    free(s->saccade.refine);
     frm_mb_destroy(s->mb);
     s->mb = NULL;
 }
@@ -161,9 +166,8 @@ static void layer_prepare(struct frm_select *s, const struct scn_scene *scene, c
         frm_layers_inset_pixels(s->layers, c, scene, in->eyes, in->visible, in->count, s->pixels_px);
 }
 
-/* Object k at a level under a layer candidate (NULL or scale 1: the plain frame). */
-static double layer_cost_ms(const struct frm_select *s, const struct frm_layer_candidate *layer,
-                            const struct scn_chain *ch, int level, size_t k)
+double frm_select_level_cost_ms(const struct frm_select *s, const struct frm_layer_candidate *layer,
+                                const struct scn_chain *ch, int level, size_t k)
 {
     if (!layer || layer->scale >= 1.0)
         return frm_level_cost_ms(&s->cost, ch, level, s->pixels_px[k], s->boxed[k]);
@@ -178,7 +182,7 @@ static double coarsest_sum_ms(struct frm_select *s, const struct scn_scene *scen
     double sum_ms = 0.0;
     for (size_t k = 0; k < in->count; ++k) {
         int chain = scene->chain_of_instance[in->visible[k]];
-        s->coarsest_ms[k] = layer_cost_ms(s, layer, &scene->chains[chain], s->chain_lod_count[chain] - 1, k);
+        s->coarsest_ms[k] = frm_select_level_cost_ms(s, layer, &scene->chains[chain], s->chain_lod_count[chain] - 1, k);
         sum_ms += s->coarsest_ms[k];
     }
     return sum_ms;
@@ -217,11 +221,12 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
         int coarsest = s->chain_lod_count[scene->chain_of_instance[inst]] - 1;
         for (int l = coarsest; l >= 0; --l, ++c) {
             s->cand_level[c] = (uint8_t)l;
-            s->cand_cost_ms[c] = priced && l == coarsest ? s->coarsest_ms[k] : layer_cost_ms(s, layer, ch, l, k);
+            s->cand_cost_ms[c] = priced && l == coarsest ? s->coarsest_ms[k] : frm_select_level_cost_ms(s, layer, ch, l, k);
             s->cand_samples[c] = ch->lods[l].vertex_count; /* Gouraud: m = 2 (§5) */
         }
         s->count[k] = (uint8_t)(c - s->first[k]);
         s->previous_level[k] = s->level_of_instance[inst];
+        s->seen_level[k] = frm_saccade_seen_level(s, inst);
         if (s->keep[k] && s->count[k] > 0)
             kept_ms += s->cand_cost_ms[s->first[k]];
     }
@@ -229,7 +234,7 @@ static struct lod_problem build_problem(struct frm_select *s, const struct scn_s
      * are in the frame whatever the budget says (the frame then runs late rather than show a hole). */
     budget_ms = fmax(budget_ms, kept_ms + 1e-6); /* lod/ rounds each cost up to 1e-8 ms */
     lod_benefit_fill(&s->benefit, in->count, s->first, s->count, s->cand_level, s->cand_samples, s->pixels_px,
-                     NULL, s->ceiling_level, s->previous_level, s->visible_loss_valid ? s->visible_loss : NULL,
+                     NULL, s->ceiling_level, s->seen_level, s->visible_loss_valid ? s->visible_loss : NULL,
                      s->cand_benefit);
     if (scene->importance)
         for (size_t k = 0; k < in->count; ++k)
@@ -274,7 +279,7 @@ static double predicted_ms(struct frm_select *s, const struct scn_scene *scene, 
         if (lod[k] == LOD_DROP)
             continue;
         const struct scn_chain *ch = &scene->chains[scene->chain_of_instance[in->visible[k]]];
-        sum += layer_cost_ms(s, layer, ch, lod[k], k);
+        sum += frm_select_level_cost_ms(s, layer, ch, lod[k], k);
     }
     return sum;
 }
@@ -499,6 +504,9 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
         rec->layer_loses = layer->loses;
         rec->layer_candidates = s->selector == FRM_SELECT_FS ? s->layers->evaluated : s->layers->cand_count;
     }
+    layer_prepare(s, scene, in, layer);
+    if (!rec->truncated) /* the time limit bounds the boost too: a stopped frame leaves it to the next */
+        (void)frm_saccade_refine(s, scene, in, lod_out, layer, rec->optimizer_budget_ms);
     rec->predicted_ms = predicted_ms(s, scene, in, lod_out, layer);
     double visible_px = 0.0, dropped_px = 0.0;
     for (size_t k = 0; k < in->count; ++k) {
@@ -512,7 +520,7 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
         acu_compute_pixels(in->eyes, 2, scene->center_m, scene->radius_m, &extra_index[k], 1, &px);
         rec->predicted_ms += frm_level_cost_ms(&s->cost, ch, extra_level[k], px, 0);
     }
-    frm_saccade_account(s, scene, in, lod_out, rec);
+    frm_saccade_account(s, scene, in, lod_out, layer, rec);
     rec->lod_changes = remember_levels(s, in, lod_out);
 }
 

@@ -50,6 +50,10 @@ int frm_selector_uses_ceiling(enum frm_selector selector);
 /* Saccade suppression and the 28 ms refinement rule (acuity/saccade.h; docs/gaze.md). Active only
  * when the frame's pose has a measured gaze and the gaze model is tracked (head and vor stand for a
  * headset without an eye tracker, which cannot see saccades); otherwise the phase stays NONE. */
+struct frm_refine_entry {
+    double eccentricity_deg;
+    uint32_t instance, k; /* the scene instance (ties), the visible object */
+};
 struct frm_saccade {
     struct acu_saccade_params params;
     struct acu_saccade_state state;
@@ -57,6 +61,7 @@ struct frm_saccade {
     int missed;           /* the current refinement has already missed its deadline */
     int started;          /* a saccade started this frame */
     uint8_t *level_before; /* per scene instance: its level on the frame before the saccade (LOD_UNSEEN) */
+    struct frm_refine_entry *refine; /* per visible object: the refinement boost's order (saccade_step.c) */
     double speed_degps;   /* this frame's gaze speed in the world (0 without gaze) */
     double time_s;        /* this frame's time */
 };
@@ -79,6 +84,7 @@ struct frm_select {
     double *pixels_px;
     uint8_t *boxed;            /* 1: pixels_px is the model box's projection, 0: the bounding sphere's */
     uint8_t *ceiling_level, *previous_level, *choice;
+    uint8_t *seen_level;       /* the level hysteresis is measured from: the last one the viewer saw */
     uint8_t *keep;             /* 1: covers ≥ FRM_KEEP_IMAGE_SHARE of the image, never dropped */
     double *coarsest_ms;       /* the candidate being built: each object's coarsest level's cost */
     uint32_t *first;
@@ -176,11 +182,28 @@ void frm_select_frame(struct frm_select *s, const struct scn_scene *scene, const
  * feedback and none do not use the ceiling and are left as they are (frame/saccade_step.c). */
 struct trk_pose;
 void frm_select_saccade(struct frm_select *s, const struct trk_pose *pose, double time_s);
-/* Inside frm_select_frame (frame/saccade_step.c): while suppressed, lowers the ceilings of the n
- * visible objects to their coarsest levels; after the choice, the refinement accounting of rec. */
+/* Inside frm_select_frame (frame/saccade_step.c): the level a scene instance's hysteresis is measured
+ * from — last frame's, or while a saccade's refinement is owed the level before it (the suppressed
+ * frames were not seen); while suppressed, lowers the ceilings of the n visible objects to their
+ * coarsest levels; after the choice, the refinement accounting of rec (layer: the chosen setting, NULL
+ * for the plain frame — an object only the periphery shows is owed no more than its periphery ceiling,
+ * and a raise is priced as the setting prices it). */
+uint8_t frm_saccade_seen_level(const struct frm_select *s, uint32_t instance);
 void frm_saccade_lower_ceilings(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in);
+struct frm_layer_candidate;
+/* The refinement boost (issue 32 item 5), fs only, after the choice and before its prediction: while a
+ * refinement is owed, each object still drawn coarser than what the saccade took from it is raised to
+ * that level where the raise fits what the optimizer's budget has left under the chosen setting —
+ * nearest the gaze first (the fovea sees first what the saccade landed on). Returns the raises. */
+uint32_t frm_saccade_refine(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
+                            uint8_t *lod, const struct frm_layer_candidate *layer, double budget_ms);
 void frm_saccade_account(struct frm_select *s, const struct scn_scene *scene, const struct frm_view_inputs *in,
-                         const uint8_t *lod, struct frm_select_record *rec);
+                         const uint8_t *lod, const struct frm_layer_candidate *layer, struct frm_select_record *rec);
+/* Visible object k at a level under a layer setting (NULL or scale 1: the plain frame), ms: what
+ * build_problem prices its candidates at. The setting's pixels must be prepared (its inset pixels). */
+struct scn_chain;
+double frm_select_level_cost_ms(const struct frm_select *s, const struct frm_layer_candidate *layer,
+                                const struct scn_chain *ch, int level, size_t k);
 /* After frm_select_frame, outside the frame's timing: the predicted visible error of the levels lod
  * (per visible object, LOD_DROP for not drawn): the share of the visible objects' projected pixels
  * whose object is drawn coarser than its perceptual ceiling, or dropped where the ceiling draws it.

@@ -659,6 +659,9 @@ end = next(i for i in range(start, len(rows)) if phase[i] != 1)  # the first fra
 assert all(abs(float(r["inset_x_deg"])) < 0.01 for r in rows[:start]), "before: ahead"
 assert abs(float(rows[end]["inset_x_deg"]) - 20.0) < 0.05, rows[end]["inset_x_deg"]
 assert all(abs(float(r["inset_y_deg"])) < 0.01 for r in rows)
+after = next(i for i in range(end, len(rows)) if phase[i] == 0)  # the window has ended
+assert float(rows[after]["inset_radius_deg"]) > 4.99, rows[after]["inset_radius_deg"]  # the fovea's, at once
+assert int(rows[after]["refine_miss"]) == 0
 PY
 
 # Live: --help and bad arguments need no display (tests/live_tests.sh runs sessions under xvfb-run).

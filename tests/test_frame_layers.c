@@ -52,12 +52,50 @@ static void fixture_init(struct fixture *f)
                          f->velocity_degps, f->diameter_deg);
 }
 
-static void plan(struct frm_layers *l, struct fixture *f)
+static void plan_held(struct frm_layers *l, struct fixture *f, const double *velocity_degps, int fovea_held)
 {
     struct frm_layers_view view = {&f->viewer, hl_q_identity(), f->eyes, f->vive->eye_width_px,
-                                   f->vive->eye_height_px, 0.5 * f->vive->ipd_m};
+                                   f->vive->eye_height_px, 0.5 * f->vive->ipd_m, fovea_held};
     frm_layers_plan(l, &view, &f->acuity, &f->contrast, f->acuity.xi_cpd, f->center_m, f->radius_m, f->visible, N,
-                    f->eccentricity_deg, f->velocity_degps);
+                    f->eccentricity_deg, velocity_degps);
+}
+
+static void plan(struct frm_layers *l, struct fixture *f)
+{
+    plan_held(l, f, f->velocity_degps, 0);
+}
+
+/* The 0.25 scale's ceiling radius of the last plan. */
+static double quarter_ceiling_deg(const struct frm_layers *l)
+{
+    for (int c = 1; c < l->cand_count; ++c)
+        if (l->cand[c].scale == 0.25)
+            return l->cand[c].ceiling_radius_deg;
+    return NAN;
+}
+
+/* A measured gaze's noise (EDVAM: 25–45 deg/s between fixations) gives every object a retinal speed
+ * that lowers what the inset must show; with the fovea held (a measured gaze outside a saccade) the
+ * inset is planned as for still objects. */
+static void test_fovea_held(struct fixture *f)
+{
+    struct frm_layers l;
+    struct hl_error err = {""};
+    CHECK(frm_layers_init(&l, FRM_FOVEATION_GAZE, 0.0, 0.0, -1.0, N, 0, &err) == 0);
+    double fast[N];
+    for (int k = 0; k < N; ++k)
+        fast[k] = 40.0;
+    plan_held(&l, f, f->velocity_degps, 0);
+    double still = quarter_ceiling_deg(&l);
+    plan_held(&l, f, fast, 0);
+    double noisy = quarter_ceiling_deg(&l);
+    CHECK(l.slowest_degps == 40.0);
+    plan_held(&l, f, fast, 1);
+    double held = quarter_ceiling_deg(&l);
+    printf("scale 0.25 needs an inset of %.1f deg still, %.1f deg at 40 deg/s, %.1f deg at 40 deg/s held\n", still,
+           noisy, held);
+    CHECK(noisy < still && held == still && l.slowest_degps == 0.0);
+    frm_layers_free(&l);
 }
 
 static void test_candidates(struct fixture *f)
@@ -270,6 +308,7 @@ int main(void)
     if (!f.vive)
         return tu_finish("frame layers");
     test_candidates(&f);
+    test_fovea_held(&f);
     test_costs_and_masks(&f);
     test_adaptive();
     test_outcome_order();

@@ -106,3 +106,41 @@ int acu_gaze_viewer(enum acu_gaze_model model, const struct acu_vor_params *vor,
                                                hl_v3_scale(g, hl_v3_dot(head->angular_velocity_radps, g)));
     return 0;
 }
+
+void acu_gaze_hold_target(const struct acu_head_state *head, const double *center_m, const double *radius_m,
+                          const double *velocity_mps, const uint32_t *index, size_t count, double target_deg,
+                          double fallback_m, struct acu_viewer *viewer)
+{
+    hl_vec3d g = viewer->gaze_dir, e = viewer->eye_position_m;
+    /* The nearest sphere the gaze ray meets (what is in front hides what is behind), else the one it
+     * passes nearest within target_deg. */
+    double best_deg = target_deg, best_m = INFINITY, target_m = fallback_m;
+    hl_vec3d target_mps = hl_v3(0, 0, 0);
+    for (size_t k = 0; k < count; ++k) {
+        uint32_t i = index[k];
+        hl_vec3d d = hl_v3_sub(hl_v3(center_m[3 * (size_t)i], center_m[3 * (size_t)i + 1], center_m[3 * (size_t)i + 2]), e);
+        double r = hl_v3_length(d);
+        if (!(r > radius_m[i]))
+            continue; /* the eye inside the sphere: no direction to hold */
+        /* the gaze ray's angle from the sphere's edge (≤ 0: it meets the sphere) — atan2, not acos */
+        double off_deg = atan2(hl_v3_length(hl_v3_cross(d, g)), hl_v3_dot(d, g)) * HL_DEG_PER_RAD -
+                         asin(radius_m[i] / r) * HL_DEG_PER_RAD;
+        double met_m = off_deg <= 0.0 ? r : INFINITY;
+        if (met_m < best_m || (!isfinite(best_m) && off_deg < best_deg)) {
+            best_deg = off_deg;
+            best_m = met_m;
+            target_m = r;
+            target_mps = velocity_mps ? hl_v3(velocity_mps[3 * (size_t)i], velocity_mps[3 * (size_t)i + 1],
+                                              velocity_mps[3 * (size_t)i + 2])
+                                      : hl_v3(0, 0, 0);
+        }
+    }
+    double inv_m = target_m > 0.0 && isfinite(target_m) ? 1.0 / target_m : 0.0;
+    /* Holding a point that moves at w is holding a still one while the eye moves at v − w. */
+    hl_vec3d fixation = hold_fixation_radps(g, head->angular_velocity_radps, viewer->linear_velocity_mps, inv_m);
+    hl_vec3d pursuit = hold_fixation_radps(g, head->angular_velocity_radps,
+                                           hl_v3_sub(viewer->linear_velocity_mps, target_mps), inv_m);
+    hl_vec3d measured = viewer->angular_velocity_radps;
+    double to_fixation = hl_v3_length(hl_v3_sub(measured, fixation));
+    viewer->angular_velocity_radps = hl_v3_length(hl_v3_sub(measured, pursuit)) < to_fixation ? pursuit : fixation;
+}

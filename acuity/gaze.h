@@ -61,4 +61,21 @@ struct acu_viewer;
 int acu_gaze_viewer(enum acu_gaze_model model, const struct acu_vor_params *vor,
                     const struct acu_head_state *head, struct acu_viewer *viewer);
 
+/* How far from an object's bounding sphere a measured gaze may fall and still be on it: a headset
+ * eye tracker's accuracy is about 0.5–1.1° (HTC's figure for the Vive Pro Eye), and EDVAM rounds its
+ * gaze point to 0.1 m (about 1.5° at its median 3–4 m). */
+#define ACU_GAZE_TARGET_DEG 2.0
+/* Tracked, outside a saccade: the eye holds what it looks at still on the fovea — a world point
+ * (fixation) or a moving object (pursuit) — while the measured gaze's rate carries the tracker's
+ * noise (EDVAM's 0.1 m rounding reads as 25–45 deg/s between fixations, which made every object look
+ * that fast on the retina). The target is the nearest visible object whose bounding sphere the gaze
+ * ray meets, else the one it passes nearest within target_deg, else a world point fallback_m along
+ * the gaze. Of holding the target
+ * as it moves (pursuit) and holding a world point at its distance (fixation), *viewer's rate becomes
+ * the one nearer its measured rate; a still target makes both the fixation. The head's roll about
+ * the gaze is kept. Arrays as acu_compute_geometry's (velocity_mps NULL: a static scene); O(count). */
+void acu_gaze_hold_target(const struct acu_head_state *head, const double *center_m, const double *radius_m,
+                          const double *velocity_mps, const uint32_t *index, size_t count, double target_deg,
+                          double fallback_m, struct acu_viewer *viewer);
+
 #endif

@@ -172,6 +172,10 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
     /* −1 only for tracked on a sample without a gaze (a trace without any is refused at start):
      * that frame falls back to vor, as acu_gaze_viewer fills it. */
     (void)acu_gaze_viewer(s->gaze, &s->vor, &head, &viewer);
+    const struct frm_saccade *sac = &s->select.saccade; /* active: tracked, with a measured gaze */
+    if (sac->active && sac->state.phase == ACU_SACCADE_NONE) /* outside saccades the eye holds its target */
+        acu_gaze_hold_target(&head, s->scene.center_m, s->scene.radius_m, object_velocity_mps, a->visible, n,
+                             ACU_GAZE_TARGET_DEG, s->vor.fixation_m, &viewer);
     rec->eye_speed_degps = hl_v3_length(viewer.angular_velocity_radps) * HL_DEG_PER_RAD;
     acu_compute_geometry(&viewer, s->scene.center_m, s->scene.radius_m, object_velocity_mps, a->visible, n,
                          a->eccentricity_deg, a->velocity_degps, a->diameter_deg);
@@ -190,9 +194,8 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
         int w, h;
         rnd_renderer_size(s->renderer, &w, &h);
         double xi = s->limits.xi_cpd * fmin(1.0, 0.5 * w / s->display.eye_width_px); /* what the image shows */
-        const struct frm_saccade *q = &s->select.saccade; /* active: a measured gaze this frame */
         struct frm_layers_view lv = {&viewer, pose.orientation, s->eyes, w / 2, h, 0.5 * s->display.ipd_m,
-                                     q->active && q->state.phase == ACU_SACCADE_NONE};
+                                     sac->active && sac->state.phase == ACU_SACCADE_NONE};
         frm_layers_plan(&s->layers, &lv, &s->limits, vis->table ? &vis->limits : NULL, xi, s->scene.center_m,
                         s->scene.radius_m, a->visible, n, a->eccentricity_deg, a->velocity_degps);
     }

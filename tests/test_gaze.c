@@ -268,6 +268,63 @@ static void test_tracked_without_gaze(void)
     CHECK_NEAR(ecc, 40.0, 0.01);
 }
 
+/* A measured gaze's noise outside saccades (acu_gaze_hold_target): the eye looks 3 m ahead at a small
+ * object in front of a large one on the same line and beside others, the head translating sideways at
+ * 0.3 m/s and turning 20 deg/s about the gaze (roll). The tracker reports 40 deg/s across the gaze
+ * (EDVAM's rounding between fixations): held, the object at the gaze reads 0 (not the large one
+ * behind, whose sphere the ray meets too), the one 1.5 m further reads the parallax |v|·|1/r − 1/D|,
+ * and the roll is kept. A moving object at the gaze with a measured rate near its pursuit's is
+ * pursued (it reads 0, the background slides); with a measured rate near 0 it is not (it slides).
+ * No object near the gaze: a world point at the fallback distance is held. */
+static void test_hold_target(void)
+{
+    struct acu_head_state h;
+    hl_vec3d roll = hl_v3(0, 0, -20.0 * HL_RAD_PER_DEG);
+    acu_head_state_from_neck(hl_q_identity(), hl_v3(0, 0, 0), hl_v3(0.3, 0, 0), roll, hl_v3(0, 0, 0), &h);
+    h.has_gaze = 1;
+    h.gaze_dir = hl_v3(0, 0, -1);
+    h.gaze_angular_velocity_radps = hl_v3(0, 40.0 * HL_RAD_PER_DEG, 0); /* noise: a yaw the eye did not make */
+    double center[9] = {0.0, 0.0, -3.0, 0.0, 0.0, -4.5, 1.5, 0.0, -3.0};
+    double radius[3] = {0.05, 1.0, 0.05};
+    uint32_t all[3] = {0, 1, 2};
+    struct acu_viewer v;
+    CHECK(acu_gaze_viewer(ACU_GAZE_TRACKED, NULL, &h, &v) == 0);
+    double noisy = retinal_degps(&v, hl_v3(0, 0, -3.0), hl_v3(0, 0, 0));
+    acu_gaze_hold_target(&h, center, radius, NULL, all, 3, ACU_GAZE_TARGET_DEG, 50.0, &v);
+    double held = retinal_degps(&v, hl_v3(0, 0, -3.0), hl_v3(0, 0, 0));
+    double behind = retinal_degps(&v, hl_v3(0, 0, -4.5), hl_v3(0, 0, 0));
+    double want_behind = 0.3 * fabs(1.0 / 4.5 - 1.0 / 3.0) * HL_DEG_PER_RAD;
+    printf("hold: the gazed object %.2f deg/s with the noise, %.2e held; 1.5 m behind it %.3f (parallax %.3f)\n",
+           noisy, held, behind, want_behind);
+    CHECK(noisy > 30.0); /* 40 deg/s less the 5.7 the translation turns the object */
+    CHECK_NEAR(held, 0.0, 1e-9);
+    CHECK_NEAR(behind, want_behind, 1e-9);
+    CHECK_NEAR(hl_v3_dot(v.angular_velocity_radps, h.gaze_dir), hl_v3_dot(roll, h.gaze_dir), 1e-12); /* roll kept */
+
+    /* Pursuit or not: object 0 moves at 1.5 m/s sideways (its pursuit: about 28.6 deg/s less the head's). */
+    double velocity[9] = {1.5, 0, 0, 0, 0, 0, 0, 0, 0};
+    hl_vec3d w = hl_v3(1.5, 0, 0);
+    hl_vec3d follow = hl_v3_cross(h.gaze_dir, hl_v3_scale(hl_v3_sub(w, h.eye_velocity_mps), 1.0 / 3.0));
+    h.gaze_angular_velocity_radps = hl_v3_add(follow, hl_v3(0, 0.05, 0)); /* near it, with noise */
+    CHECK(acu_gaze_viewer(ACU_GAZE_TRACKED, NULL, &h, &v) == 0);
+    acu_gaze_hold_target(&h, center, radius, velocity, all, 3, ACU_GAZE_TARGET_DEG, 50.0, &v);
+    CHECK_NEAR(retinal_degps(&v, hl_v3(0, 0, -3.0), w), 0.0, 1e-9);
+    double slide = retinal_degps(&v, hl_v3(1.5, 0, -3.0), hl_v3(0, 0, 0));
+    CHECK(slide > 20.0); /* the background slides during pursuit */
+    h.gaze_angular_velocity_radps = hl_v3(0, 0.05, 0); /* near a fixation's: the object passes */
+    CHECK(acu_gaze_viewer(ACU_GAZE_TRACKED, NULL, &h, &v) == 0);
+    acu_gaze_hold_target(&h, center, radius, velocity, all, 3, ACU_GAZE_TARGET_DEG, 50.0, &v);
+    double passing = retinal_degps(&v, hl_v3(0, 0, -3.0), w);
+    CHECK_NEAR(passing, 1.5 / 3.0 * HL_DEG_PER_RAD, 1e-6); /* its own speed across a held world point */
+
+    /* The gaze 30° up, off every object: a world point 50 m along it is held. */
+    h.gaze_dir = hl_v3_normalize(hl_v3(0, sin(30.0 * HL_RAD_PER_DEG), -cos(30.0 * HL_RAD_PER_DEG)));
+    h.gaze_angular_velocity_radps = hl_v3(0, 40.0 * HL_RAD_PER_DEG, 0);
+    CHECK(acu_gaze_viewer(ACU_GAZE_TRACKED, NULL, &h, &v) == 0);
+    acu_gaze_hold_target(&h, center, radius, NULL, all, 3, ACU_GAZE_TARGET_DEG, 50.0, &v);
+    CHECK_NEAR(retinal_degps(&v, hl_v3_scale(h.gaze_dir, 50.0), hl_v3(0, 0, 0)), 0.0, 1e-9);
+}
+
 int main(void)
 {
     test_names();
@@ -278,5 +335,6 @@ int main(void)
     test_vor_residuals();
     test_torsion();
     test_tracked_without_gaze();
+    test_hold_target();
     return tu_finish("test_gaze");
 }

@@ -173,7 +173,8 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
      * that frame falls back to vor, as acu_gaze_viewer fills it. */
     (void)acu_gaze_viewer(s->gaze, &s->vor, &head, &viewer);
     const struct frm_saccade *sac = &s->select.saccade; /* active: tracked, with a measured gaze */
-    if (sac->active && sac->state.phase == ACU_SACCADE_NONE) /* outside saccades the eye holds its target */
+    int target_held = sac->active && sac->state.phase == ACU_SACCADE_NONE; /* outside saccades */
+    if (target_held)
         acu_gaze_hold_target(&head, s->scene.center_m, s->scene.radius_m, object_velocity_mps, a->visible, n,
                              ACU_GAZE_TARGET_DEG, s->vor.fixation_m, &viewer);
     rec->eye_speed_degps = hl_v3_length(viewer.angular_velocity_radps) * HL_DEG_PER_RAD;
@@ -195,7 +196,7 @@ int frm_frame_run(struct frm_session *s, long frame, double time_s, struct frm_f
         rnd_renderer_size(s->renderer, &w, &h);
         double xi = s->limits.xi_cpd * fmin(1.0, 0.5 * w / s->display.eye_width_px); /* what the image shows */
         struct frm_layers_view lv = {&viewer, pose.orientation, s->eyes, w / 2, h, 0.5 * s->display.ipd_m,
-                                     sac->active && sac->state.phase == ACU_SACCADE_NONE};
+                                     target_held};
         frm_layers_plan(&s->layers, &lv, &s->limits, vis->table ? &vis->limits : NULL, xi, s->scene.center_m,
                         s->scene.radius_m, a->visible, n, a->eccentricity_deg, a->velocity_degps);
     }

@@ -126,25 +126,28 @@ uint32_t frm_saccade_refine(struct frm_select *s, const struct scn_scene *scene,
         return 0;
     if (layer && layer->scale >= 1.0)
         layer = NULL;
-    double used_ms = 0.0;
     size_t n = 0;
-    for (size_t k = 0; k < in->count; ++k) {
-        if (lod[k] != LOD_DROP)
-            used_ms += frm_select_level_cost_ms(s, layer, &scene->chains[scene->chain_of_instance[in->visible[k]]],
-                                                lod[k], k);
-        if (pending_target(s, scene, in, lod, layer, k) >= 0)
-            s->saccade.refine[n++] = (struct frm_refine_entry){in->eccentricity_deg[k], in->visible[k], (uint32_t)k};
+    for (size_t k = 0; k < in->count; ++k) { /* an object's target does not depend on the others' levels */
+        int target = pending_target(s, scene, in, lod, layer, k);
+        if (target >= 0)
+            s->saccade.refine[n++] =
+                (struct frm_refine_entry){in->eccentricity_deg[k], in->visible[k], (uint32_t)k, (uint8_t)target};
     }
+    if (n == 0)
+        return 0;
     qsort(s->saccade.refine, n, sizeof *s->saccade.refine, refine_entry_compare);
-    double slack_ms = budget_ms - used_ms;
+    double slack_ms = budget_ms;
+    for (size_t k = 0; k < in->count; ++k)
+        if (lod[k] != LOD_DROP)
+            slack_ms -= frm_select_level_cost_ms(s, layer, &scene->chains[scene->chain_of_instance[in->visible[k]]],
+                                                 lod[k], k);
     uint32_t raised = 0;
     for (size_t j = 0; j < n; ++j) {
-        size_t k = s->saccade.refine[j].k;
-        int target = pending_target(s, scene, in, lod, layer, k);
-        double ms = raise_ms(s, scene, in, layer, k, lod[k], target);
+        const struct frm_refine_entry *e = &s->saccade.refine[j];
+        double ms = raise_ms(s, scene, in, layer, e->k, lod[e->k], e->target);
         if (ms <= slack_ms) {
             slack_ms -= ms;
-            lod[k] = (uint8_t)target;
+            lod[e->k] = e->target;
             ++raised;
         }
     }

@@ -53,6 +53,7 @@ int frm_selector_uses_ceiling(enum frm_selector selector);
 struct frm_refine_entry {
     double eccentricity_deg;
     uint32_t instance, k; /* the scene instance (ties), the visible object */
+    uint8_t target;       /* the level it is owed */
 };
 struct frm_saccade {
     struct acu_saccade_params params;

@@ -12,7 +12,7 @@
 /* ---- colour ---------------------------------------------------------------------------------- */
 
 /* IEC 61966-2-1 decoding: linear segment below 0.04045, then the 2.4 power. */
-static double rnd_srgb_decode(double c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
+double rnd_srgb_decode(double c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
 
 /* sRGB primaries and D65 white to XYZ (IEC 61966-2-1 matrix, 4 decimals widened as in Lindbloom's
  * tables); white (1,1,1) maps to Xn = 0.95047, Yn = 1, Zn = 1.08883. */

@@ -8,6 +8,8 @@
 /* The 256 sRGB byte values decoded to linear (IEC 61966-2-1), computed once (analyze_image.c):
  * the analysis's CIELUV and contrast spectrum, and FLIP's colour pipeline (flip.c) read them. */
 const double *rnd_srgb_decode_table(void);
+/* One sRGB-encoded value in [0, 1] decoded to linear (the same EOTF). */
+double rnd_srgb_decode(double c);
 
 /* ---- headless EGL (egl_context.c) --------------------------------------------------------------
  * Opaque handles (EGLDisplay, EGLContext) so that only egl_context.c needs the EGL headers. */
@@ -41,7 +43,7 @@ struct rnd_renderer {
     int eye_w, eye_h;
     unsigned fbo, color_tex, depth_rb; /* colour is a texture: the distortion pass samples it */
     unsigned program, vao, vbo, ibo;
-    int u_mv, u_proj, u_color, u_light;
+    int u_mv, u_proj, u_albedo, u_albedo_root, u_light;
     uint32_t scene_vertices, scene_indices; /* what is uploaded, to catch a mismatched scene */
     int has_scene;
     char name[128];
@@ -52,6 +54,19 @@ struct rnd_renderer {
     uint8_t lum_rgba[RND_LUM_W * RND_LUM_H * 4];
     struct rnd_layer_targets *layers; /* the foveated layers' framebuffers and composite (layers.c), made on first use */
     struct rnd_ring_target *rings;    /* the contrast read-back's target and buffers (ring_contrast.c), on first use */
+    /* rnd_draw_view's front-to-back order and each instance's albedo as the shader takes it, sized at
+     * upload to every instance and impostor, so that a draw allocates nothing. */
+    struct rnd_draw_entry *order;
+    struct rnd_albedo *albedo;
+    size_t order_cap;
+};
+struct rnd_albedo {
+    float srgb[3];           /* the instance's colour these were made from (NaN: none yet) */
+    float linear[3], root[3]; /* decoded (sRGB EOTF), and that to the power 1/2.4 */
+};
+struct rnd_draw_entry {
+    float depth2_m2; /* squared distance from the eye to the instance's origin */
+    uint32_t k;      /* the entry in the caller's draw list */
 };
 
 /* Draws the listed instances with one view into the current viewport (the caller has bound the FBO,

@@ -5,6 +5,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 #include <cglm/cglm.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -26,22 +27,24 @@ static const char rnd_vs[] =
  * not a power law; in linear light a shading change's contrast is a ratio of shading terms, the
  * same for every albedo, so the lost-contrast analysis may measure it on grey renders
  * (docs/analysis.md "Albedo"). The ambient 0.0732 is the EOTF of 0.3, the encoded ambient used
- * before, so the lit and unlit sides keep their 14:1 luminance range. */
+ * before, so the lit and unlit sides keep their 14:1 luminance range.
+ * Cost: on llvmpipe each pow is a log2 and an exp2 per pixel. The albedo is decoded once per object
+ * on the CPU, and the encode's power of a product is the product of powers, (a·s)^(1/2.4) =
+ * a^(1/2.4)·s^(1/2.4), so a fragment takes one pow (of its shading s) instead of six: the same
+ * values up to float rounding, 30 % off the fill-bound auditorium's draw (docs/RESULTS.md). */
 static const char rnd_fs[] =
     "#version 450 core\n"
     "in vec3 v_normal;\n"
-    "uniform vec3 u_color;\n"
+    "uniform vec3 u_albedo;      /* linear */\n"
+    "uniform vec3 u_albedo_root; /* u_albedo^(1/2.4) */\n"
     "uniform vec3 u_light; /* unit direction towards the light, eye space */\n"
     "out vec4 o_color;\n"
-    "vec3 srgb_decode(vec3 c) {\n"
-    "    return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), c));\n"
-    "}\n"
-    "vec3 srgb_encode(vec3 c) {\n"
-    "    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));\n"
-    "}\n"
     "void main() {\n"
     "    float lambert = max(dot(normalize(v_normal), u_light), 0.0);\n"
-    "    o_color = vec4(srgb_encode(srgb_decode(u_color) * (0.0732 + 0.9268 * lambert)), 1.0);\n"
+    "    float shade = 0.0732 + 0.9268 * lambert;\n"
+    "    vec3 c = u_albedo * shade;\n"
+    "    vec3 encoded = 1.055 * u_albedo_root * pow(shade, 1.0 / 2.4) - 0.055;\n"
+    "    o_color = vec4(mix(c * 12.92, encoded, step(vec3(0.0031308), c)), 1.0);\n"
     "}\n";
 
 /* Light from above, a little to the right and behind the default view, fixed in the world so that
@@ -55,7 +58,8 @@ static int rnd_renderer_build_program(struct rnd_renderer *r, struct hl_error *e
         return -1;
     r->u_mv = glGetUniformLocation(r->program, "u_mv");
     r->u_proj = glGetUniformLocation(r->program, "u_proj");
-    r->u_color = glGetUniformLocation(r->program, "u_color");
+    r->u_albedo = glGetUniformLocation(r->program, "u_albedo");
+    r->u_albedo_root = glGetUniformLocation(r->program, "u_albedo_root");
     r->u_light = glGetUniformLocation(r->program, "u_light");
     return 0;
 }
@@ -156,6 +160,8 @@ void rnd_renderer_destroy(struct rnd_renderer *r)
     rnd_layer_targets_destroy(r->layers, 0); /* no context: the GL objects went with it */
     rnd_ring_target_destroy(r->rings, 0);
     rnd_egl_destroy(&r->egl);
+    free(r->order);
+    free(r->albedo);
     free(r);
 }
 
@@ -175,6 +181,20 @@ int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct scn_scene *sc
         return hl_fail(err, "renderer: no renderer or scene");
     if (rnd_renderer_current(r) != 0)
         return hl_fail(err, "renderer: cannot make the context current");
+    size_t entries = (size_t)scene->instance_count + scene->impostor_instance_count;
+    if (entries > r->order_cap) {
+        struct rnd_draw_entry *order = realloc(r->order, entries * sizeof *order);
+        if (order)
+            r->order = order;
+        struct rnd_albedo *albedo = realloc(r->albedo, entries * sizeof *albedo);
+        if (albedo)
+            r->albedo = albedo;
+        if (!order || !albedo)
+            return hl_fail(err, "renderer: out of memory for the draw order of %zu instances", entries);
+        r->order_cap = entries;
+    }
+    for (size_t k = 0; k < entries; ++k)
+        r->albedo[k].srgb[0] = NAN;
     while (glGetError() != GL_NO_ERROR) {
     }
     if (!r->vbo)
@@ -228,11 +248,80 @@ static void rnd_model_view(const struct scn_instance *in, const struct rnd_eye_v
     memcpy(out, m, sizeof m);
 }
 
+/* Whether draw-list entry k is drawn in the layer of layer_bit (mask NULL: every layer). */
+static int rnd_entry_drawn(const struct scn_scene *scene, const uint32_t *index, const uint8_t *lod,
+                           const uint8_t *mask, unsigned layer_bit, size_t k)
+{
+    if (lod[k] == 255 || (mask && !(mask[k] & layer_bit)))
+        return 0;
+    return scene->chains[scene->instances[index[k]].chain].lods[lod[k]].index_count > 0;
+}
+
+/* The drawn entries into r->order, nearest the eye first: a fragment behind one already drawn fails
+ * the depth test before it is shaded, which on llvmpipe costs about a quarter of a shaded one
+ * (docs/RESULTS.md, issue 32 seventh round; the auditorium's pixels are covered 1.7× over). Shell sort
+ * on Ciura's gaps: no allocation, microseconds for a hundred entries. */
+static size_t rnd_draw_order(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
+                             const uint32_t *index, const uint8_t *lod, const uint8_t *mask, unsigned layer_bit,
+                             size_t count)
+{
+    size_t n = 0;
+    for (size_t k = 0; k < count; ++k) {
+        if (!rnd_entry_drawn(scene, index, lod, mask, layer_bit, k))
+            continue;
+        const double *p = scene->instances[index[k]].position_m;
+        double dx = p[0] - v->position_m[0], dy = p[1] - v->position_m[1], dz = p[2] - v->position_m[2];
+        r->order[n++] = (struct rnd_draw_entry){(float)(dx * dx + dy * dy + dz * dz), (uint32_t)k};
+    }
+    static const size_t gaps[] = {701, 301, 132, 57, 23, 10, 4, 1};
+    for (size_t g = 0; g < sizeof gaps / sizeof gaps[0]; ++g)
+        for (size_t i = gaps[g]; i < n; ++i) {
+            struct rnd_draw_entry e = r->order[i];
+            size_t j = i;
+            for (; j >= gaps[g] && r->order[j - gaps[g]].depth2_m2 > e.depth2_m2; j -= gaps[g])
+                r->order[j] = r->order[j - gaps[g]];
+            r->order[j] = e;
+        }
+    return n;
+}
+
+/* The shader's albedo terms for an instance, remade only when its colour changed since (the analysis
+ * redraws one instance in several colours). */
+static const struct rnd_albedo *rnd_instance_albedo(struct rnd_renderer *r, const struct scn_instance *in, uint32_t instance)
+{
+    struct rnd_albedo *a = &r->albedo[instance];
+    if (memcmp(a->srgb, in->color, sizeof a->srgb) != 0) {
+        for (int c = 0; c < 3; ++c) {
+            double linear = rnd_srgb_decode(in->color[c]);
+            a->srgb[c] = in->color[c];
+            a->linear[c] = (float)linear;
+            a->root[c] = (float)pow(linear, 1.0 / 2.4);
+        }
+    }
+    return a;
+}
+
+static uint64_t rnd_draw_entry_one(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
+                                   uint32_t instance, uint8_t level)
+{
+    const struct scn_instance *in = &scene->instances[instance];
+    const struct scn_lod *L = &scene->chains[in->chain].lods[level];
+    float mv[16];
+    rnd_model_view(in, v, mv);
+    glUniformMatrix4fv(r->u_mv, 1, GL_FALSE, mv);
+    const struct rnd_albedo *a = rnd_instance_albedo(r, in, instance);
+    glUniform3fv(r->u_albedo, 1, a->linear);
+    glUniform3fv(r->u_albedo_root, 1, a->root);
+    glDrawElements(GL_TRIANGLES, (GLsizei)L->index_count, GL_UNSIGNED_INT,
+                   (const void *)((uintptr_t)L->first_index * sizeof(uint32_t)));
+    return L->triangle_count;
+}
+
 uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
                        const uint32_t *index, const uint8_t *lod, const uint8_t *mask, unsigned layer_bit,
                        size_t count, uint32_t *calls)
 {
-    float proj[16], mv[16];
+    float proj[16];
     for (int i = 0; i < 16; ++i)
         proj[i] = (float)v->projection[i];
     glUniformMatrix4fv(r->u_proj, 1, GL_FALSE, proj);
@@ -240,21 +329,15 @@ uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *scene, co
                              hl_v3_normalize(hl_v3(rnd_light_world[0], rnd_light_world[1], rnd_light_world[2])));
     glUniform3f(r->u_light, (float)l.x, (float)l.y, (float)l.z);
     uint64_t tris = 0;
-    for (size_t k = 0; k < count; ++k) {
-        if (lod[k] == 255 || (mask && !(mask[k] & layer_bit)))
-            continue;
-        const struct scn_instance *in = &scene->instances[index[k]];
-        const struct scn_lod *L = &scene->chains[in->chain].lods[lod[k]];
-        if (L->index_count == 0)
-            continue;
-        rnd_model_view(in, v, mv);
-        glUniformMatrix4fv(r->u_mv, 1, GL_FALSE, mv);
-        glUniform3fv(r->u_color, 1, in->color);
-        glDrawElements(GL_TRIANGLES, (GLsizei)L->index_count, GL_UNSIGNED_INT,
-                       (const void *)((uintptr_t)L->first_index * sizeof(uint32_t)));
-        tris += L->triangle_count;
-        (*calls)++;
+    if (count <= r->order_cap) {
+        size_t n = rnd_draw_order(r, scene, v, index, lod, mask, layer_bit, count);
+        for (size_t i = 0; i < n; ++i, ++*calls)
+            tris += rnd_draw_entry_one(r, scene, v, index[r->order[i].k], lod[r->order[i].k]);
+        return tris;
     }
+    for (size_t k = 0; k < count; ++k) /* a list longer than the uploaded scene (repeated entries): as given */
+        if (rnd_entry_drawn(scene, index, lod, mask, layer_bit, k))
+            tris += rnd_draw_entry_one(r, scene, v, index[k], lod[k]), ++*calls;
     return tris;
 }
 
@@ -266,7 +349,8 @@ int rnd_check_draw(const struct rnd_renderer *r, const struct scn_scene *scene, 
         scene->vertex_count != r->scene_vertices || scene->index_count != r->scene_indices)
         return -1;
     for (size_t k = 0; k < count; ++k) {
-        if (index[k] >= scene->instance_count + scene->impostor_instance_count) /* objects, then impostors */
+        if (index[k] >= scene->instance_count + scene->impostor_instance_count || /* objects, then impostors */
+            index[k] >= r->order_cap) /* not in the uploaded scene's per-instance arrays */
             return -1;
         uint32_t c = scene->instances[index[k]].chain;
         if (c >= scene->chain_count || (lod[k] != 255 && lod[k] >= scene->chains[c].lod_count))

@@ -177,7 +177,7 @@ static void quad_scene(struct scn_scene *s, struct scn_chain *chain, struct scn_
     chain->lods[0] = (struct scn_lod){.first_index = 0, .index_count = 6, .triangle_count = 2, .vertex_count = 4,
                                       .unique_freq_cpdiam = INFINITY};
     chain->bound_radius_m = 0.1 * sqrt(2.0);
-    *inst = (struct scn_instance){0, {x, y, z}, rot, 1.0, {1.0f, 0.2f, 0.1f}};
+    *inst = (struct scn_instance){0, {x, y, z}, rot, 1.0, {1.0f, 0.2f, 0.03f}};
     s->positions = quad_pos;
     s->normals = quad_nrm;
     s->vertex_count = 4;
@@ -256,6 +256,19 @@ static void test_render_quad(struct rnd_renderer *r)
         CHECK(is_background(px(img, e * EW, 0)) && is_background(px(img, e * EW + EW - 1, 0)));
         CHECK(is_background(px(img, e * EW, EH - 1)) && is_background(px(img, e * EW + EW - 1, EH - 1)));
     }
+    /* The shading against its formula in double (renderer.c): the albedo decoded (sRGB EOTF), times
+     * ambient 0.0732 + 0.9268 · Lambert, encoded — the quad faces the eye, so Lambert is the light's
+     * z. Red and green take the power branch of the encode, blue (0.03) the linear one. */
+    {
+        const double light[3] = {0.35, 0.85, 0.4}, albedo[3] = {1.0, 0.2, 0.03};
+        double shade = 0.0732 + 0.9268 * light[2] / sqrt(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
+        for (int ch = 0; ch < 3; ++ch) {
+            double a = albedo[ch] <= 0.04045 ? albedo[ch] / 12.92 : pow((albedo[ch] + 0.055) / 1.055, 2.4);
+            double c = a * shade, enc = c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+            for (int e = 0; e < 2; ++e)
+                CHECK(abs(px(img, e * EW + EW / 2, EH / 2)[ch] - (int)lround(255.0 * enc)) <= 1);
+        }
+    }
     /* Parallax: each eye sees the near quad shifted towards the nose side of the other eye; the
      * left eye (at −ipd/2) sees it right of centre. Expected disparity ipd/d · (EW/2)/tan = 8.19 px. */
     int nl = 0, nr = 0;
@@ -302,6 +315,46 @@ static void test_render_quad(struct rnd_renderer *r)
     free(img);
     free(far_img);
     free(turned);
+}
+
+/* The renderer draws nearest first (renderer.c, for the depth test to spare hidden fragments): the
+ * list's order must not change a pixel, and each entry keeps its own level and colour. Two quads,
+ * the near one (red) hiding part of the far one (blue, a second colour). */
+static void test_render_order(struct rnd_renderer *r)
+{
+    size_t bytes = (size_t)2 * EW * EH * 4;
+    uint8_t *a = malloc(bytes), *b = malloc(bytes);
+    struct scn_scene s;
+    struct scn_chain chain;
+    struct scn_instance inst[2];
+    quad_scene(&s, &chain, &inst[0], 0.0, 0.0, -0.5, hl_q_identity());
+    inst[1] = inst[0];
+    inst[1].position_m[0] = 0.2, inst[1].position_m[2] = -0.8;
+    inst[1].color[0] = 0.1f, inst[1].color[2] = 1.0f;
+    s.instance_count = 2;
+    s.instances = inst;
+    struct rnd_eye_view v[2];
+    eye_views(0, 0, 0, hl_q_identity(), 0.064, v);
+    struct hl_error err = {""};
+    const uint32_t near_first[2] = {0, 1}, far_first[2] = {1, 0};
+    const uint8_t lod[2] = {0, 0};
+    struct rnd_draw_stats st;
+    CHECK(rnd_renderer_upload_scene(r, &s, &err) == 0);
+    CHECK(rnd_renderer_draw_stereo(r, &s, v, far_first, lod, 2, &st) == 0 && rnd_renderer_read_rgba(r, a, &err) == 0);
+    CHECK(st.triangles_per_eye[0] == 4 && st.draw_calls == 4);
+    CHECK(rnd_renderer_draw_stereo(r, &s, v, near_first, lod, 2, &st) == 0 && rnd_renderer_read_rgba(r, b, &err) == 0);
+    CHECK(memcmp(a, b, bytes) == 0);
+    int red = 0, blue = 0;
+    for (size_t i = 0; i < bytes; i += 4)
+        red += a[i] > 3 * a[i + 2], blue += a[i + 2] > 3 * a[i];
+    printf("order: %d red (near) and %d blue (far) pixels, identical in both orders\n", red, blue);
+    CHECK(red > 1000 && blue > 100);
+    CHECK(a[4 * ((size_t)EH / 2 * 2 * EW + EW / 2)] > 3 * a[4 * ((size_t)EH / 2 * 2 * EW + EW / 2) + 2]); /* red in front */
+    /* One entry dropped (level 255) in either position: the other alone, the same way. */
+    const uint8_t one[2] = {255, 0};
+    CHECK(rnd_renderer_draw_stereo(r, &s, v, far_first, one, 2, &st) == 0 && st.triangles_per_eye[0] == 2);
+    free(a);
+    free(b);
 }
 
 /* The built-in scenes draw: stats add up and something besides background is visible. */
@@ -540,6 +593,7 @@ int main(void)
     CHECK(w == 2 * EW && h == EH);
     CHECK(strlen(rnd_renderer_name(r)) > 0);
     test_render_quad(r);
+    test_render_order(r);
     test_render_builtin(r, "field");
     test_render_builtin(r, "auditorium");
     test_mean_luminance_clear(r);

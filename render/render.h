@@ -27,7 +27,7 @@ struct rnd_eye_view {
 
 struct rnd_draw_stats {
     uint64_t triangles_per_eye[2]; /* every layer's, for a foveated frame */
-    uint32_t draw_calls;
+    uint32_t draw_calls;           /* instanced draws: one per batch of a chain, level and colour */
     /* A foveated frame (rnd_renderer_draw_layers; 0 for a plain one): triangles each layer drew (both
      * eyes), and the pixels it shaded: the insets' rectangles, the peripheries. */
     uint64_t inset_triangles, periphery_triangles;

@@ -43,7 +43,8 @@ struct rnd_renderer {
     int eye_w, eye_h;
     unsigned fbo, color_tex, depth_rb; /* colour is a texture: the distortion pass samples it */
     unsigned program, vao, vbo, ibo;
-    int u_mv, u_proj, u_albedo, u_albedo_root, u_light;
+    int u_proj, u_albedo, u_albedo_root, u_light;
+    unsigned instance_vbo; /* the per-instance transforms of one view's draws */
     uint32_t scene_vertices, scene_indices; /* what is uploaded, to catch a mismatched scene */
     int has_scene;
     char name[128];
@@ -54,11 +55,19 @@ struct rnd_renderer {
     uint8_t lum_rgba[RND_LUM_W * RND_LUM_H * 4];
     struct rnd_layer_targets *layers; /* the foveated layers' framebuffers and composite (layers.c), made on first use */
     struct rnd_ring_target *rings;    /* the contrast read-back's target and buffers (ring_contrast.c), on first use */
-    /* rnd_draw_view's front-to-back order and each instance's albedo as the shader takes it, sized at
-     * upload to every instance and impostor, so that a draw allocates nothing. */
+    /* rnd_draw_view's work: the drawn entries front to back and in their batches, the batches, the
+     * transforms, and each instance's albedo as the shader takes it — sized at upload to every
+     * instance and impostor, so that a draw allocates nothing. */
     struct rnd_draw_entry *order;
+    struct rnd_draw_batch *batches;
+    float *transforms; /* 16 a drawn entry, column-major, in batch order */
     struct rnd_albedo *albedo;
     size_t order_cap;
+};
+struct rnd_draw_batch {
+    uint32_t entry, count; /* its members: r->order[entry …], nearest first */
+    uint32_t slot;         /* its first transform in r->transforms */
+    float depth2_m2;       /* its nearest member's */
 };
 struct rnd_albedo {
     float srgb[3];           /* the instance's colour these were made from (NaN: none yet) */
@@ -67,11 +76,15 @@ struct rnd_albedo {
 struct rnd_draw_entry {
     float depth2_m2; /* squared distance from the eye to the instance's origin */
     uint32_t k;      /* the entry in the caller's draw list */
+    uint32_t chain;  /* the batch key: chain, level and colour (the shader's albedo is per draw) */
+    uint8_t level;
+    float color[3];
 };
 
 /* Draws the listed instances with one view into the current viewport (the caller has bound the FBO,
- * program and VAO): entries whose mask[k] & layer_bit is 0 are skipped (mask NULL: none). Returns the
- * triangles drawn and adds the draw calls to *calls (renderer.c). */
+ * program and VAO): entries whose mask[k] & layer_bit is 0 are skipped (mask NULL: none). Instances
+ * sharing a chain, level and colour go in one instanced draw, batches nearest first. Returns the
+ * triangles drawn and adds the draw calls (one per batch) to *calls (renderer.c). */
 uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
                        const uint32_t *index, const uint8_t *lod, const uint8_t *mask, unsigned layer_bit,
                        size_t count, uint32_t *calls);

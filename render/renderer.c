@@ -1,5 +1,6 @@
 /* The stereo pass: one FBO holding both eyes side by side, one vertex and one index buffer for the
- * whole scene, one shader. Each instance is one glDrawElements of its LOD's index range per eye. */
+ * whole scene, one shader. The instances that share a chain, a level and a colour are one instanced
+ * draw of that level's index range per eye, their model-to-eye transforms per-instance attributes. */
 #include "render/render_internal.h"
 
 #include <GL/gl.h>
@@ -13,12 +14,12 @@ static const char rnd_vs[] =
     "#version 450 core\n"
     "layout(location = 0) in vec3 a_position;\n"
     "layout(location = 1) in vec3 a_normal;\n"
-    "uniform mat4 u_mv;\n"
+    "layout(location = 2) in mat4 i_mv; /* per instance (locations 2–5): model to eye */\n"
     "uniform mat4 u_proj;\n"
     "out vec3 v_normal;\n"
     "void main() {\n"
-    "    v_normal = mat3(u_mv) * a_normal; /* rotation × uniform scale: renormalised below */\n"
-    "    gl_Position = u_proj * (u_mv * vec4(a_position, 1.0));\n"
+    "    v_normal = mat3(i_mv) * a_normal; /* rotation × uniform scale: renormalised below */\n"
+    "    gl_Position = u_proj * (i_mv * vec4(a_position, 1.0));\n"
     "}\n";
 
 /* Diffuse shading in linear light: the albedo (sRGB-encoded, as a user gives it) is decoded with
@@ -56,7 +57,6 @@ static int rnd_renderer_build_program(struct rnd_renderer *r, struct hl_error *e
     r->program = rnd_gl_program_build(rnd_vs, rnd_fs, "renderer", err);
     if (!r->program)
         return -1;
-    r->u_mv = glGetUniformLocation(r->program, "u_mv");
     r->u_proj = glGetUniformLocation(r->program, "u_proj");
     r->u_albedo = glGetUniformLocation(r->program, "u_albedo");
     r->u_albedo_root = glGetUniformLocation(r->program, "u_albedo_root");
@@ -145,6 +145,7 @@ void rnd_renderer_destroy(struct rnd_renderer *r)
     if ((r->window || r->egl.context) && rnd_renderer_current(r) == 0) {
         glDeleteBuffers(1, &r->vbo);
         glDeleteBuffers(1, &r->ibo);
+        glDeleteBuffers(1, &r->instance_vbo);
         glDeleteVertexArrays(1, &r->vao);
         glDeleteProgram(r->program);
         glDeleteFramebuffers(1, &r->fbo);
@@ -161,6 +162,8 @@ void rnd_renderer_destroy(struct rnd_renderer *r)
     rnd_ring_target_destroy(r->rings, 0);
     rnd_egl_destroy(&r->egl);
     free(r->order);
+    free(r->batches);
+    free(r->transforms);
     free(r->albedo);
     free(r);
 }
@@ -186,10 +189,16 @@ int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct scn_scene *sc
         struct rnd_draw_entry *order = realloc(r->order, entries * sizeof *order);
         if (order)
             r->order = order;
+        struct rnd_draw_batch *batches = realloc(r->batches, entries * sizeof *batches);
+        if (batches)
+            r->batches = batches;
+        float *transforms = realloc(r->transforms, entries * 16 * sizeof *transforms);
+        if (transforms)
+            r->transforms = transforms;
         struct rnd_albedo *albedo = realloc(r->albedo, entries * sizeof *albedo);
         if (albedo)
             r->albedo = albedo;
-        if (!order || !albedo)
+        if (!order || !batches || !transforms || !albedo)
             return hl_fail(err, "renderer: out of memory for the draw order of %zu instances", entries);
         r->order_cap = entries;
     }
@@ -214,6 +223,15 @@ int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct scn_scene *sc
     glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, (const void *)0);
     glEnableVertexAttribArray(1);
     glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, (const void *)(uintptr_t)half);
+    /* The per-instance transforms: a mat4 attribute takes four locations, one column each. */
+    if (!r->instance_vbo)
+        glGenBuffers(1, &r->instance_vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
+    for (int c = 0; c < 4; ++c) {
+        glEnableVertexAttribArray(2 + c);
+        glVertexAttribPointer(2 + c, 4, GL_FLOAT, GL_FALSE, 16 * sizeof(float), (const void *)(uintptr_t)(4 * c * sizeof(float)));
+        glVertexAttribDivisor(2 + c, 1);
+    }
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, r->ibo); /* recorded in the VAO */
     GLsizeiptr isize = (GLsizeiptr)scene->index_count * (GLsizeiptr)sizeof(uint32_t);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, isize > 0 ? isize : 4, isize > 0 ? scene->indices : NULL, GL_STATIC_DRAW);
@@ -257,32 +275,81 @@ static int rnd_entry_drawn(const struct scn_scene *scene, const uint32_t *index,
     return scene->chains[scene->instances[index[k]].chain].lods[lod[k]].index_count > 0;
 }
 
-/* The drawn entries into r->order, nearest the eye first: a fragment behind one already drawn fails
- * the depth test before it is shaded, which on llvmpipe costs about a quarter of a shaded one
- * (docs/RESULTS.md, issue 32 seventh round; the auditorium's pixels are covered 1.7× over). Shell sort
- * on Ciura's gaps: no allocation, microseconds for a hundred entries. */
-static size_t rnd_draw_order(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
-                             const uint32_t *index, const uint8_t *lod, const uint8_t *mask, unsigned layer_bit,
-                             size_t count)
+/* Shell sort on Ciura's gaps: no allocation, microseconds for a hundred elements. */
+#define RND_SHELL_SORT(array, n, type, before)                                                                   \
+    do {                                                                                                         \
+        static const size_t gaps_[] = {701, 301, 132, 57, 23, 10, 4, 1};                                         \
+        for (size_t g_ = 0; g_ < sizeof gaps_ / sizeof gaps_[0]; ++g_)                                           \
+            for (size_t i_ = gaps_[g_]; i_ < (n); ++i_) {                                                        \
+                type e_ = (array)[i_];                                                                           \
+                size_t j_ = i_;                                                                                  \
+                for (; j_ >= gaps_[g_] && before(&e_, &(array)[j_ - gaps_[g_]]); j_ -= gaps_[g_])                \
+                    (array)[j_] = (array)[j_ - gaps_[g_]];                                                       \
+                (array)[j_] = e_;                                                                                \
+            }                                                                                                    \
+    } while (0)
+
+/* Entries of one batch (same chain, level and colour) together, each batch nearest first. */
+static int rnd_entry_before(const struct rnd_draw_entry *a, const struct rnd_draw_entry *b)
+{
+    if (a->chain != b->chain)
+        return a->chain < b->chain;
+    if (a->level != b->level)
+        return a->level < b->level;
+    int c = memcmp(a->color, b->color, sizeof a->color);
+    if (c != 0)
+        return c < 0;
+    return a->depth2_m2 < b->depth2_m2;
+}
+
+static int rnd_batch_before(const struct rnd_draw_batch *a, const struct rnd_draw_batch *b)
+{
+    return a->depth2_m2 < b->depth2_m2;
+}
+
+static int rnd_same_batch(const struct rnd_draw_entry *a, const struct rnd_draw_entry *b)
+{
+    return a->chain == b->chain && a->level == b->level && memcmp(a->color, b->color, sizeof a->color) == 0;
+}
+
+/* Entries first … first + count of the list (count at most r->order_cap) into batches of the same
+ * chain, level and colour, nearest batch first (by its nearest member), each batch nearest first: a
+ * fragment behind one already drawn fails the depth test before it is shaded, which on llvmpipe costs
+ * about a quarter of a shaded one (docs/RESULTS.md, issue 32 seventh round: the auditorium's pixels
+ * are covered 1.7× over); and one instanced draw replaces a draw per instance (about 5 µs each on
+ * llvmpipe, calibrate's grid) for rows of identical chairs. Returns the number of batches; their
+ * transforms are in r->transforms from each batch's slot. */
+static size_t rnd_draw_batches(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
+                               const uint32_t *index, const uint8_t *lod, const uint8_t *mask, unsigned layer_bit,
+                               size_t first, size_t count)
 {
     size_t n = 0;
-    for (size_t k = 0; k < count; ++k) {
+    for (size_t k = first; k < first + count; ++k) {
         if (!rnd_entry_drawn(scene, index, lod, mask, layer_bit, k))
             continue;
-        const double *p = scene->instances[index[k]].position_m;
-        double dx = p[0] - v->position_m[0], dy = p[1] - v->position_m[1], dz = p[2] - v->position_m[2];
-        r->order[n++] = (struct rnd_draw_entry){(float)(dx * dx + dy * dy + dz * dz), (uint32_t)k};
+        const struct scn_instance *in = &scene->instances[index[k]];
+        double dx = in->position_m[0] - v->position_m[0], dy = in->position_m[1] - v->position_m[1],
+               dz = in->position_m[2] - v->position_m[2];
+        struct rnd_draw_entry *e = &r->order[n++];
+        *e = (struct rnd_draw_entry){(float)(dx * dx + dy * dy + dz * dz), (uint32_t)k, in->chain, lod[k], {0, 0, 0}};
+        memcpy(e->color, in->color, sizeof e->color);
     }
-    static const size_t gaps[] = {701, 301, 132, 57, 23, 10, 4, 1};
-    for (size_t g = 0; g < sizeof gaps / sizeof gaps[0]; ++g)
-        for (size_t i = gaps[g]; i < n; ++i) {
-            struct rnd_draw_entry e = r->order[i];
-            size_t j = i;
-            for (; j >= gaps[g] && r->order[j - gaps[g]].depth2_m2 > e.depth2_m2; j -= gaps[g])
-                r->order[j] = r->order[j - gaps[g]];
-            r->order[j] = e;
-        }
-    return n;
+    RND_SHELL_SORT(r->order, n, struct rnd_draw_entry, rnd_entry_before);
+    size_t batches = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (i == 0 || !rnd_same_batch(&r->order[i], &r->order[i - 1]))
+            r->batches[batches++] = (struct rnd_draw_batch){(uint32_t)i, 0, 0, r->order[i].depth2_m2};
+        r->batches[batches - 1].count++;
+    }
+    RND_SHELL_SORT(r->batches, batches, struct rnd_draw_batch, rnd_batch_before);
+    uint32_t slot = 0; /* the transforms in the order the batches draw */
+    for (size_t b = 0; b < batches; ++b) {
+        struct rnd_draw_batch *bt = &r->batches[b];
+        bt->slot = slot;
+        for (uint32_t i = 0; i < bt->count; ++i, ++slot)
+            rnd_model_view(&scene->instances[index[r->order[bt->entry + i].k]], v, r->transforms + 16 * (size_t)slot);
+    }
+    return batches;
 }
 
 /* The shader's albedo terms for an instance, remade only when its colour changed since (the analysis
@@ -301,22 +368,6 @@ static const struct rnd_albedo *rnd_instance_albedo(struct rnd_renderer *r, cons
     return a;
 }
 
-static uint64_t rnd_draw_entry_one(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
-                                   uint32_t instance, uint8_t level)
-{
-    const struct scn_instance *in = &scene->instances[instance];
-    const struct scn_lod *L = &scene->chains[in->chain].lods[level];
-    float mv[16];
-    rnd_model_view(in, v, mv);
-    glUniformMatrix4fv(r->u_mv, 1, GL_FALSE, mv);
-    const struct rnd_albedo *a = rnd_instance_albedo(r, in, instance);
-    glUniform3fv(r->u_albedo, 1, a->linear);
-    glUniform3fv(r->u_albedo_root, 1, a->root);
-    glDrawElements(GL_TRIANGLES, (GLsizei)L->index_count, GL_UNSIGNED_INT,
-                   (const void *)((uintptr_t)L->first_index * sizeof(uint32_t)));
-    return L->triangle_count;
-}
-
 uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
                        const uint32_t *index, const uint8_t *lod, const uint8_t *mask, unsigned layer_bit,
                        size_t count, uint32_t *calls)
@@ -328,16 +379,33 @@ uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *scene, co
     hl_vec3d l = hl_q_rotate(hl_q_conj(v->orientation),
                              hl_v3_normalize(hl_v3(rnd_light_world[0], rnd_light_world[1], rnd_light_world[2])));
     glUniform3f(r->u_light, (float)l.x, (float)l.y, (float)l.z);
+    glBindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
     uint64_t tris = 0;
-    if (count <= r->order_cap) {
-        size_t n = rnd_draw_order(r, scene, v, index, lod, mask, layer_bit, count);
-        for (size_t i = 0; i < n; ++i, ++*calls)
-            tris += rnd_draw_entry_one(r, scene, v, index[r->order[i].k], lod[r->order[i].k]);
-        return tris;
+    /* A list longer than the uploaded scene (repeated entries) goes in parts of what the arrays hold. */
+    for (size_t first = 0; first < count && r->order_cap > 0; first += r->order_cap) {
+        size_t part = count - first < r->order_cap ? count - first : r->order_cap;
+        size_t batches = rnd_draw_batches(r, scene, v, index, lod, mask, layer_bit, first, part);
+        if (batches == 0)
+            continue;
+        const struct rnd_draw_batch *last = &r->batches[batches - 1];
+        /* Orphaned each view: fresh storage, so the driver need not wait for draws still reading the last. */
+        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(last->slot + last->count) * 16 * (GLsizeiptr)sizeof(float),
+                     r->transforms, GL_STREAM_DRAW);
+        for (size_t b = 0; b < batches; ++b) {
+            const struct rnd_draw_batch *bt = &r->batches[b];
+            const struct rnd_draw_entry *e = &r->order[bt->entry];
+            const struct scn_instance *in = &scene->instances[index[e->k]];
+            const struct scn_lod *L = &scene->chains[in->chain].lods[e->level];
+            const struct rnd_albedo *a = rnd_instance_albedo(r, in, index[e->k]);
+            glUniform3fv(r->u_albedo, 1, a->linear);
+            glUniform3fv(r->u_albedo_root, 1, a->root);
+            glDrawElementsInstancedBaseInstance(GL_TRIANGLES, (GLsizei)L->index_count, GL_UNSIGNED_INT,
+                                                (const void *)((uintptr_t)L->first_index * sizeof(uint32_t)),
+                                                (GLsizei)bt->count, bt->slot);
+            tris += (uint64_t)L->triangle_count * bt->count;
+            ++*calls;
+        }
     }
-    for (size_t k = 0; k < count; ++k) /* a list longer than the uploaded scene (repeated entries): as given */
-        if (rnd_entry_drawn(scene, index, lod, mask, layer_bit, k))
-            tris += rnd_draw_entry_one(r, scene, v, index[k], lod[k]), ++*calls;
     return tris;
 }
 

@@ -275,10 +275,11 @@ static int rnd_entry_drawn(const struct scn_scene *scene, const uint32_t *index,
     return scene->chains[scene->instances[index[k]].chain].lods[lod[k]].index_count > 0;
 }
 
-/* Shell sort on Ciura's gaps: no allocation, microseconds for a hundred elements. */
+/* Shell sort on Ciura's gaps (extended by × 2.25 for lists of up to ~10⁵): no allocation,
+ * microseconds for a hundred elements. */
 #define RND_SHELL_SORT(array, n, type, before)                                                                   \
     do {                                                                                                         \
-        static const size_t gaps_[] = {701, 301, 132, 57, 23, 10, 4, 1};                                         \
+        static const size_t gaps_[] = {100894, 44842, 19930, 8858, 3937, 1750, 701, 301, 132, 57, 23, 10, 4, 1}; \
         for (size_t g_ = 0; g_ < sizeof gaps_ / sizeof gaps_[0]; ++g_)                                           \
             for (size_t i_ = gaps_[g_]; i_ < (n); ++i_) {                                                        \
                 type e_ = (array)[i_];                                                                           \

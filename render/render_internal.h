@@ -31,6 +31,38 @@ void rnd_window_release_current(void);
  * first EGL display or GLFW start. */
 void rnd_gl_driver_pin(void);
 
+/* ---- one view's draw list (draw_list.c) ------------------------------------------------------ */
+struct rnd_draw_batch {
+    uint32_t entry, count; /* its members: entries[entry …], nearest first */
+    uint32_t slot;         /* its first transform in transforms */
+    float depth2_m2;       /* its nearest member's */
+};
+struct rnd_albedo {
+    float srgb[3];            /* the instance's colour these were made from (NaN: none yet) */
+    float linear[3], root[3]; /* decoded (sRGB EOTF), and that to the power 1/2.4 */
+};
+struct rnd_draw_entry {
+    float depth2_m2; /* squared distance from the eye to the instance's origin */
+    uint32_t k;      /* the entry in the caller's draw list */
+    uint32_t chain;  /* the batch key: chain, level and colour (the shader's albedo is per draw) */
+    uint8_t level;
+    float color[3];
+};
+/* The drawn entries front to back and in their batches, the batches, their transforms, and each
+ * instance's albedo as the shader takes it, for up to cap entries (every instance and impostor of the
+ * uploaded scene). */
+struct rnd_draw_list {
+    struct rnd_draw_entry *entries;
+    struct rnd_draw_batch *batches;
+    float *transforms; /* 16 a drawn entry, column-major, in batch order */
+    struct rnd_albedo *albedo;
+    size_t cap;
+};
+/* Room for `entries` instances, and every albedo to be remade: 0, or −1 out of memory (what was held
+ * stays held). */
+int rnd_draw_list_reserve(struct rnd_draw_list *l, size_t entries);
+void rnd_draw_list_free(struct rnd_draw_list *l);
+
 /* ---- the renderer (renderer.c); layers.c draws through it too ---------------------------------- */
 /* The down-blit target of rnd_renderer_mean_luminance: 32×32 per eye, both eyes side by side, so
  * each destination pixel stands for an equal share of either eye (smaller framebuffers use their
@@ -55,36 +87,13 @@ struct rnd_renderer {
     uint8_t lum_rgba[RND_LUM_W * RND_LUM_H * 4];
     struct rnd_layer_targets *layers; /* the foveated layers' framebuffers and composite (layers.c), made on first use */
     struct rnd_ring_target *rings;    /* the contrast read-back's target and buffers (ring_contrast.c), on first use */
-    /* rnd_draw_view's work: the drawn entries front to back and in their batches, the batches, the
-     * transforms, and each instance's albedo as the shader takes it — sized at upload to every
-     * instance and impostor, so that a draw allocates nothing. */
-    struct rnd_draw_entry *order;
-    struct rnd_draw_batch *batches;
-    float *transforms; /* 16 a drawn entry, column-major, in batch order */
-    struct rnd_albedo *albedo;
-    size_t order_cap;
-};
-struct rnd_draw_batch {
-    uint32_t entry, count; /* its members: r->order[entry …], nearest first */
-    uint32_t slot;         /* its first transform in r->transforms */
-    float depth2_m2;       /* its nearest member's */
-};
-struct rnd_albedo {
-    float srgb[3];           /* the instance's colour these were made from (NaN: none yet) */
-    float linear[3], root[3]; /* decoded (sRGB EOTF), and that to the power 1/2.4 */
-};
-struct rnd_draw_entry {
-    float depth2_m2; /* squared distance from the eye to the instance's origin */
-    uint32_t k;      /* the entry in the caller's draw list */
-    uint32_t chain;  /* the batch key: chain, level and colour (the shader's albedo is per draw) */
-    uint8_t level;
-    float color[3];
+    struct rnd_draw_list list; /* rnd_draw_view's arrays (draw_list.c), sized at upload */
 };
 
 /* Draws the listed instances with one view into the current viewport (the caller has bound the FBO,
  * program and VAO): entries whose mask[k] & layer_bit is 0 are skipped (mask NULL: none). Instances
  * sharing a chain, level and colour go in one instanced draw, batches nearest first. Returns the
- * triangles drawn and adds the draw calls (one per batch) to *calls (renderer.c). */
+ * triangles drawn and adds the draw calls (one per batch) to *calls (draw_list.c). */
 uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
                        const uint32_t *index, const uint8_t *lod, const uint8_t *mask, unsigned layer_bit,
                        size_t count, uint32_t *calls);

@@ -1,12 +1,11 @@
 /* The stereo pass: one FBO holding both eyes side by side, one vertex and one index buffer for the
  * whole scene, one shader. The instances that share a chain, a level and a colour are one instanced
- * draw of that level's index range per eye, their model-to-eye transforms per-instance attributes. */
+ * draw of that level's index range per eye, their model-to-eye transforms per-instance attributes
+ * (draw_list.c). */
 #include "render/render_internal.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>
-#include <cglm/cglm.h>
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -47,10 +46,6 @@ static const char rnd_fs[] =
     "    vec3 encoded = 1.055 * u_albedo_root * pow(shade, 1.0 / 2.4) - 0.055;\n"
     "    o_color = vec4(mix(c * 12.92, encoded, step(vec3(0.0031308), c)), 1.0);\n"
     "}\n";
-
-/* Light from above, a little to the right and behind the default view, fixed in the world so that
- * shading stays put when the head turns. */
-static const double rnd_light_world[3] = {0.35, 0.85, 0.4};
 
 static int rnd_renderer_build_program(struct rnd_renderer *r, struct hl_error *err)
 {
@@ -161,10 +156,7 @@ void rnd_renderer_destroy(struct rnd_renderer *r)
     rnd_layer_targets_destroy(r->layers, 0); /* no context: the GL objects went with it */
     rnd_ring_target_destroy(r->rings, 0);
     rnd_egl_destroy(&r->egl);
-    free(r->order);
-    free(r->batches);
-    free(r->transforms);
-    free(r->albedo);
+    rnd_draw_list_free(&r->list);
     free(r);
 }
 
@@ -185,25 +177,8 @@ int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct scn_scene *sc
     if (rnd_renderer_current(r) != 0)
         return hl_fail(err, "renderer: cannot make the context current");
     size_t entries = (size_t)scene->instance_count + scene->impostor_instance_count;
-    if (entries > r->order_cap) {
-        struct rnd_draw_entry *order = realloc(r->order, entries * sizeof *order);
-        if (order)
-            r->order = order;
-        struct rnd_draw_batch *batches = realloc(r->batches, entries * sizeof *batches);
-        if (batches)
-            r->batches = batches;
-        float *transforms = realloc(r->transforms, entries * 16 * sizeof *transforms);
-        if (transforms)
-            r->transforms = transforms;
-        struct rnd_albedo *albedo = realloc(r->albedo, entries * sizeof *albedo);
-        if (albedo)
-            r->albedo = albedo;
-        if (!order || !batches || !transforms || !albedo)
-            return hl_fail(err, "renderer: out of memory for the draw order of %zu instances", entries);
-        r->order_cap = entries;
-    }
-    for (size_t k = 0; k < entries; ++k)
-        r->albedo[k].srgb[0] = NAN;
+    if (rnd_draw_list_reserve(&r->list, entries) != 0)
+        return hl_fail(err, "renderer: out of memory for the draw list of %zu instances", entries);
     while (glGetError() != GL_NO_ERROR) {
     }
     if (!r->vbo)
@@ -248,168 +223,6 @@ int rnd_renderer_upload_scene(struct rnd_renderer *r, const struct scn_scene *sc
     return 0;
 }
 
-/* Column-major 4×4 of the model-to-eye transform. The eye-relative part is done in double — the
- * translation is the instance position minus the eye position, so an object 1e6 m from the origin
- * but 2 m from the eye keeps millimetre precision (float world matrices would lose ~6 cm there) —
- * and only then does GL-side float math take over, through cglm (DESIGN.md: cglm's versor is x y z w). */
-static void rnd_model_view(const struct scn_instance *in, const struct rnd_eye_view *v, float out[16])
-{
-    hl_quatd to_eye = hl_q_conj(v->orientation);
-    hl_quatd q = hl_q_mul(to_eye, in->rotation);
-    hl_vec3d t = hl_q_rotate(to_eye, hl_v3(in->position_m[0] - v->position_m[0], in->position_m[1] - v->position_m[1],
-                                           in->position_m[2] - v->position_m[2]));
-    versor qf = {(float)q.x, (float)q.y, (float)q.z, (float)q.w};
-    mat4 m;
-    glm_quat_mat4(qf, m);
-    glm_scale_uni(m, (float)in->scale);
-    m[3][0] = (float)t.x, m[3][1] = (float)t.y, m[3][2] = (float)t.z;
-    memcpy(out, m, sizeof m);
-}
-
-/* Whether draw-list entry k is drawn in the layer of layer_bit (mask NULL: every layer). */
-static int rnd_entry_drawn(const struct scn_scene *scene, const uint32_t *index, const uint8_t *lod,
-                           const uint8_t *mask, unsigned layer_bit, size_t k)
-{
-    if (lod[k] == 255 || (mask && !(mask[k] & layer_bit)))
-        return 0;
-    return scene->chains[scene->instances[index[k]].chain].lods[lod[k]].index_count > 0;
-}
-
-/* Shell sort on Ciura's gaps (extended by × 2.25 for lists of up to ~10⁵): no allocation,
- * microseconds for a hundred elements. */
-#define RND_SHELL_SORT(array, n, type, before)                                                                   \
-    do {                                                                                                         \
-        static const size_t gaps_[] = {100894, 44842, 19930, 8858, 3937, 1750, 701, 301, 132, 57, 23, 10, 4, 1}; \
-        for (size_t g_ = 0; g_ < sizeof gaps_ / sizeof gaps_[0]; ++g_)                                           \
-            for (size_t i_ = gaps_[g_]; i_ < (n); ++i_) {                                                        \
-                type e_ = (array)[i_];                                                                           \
-                size_t j_ = i_;                                                                                  \
-                for (; j_ >= gaps_[g_] && before(&e_, &(array)[j_ - gaps_[g_]]); j_ -= gaps_[g_])                \
-                    (array)[j_] = (array)[j_ - gaps_[g_]];                                                       \
-                (array)[j_] = e_;                                                                                \
-            }                                                                                                    \
-    } while (0)
-
-/* Entries of one batch (same chain, level and colour) together, each batch nearest first. */
-static int rnd_entry_before(const struct rnd_draw_entry *a, const struct rnd_draw_entry *b)
-{
-    if (a->chain != b->chain)
-        return a->chain < b->chain;
-    if (a->level != b->level)
-        return a->level < b->level;
-    int c = memcmp(a->color, b->color, sizeof a->color);
-    if (c != 0)
-        return c < 0;
-    return a->depth2_m2 < b->depth2_m2;
-}
-
-static int rnd_batch_before(const struct rnd_draw_batch *a, const struct rnd_draw_batch *b)
-{
-    return a->depth2_m2 < b->depth2_m2;
-}
-
-static int rnd_same_batch(const struct rnd_draw_entry *a, const struct rnd_draw_entry *b)
-{
-    return a->chain == b->chain && a->level == b->level && memcmp(a->color, b->color, sizeof a->color) == 0;
-}
-
-/* Entries first … first + count of the list (count at most r->order_cap) into batches of the same
- * chain, level and colour, nearest batch first (by its nearest member), each batch nearest first: a
- * fragment behind one already drawn fails the depth test before it is shaded, which on llvmpipe costs
- * about a quarter of a shaded one (docs/RESULTS.md, issue 32 seventh round: the auditorium's pixels
- * are covered 1.7× over); and one instanced draw replaces a draw per instance (about 5 µs each on
- * llvmpipe, calibrate's grid) for rows of identical chairs. Returns the number of batches; their
- * transforms are in r->transforms from each batch's slot. */
-static size_t rnd_draw_batches(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
-                               const uint32_t *index, const uint8_t *lod, const uint8_t *mask, unsigned layer_bit,
-                               size_t first, size_t count)
-{
-    size_t n = 0;
-    for (size_t k = first; k < first + count; ++k) {
-        if (!rnd_entry_drawn(scene, index, lod, mask, layer_bit, k))
-            continue;
-        const struct scn_instance *in = &scene->instances[index[k]];
-        double dx = in->position_m[0] - v->position_m[0], dy = in->position_m[1] - v->position_m[1],
-               dz = in->position_m[2] - v->position_m[2];
-        struct rnd_draw_entry *e = &r->order[n++];
-        *e = (struct rnd_draw_entry){(float)(dx * dx + dy * dy + dz * dz), (uint32_t)k, in->chain, lod[k], {0, 0, 0}};
-        memcpy(e->color, in->color, sizeof e->color);
-    }
-    RND_SHELL_SORT(r->order, n, struct rnd_draw_entry, rnd_entry_before);
-    size_t batches = 0;
-    for (size_t i = 0; i < n; ++i) {
-        if (i == 0 || !rnd_same_batch(&r->order[i], &r->order[i - 1]))
-            r->batches[batches++] = (struct rnd_draw_batch){(uint32_t)i, 0, 0, r->order[i].depth2_m2};
-        r->batches[batches - 1].count++;
-    }
-    RND_SHELL_SORT(r->batches, batches, struct rnd_draw_batch, rnd_batch_before);
-    uint32_t slot = 0; /* the transforms in the order the batches draw */
-    for (size_t b = 0; b < batches; ++b) {
-        struct rnd_draw_batch *bt = &r->batches[b];
-        bt->slot = slot;
-        for (uint32_t i = 0; i < bt->count; ++i, ++slot)
-            rnd_model_view(&scene->instances[index[r->order[bt->entry + i].k]], v, r->transforms + 16 * (size_t)slot);
-    }
-    return batches;
-}
-
-/* The shader's albedo terms for an instance, remade only when its colour changed since (the analysis
- * redraws one instance in several colours). */
-static const struct rnd_albedo *rnd_instance_albedo(struct rnd_renderer *r, const struct scn_instance *in, uint32_t instance)
-{
-    struct rnd_albedo *a = &r->albedo[instance];
-    if (memcmp(a->srgb, in->color, sizeof a->srgb) != 0) {
-        for (int c = 0; c < 3; ++c) {
-            double linear = rnd_srgb_decode(in->color[c]);
-            a->srgb[c] = in->color[c];
-            a->linear[c] = (float)linear;
-            a->root[c] = (float)pow(linear, 1.0 / 2.4);
-        }
-    }
-    return a;
-}
-
-uint64_t rnd_draw_view(struct rnd_renderer *r, const struct scn_scene *scene, const struct rnd_eye_view *v,
-                       const uint32_t *index, const uint8_t *lod, const uint8_t *mask, unsigned layer_bit,
-                       size_t count, uint32_t *calls)
-{
-    float proj[16];
-    for (int i = 0; i < 16; ++i)
-        proj[i] = (float)v->projection[i];
-    glUniformMatrix4fv(r->u_proj, 1, GL_FALSE, proj);
-    hl_vec3d l = hl_q_rotate(hl_q_conj(v->orientation),
-                             hl_v3_normalize(hl_v3(rnd_light_world[0], rnd_light_world[1], rnd_light_world[2])));
-    glUniform3f(r->u_light, (float)l.x, (float)l.y, (float)l.z);
-    glBindBuffer(GL_ARRAY_BUFFER, r->instance_vbo);
-    uint64_t tris = 0;
-    /* A list longer than the uploaded scene (repeated entries) goes in parts of what the arrays hold. */
-    for (size_t first = 0; first < count && r->order_cap > 0; first += r->order_cap) {
-        size_t part = count - first < r->order_cap ? count - first : r->order_cap;
-        size_t batches = rnd_draw_batches(r, scene, v, index, lod, mask, layer_bit, first, part);
-        if (batches == 0)
-            continue;
-        const struct rnd_draw_batch *last = &r->batches[batches - 1];
-        /* Orphaned each view: fresh storage, so the driver need not wait for draws still reading the last. */
-        glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(last->slot + last->count) * 16 * (GLsizeiptr)sizeof(float),
-                     r->transforms, GL_STREAM_DRAW);
-        for (size_t b = 0; b < batches; ++b) {
-            const struct rnd_draw_batch *bt = &r->batches[b];
-            const struct rnd_draw_entry *e = &r->order[bt->entry];
-            const struct scn_instance *in = &scene->instances[index[e->k]];
-            const struct scn_lod *L = &scene->chains[in->chain].lods[e->level];
-            const struct rnd_albedo *a = rnd_instance_albedo(r, in, index[e->k]);
-            glUniform3fv(r->u_albedo, 1, a->linear);
-            glUniform3fv(r->u_albedo_root, 1, a->root);
-            glDrawElementsInstancedBaseInstance(GL_TRIANGLES, (GLsizei)L->index_count, GL_UNSIGNED_INT,
-                                                (const void *)((uintptr_t)L->first_index * sizeof(uint32_t)),
-                                                (GLsizei)bt->count, bt->slot);
-            tris += (uint64_t)L->triangle_count * bt->count;
-            ++*calls;
-        }
-    }
-    return tris;
-}
-
 /* A bad entry draws nothing rather than half a frame. */
 int rnd_check_draw(const struct rnd_renderer *r, const struct scn_scene *scene, const uint32_t *index,
                           const uint8_t *lod, size_t count)
@@ -419,7 +232,7 @@ int rnd_check_draw(const struct rnd_renderer *r, const struct scn_scene *scene, 
         return -1;
     for (size_t k = 0; k < count; ++k) {
         if (index[k] >= scene->instance_count + scene->impostor_instance_count || /* objects, then impostors */
-            index[k] >= r->order_cap) /* not in the uploaded scene's per-instance arrays */
+            index[k] >= r->list.cap) /* not in the uploaded scene's per-instance arrays */
             return -1;
         uint32_t c = scene->instances[index[k]].chain;
         if (c >= scene->chain_count || (lod[k] != 255 && lod[k] >= scene->chains[c].lod_count))

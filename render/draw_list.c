@@ -34,8 +34,8 @@ int rnd_draw_list_reserve(struct rnd_draw_list *l, size_t entries)
             return -1;
         l->cap = entries;
     }
-    for (size_t k = 0; k < entries; ++k)
-        l->albedo[k].srgb[0] = NAN; /* none made yet */
+    for (size_t k = 0; k < entries; ++k) /* none made yet; every byte set, for the cache's memcmp */
+        l->albedo[k].srgb[0] = l->albedo[k].srgb[1] = l->albedo[k].srgb[2] = NAN;
     return 0;
 }
 

@@ -27,13 +27,14 @@
 
 #include <umockdev.h>
 
+#include "tests/test_hid_util.h"
 #include "tests/test_util.h"
 #include "tracking/tracking.h"
 
 #define SYS_USB "/sys/devices/pci0000:00/0000:00:14.0/usb1/1-1"
 #define SYS_INTF SYS_USB "/1-1:1.0"
 #define YAW_RATE_DEG_S 90.0
-#define WAIT_S 5.0 /* every wait below is bounded by this */
+#define WAIT_S (5.0 * tu_time_scale()) /* every wait below is bounded by this (longer under valgrind) */
 
 static UMockdevTestbed *tb;
 static char data_dir[1024];
@@ -185,6 +186,7 @@ static int wait_reports(struct trk_pose_source *src, uint64_t want)
     }
     fprintf(stderr, "only %llu of %llu reports read in %.0f s\n", (unsigned long long)stats_of(src).reports,
             (unsigned long long)want, WAIT_S);
+    tu_hid_print_state(src);
     return -1;
 }
 
@@ -366,8 +368,10 @@ static int cycle(struct trk_pose_source *src, int k)
     if (stats_of(src).connected)
         rc = -1;
     remove_sysfs(k, 0);
-    if (rc != 0)
-        fprintf(stderr, "cycle on hidraw%d failed: %s\n", k, (src->health(src, reason, sizeof reason), reason));
+    if (rc != 0) {
+        fprintf(stderr, "cycle on hidraw%d failed\n", k);
+        tu_hid_print_state(src);
+    }
     return rc;
 }
 

@@ -20,6 +20,7 @@
 
 #include <umockdev.h>
 
+#include "tests/test_hid_util.h"
 #include "tests/test_util.h"
 #include "tracking/tracking.h"
 
@@ -123,6 +124,7 @@ static int wait_reports(struct trk_pose_source *src, uint64_t want)
     }
     fprintf(stderr, "only %llu of %llu reports read in %.0f s\n", (unsigned long long)st.reports,
             (unsigned long long)want, WAIT_S);
+    tu_hid_print_state(src);
     return -1;
 }
 
@@ -402,6 +404,8 @@ int main(void)
         sleep_ms(1);
     }
     CHECK(reopen_s >= 0);
+    if (reopen_s < 0)
+        tu_hid_print_state(src);
     CHECK(!strcmp(st.path, "/dev/hidraw1"));
     printf("reopened %s %.1f ms after the add\n", st.path, reopen_s * 1e3);
 

@@ -44,8 +44,8 @@ struct frm_options {
     double csf_scale;
     /* What fs and mb value a level by (docs/optimizer.md "Perceptual benefit"): "funkhouser"
      * (accuracy from its samples) or "perceptual" (the visible contrast it keeps; needs
-     * --visibility contrast). NULL = FRM_BENEFIT_DEFAULT, except fs with --foveation fixed or gaze
-     * under the contrast criterion: "perceptual" (docs/foveation.md). */
+     * --visibility contrast). NULL = FRM_BENEFIT_DEFAULT ("funkhouser", with or without layers:
+     * docs/foveation.md "The benefit, with layers"). */
     const char *benefit;
     double render_scale;     /* per-eye resolution factor (1 = the display's pixels) */
     int quiet;               /* no note on stderr about the chains analysed (replay: no summary table either) */

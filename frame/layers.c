@@ -369,6 +369,8 @@ int frm_layers_outcome_better(const struct frm_layer_outcome *a, const struct fr
     double tie = 1e-9 * fmax(1.0, fabs(b->benefit));
     if (fabs(a->benefit - b->benefit) > tie)
         return a->benefit > b->benefit;
+    if (fabs(a->visible_loss_px - b->visible_loss_px) > 0.5)
+        return a->visible_loss_px < b->visible_loss_px;
     return a->cost_ms < b->cost_ms;
 }
 

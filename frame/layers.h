@@ -191,7 +191,11 @@ void frm_layers_inset_pixels(struct frm_layers *l, int c, const struct scn_scene
  * half a pixel: dropping is the last resort), then the less of the correction's margin spent (by
  * more than FRM_LAYER_MARGIN_TIE_MS: the margin is spent to keep objects, not to draw a larger inset
  * — preferring the higher benefit there raised the budget on most frames and cut the frames within
- * it from 96 to 79 %), then the higher benefit, then the lower cost. Without the first rule the
+ * it from 96 to 79 %), then the higher benefit, then the less visible loss of the periphery's scale
+ * (visible_loss_px: Σ pixels · (1 − frm_layers_benefit_share), the perceptual share whatever the
+ * benefit — under Funkhouser's, the default, a scale moves the benefit by 10⁻⁹ of it, so two settings
+ * keeping the same levels tied and the tie went to the cheaper, s = 0.25 or 0.35 even at 4× the
+ * budget: docs/RESULTS.md tenth round), then the lower cost. Without the first rule the
  * plain frame, whose large objects at full resolution cost 30 ms on the auditorium, "dropped fewer
  * pixels" than every layered setting against a budget tightened to 4.6 ms and was drawn 240 frames in
  * a row, 20–30 ms each. */
@@ -201,6 +205,7 @@ struct frm_layer_outcome {
     double late_ms, dropped_px;
     double margin_ms; /* how far the budget was raised past the setting's own, within the expected one */
     double benefit, cost_ms;
+    double visible_loss_px; /* Σ over the visible objects of pixels · (1 − frm_layers_benefit_share) */
 };
 int frm_layers_outcome_better(const struct frm_layer_outcome *a, const struct frm_layer_outcome *b);
 

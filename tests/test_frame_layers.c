@@ -274,30 +274,39 @@ static void test_adaptive(void)
 
 /* Which candidate setting's outcome wins (frm_layers_outcome_better): the least late first, even
  * against one that drops nothing; then fewer dropped pixels; then less of the margin spent; then
- * benefit; then cost; each with its tolerance. */
+ * benefit; then the scale's visible loss; then cost; each with its tolerance. */
 static void test_outcome_order(void)
 {
     /* The auditorium's case: the plain frame's kept objects 25 ms over a tight budget, dropping no
      * pixel, against a layered setting within it that drops a few chairs. */
-    struct frm_layer_outcome plain = {25.3, 0.0, 0.0, 40.0, 29.9}, layered = {0.0, 1800.0, 0.0, 31.0, 4.5};
+    struct frm_layer_outcome plain = {25.3, 0.0, 0.0, 40.0, 29.9, 0.0}, layered = {0.0, 1800.0, 0.0, 31.0, 4.5, 0.0};
     CHECK(frm_layers_outcome_better(&layered, &plain) && !frm_layers_outcome_better(&plain, &layered));
-    struct frm_layer_outcome less_late = {1.0, 5000.0, 0.0, 10.0, 6.0};
+    struct frm_layer_outcome less_late = {1.0, 5000.0, 0.0, 10.0, 6.0, 0.0};
     CHECK(frm_layers_outcome_better(&less_late, &plain));
     /* As late (within FRM_LAYER_LATE_TOLERANCE_MS): fewer dropped pixels, then the higher benefit,
      * then the cheaper — half a millisecond late does not outweigh a dropped chair. */
-    struct frm_layer_outcome a = {0.5, 0.0, 0.0, 30.0, 7.0}, b = {0.0, 100.0, 0.0, 35.0, 5.0};
+    struct frm_layer_outcome a = {0.5, 0.0, 0.0, 30.0, 7.0, 0.0}, b = {0.0, 100.0, 0.0, 35.0, 5.0, 0.0};
     CHECK(frm_layers_outcome_better(&a, &b) && !frm_layers_outcome_better(&b, &a));
-    struct frm_layer_outcome c = {0.5, 0.3, 0.0, 31.0, 7.5};
+    struct frm_layer_outcome c = {0.5, 0.3, 0.0, 31.0, 7.5, 0.0};
     CHECK(frm_layers_outcome_better(&c, &a) && !frm_layers_outcome_better(&a, &c)); /* 0.3 px is no drop */
-    struct frm_layer_outcome d = {0.5, 0.0, 0.0, 31.0, 7.0};
+    struct frm_layer_outcome d = {0.5, 0.0, 0.0, 31.0, 7.0, 0.0};
     CHECK(frm_layers_outcome_better(&d, &c) && !frm_layers_outcome_better(&c, &d));
     CHECK(!frm_layers_outcome_better(&d, &d)); /* a tie is not better: the first solved stays */
     /* Equally late, nothing dropped: the setting that spends less of the correction's margin wins
      * over a higher benefit — the margin keeps objects, it does not buy a larger inset. */
-    struct frm_layer_outcome spends = {0.0, 0.0, 1.5, 40.0, 8.0}, keeps = {0.0, 0.0, 0.0, 30.0, 6.5};
+    struct frm_layer_outcome spends = {0.0, 0.0, 1.5, 40.0, 8.0, 0.0}, keeps = {0.0, 0.0, 0.0, 30.0, 6.5, 0.0};
     CHECK(frm_layers_outcome_better(&keeps, &spends) && !frm_layers_outcome_better(&spends, &keeps));
-    struct frm_layer_outcome drops = {0.0, 900.0, 0.0, 45.0, 6.0}; /* but spending it beats a drop */
+    struct frm_layer_outcome drops = {0.0, 900.0, 0.0, 45.0, 6.0, 0.0}; /* but spending it beats a drop */
     CHECK(frm_layers_outcome_better(&spends, &drops) && !frm_layers_outcome_better(&drops, &spends));
+    /* Same levels, same benefit (Funkhouser's moves by 1e-9 with the scale): the setting whose
+     * periphery loses less visible detail wins even at a higher cost; a higher benefit still comes
+     * first; and half a pixel of loss is a tie, left to the cost. */
+    struct frm_layer_outcome fine = {0.0, 0.0, 0.0, 6.0e6, 9.0, 1000.0}, coarse = {0.0, 0.0, 0.0, 6.0e6, 6.0, 80000.0};
+    CHECK(frm_layers_outcome_better(&fine, &coarse) && !frm_layers_outcome_better(&coarse, &fine));
+    struct frm_layer_outcome richer = {0.0, 0.0, 0.0, 6.0e6 + 1.0, 6.0, 80000.0};
+    CHECK(frm_layers_outcome_better(&richer, &fine) && !frm_layers_outcome_better(&fine, &richer));
+    struct frm_layer_outcome cheaper = {0.0, 0.0, 0.0, 6.0e6, 8.0, 1000.4};
+    CHECK(frm_layers_outcome_better(&cheaper, &fine) && !frm_layers_outcome_better(&fine, &cheaper));
 }
 
 int main(void)

@@ -399,6 +399,17 @@ double frm_layers_benefit_share(struct frm_layers *l, const struct frm_layer_can
     return (1.0 - periphery) + periphery / (1.0 + d);
 }
 
+double frm_layers_visible_loss_px(struct frm_layers *l, const struct frm_layer_candidate *c, const double *pixels_px,
+                                  size_t count)
+{
+    if (c->scale >= 1.0 || !c->loses)
+        return 0.0;
+    double loss = 0.0;
+    for (size_t k = 0; k < count; ++k)
+        loss += pixels_px[k] * (1.0 - frm_layers_benefit_share(l, c, k));
+    return loss;
+}
+
 double frm_layers_level_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k,
                               const struct lod_benefit_params *p, double samples, double pixels_px)
 {

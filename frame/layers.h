@@ -223,6 +223,11 @@ double frm_layers_level_cost_ms(const struct frm_layers *l, const struct frm_lay
  * in a frame computes every visible object's resolution loss (from frm_layers_plan's inputs, which
  * must still hold); frames that weigh no lossy setting never pay for it. */
 double frm_layers_benefit_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k);
+/* What candidate c's periphery takes from the visible objects' image: Σ over the count objects of
+ * pixels_px[k] · (1 − frm_layers_benefit_share), in pixels (frm_layer_outcome.visible_loss_px); 0 for
+ * a lossless setting. O(count). */
+double frm_layers_visible_loss_px(struct frm_layers *l, const struct frm_layer_candidate *c, const double *pixels_px,
+                                  size_t count);
 /* The same under Funkhouser's benefit, for one level of object k (samples: the level's, or its LOD
  * ceiling's where it is finer; pixels_px: the object's): where the candidate's scale loses visible
  * detail on the object (D > 0), its periphery's part is worth the level's accuracy with Samples at

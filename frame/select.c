@@ -321,19 +321,6 @@ static double dropped_pixels(const struct frm_select *s, const struct lod_proble
     return px;
 }
 
-/* What candidate c's periphery takes from the visible objects' image, in pixels weighed by the
- * perceptual share (frame/layers.h frm_layer_outcome): 0 for a lossless setting. */
-static double scale_visible_loss_px(struct frm_select *s, const struct frm_view_inputs *in, int c)
-{
-    struct frm_layers *l = s->layers;
-    if (l->cand[c].scale >= 1.0 || !l->cand[c].loses)
-        return 0.0;
-    double loss = 0.0;
-    for (size_t k = 0; k < in->count; ++k)
-        loss += s->pixels_px[k] * (1.0 - frm_layers_benefit_share(l, &l->cand[c], k));
-    return loss;
-}
-
 /* fs with layers: one knapsack per candidate setting, each with its own overhead out of the budget,
  * every candidate solved (issue 32 item 3: the setting with the highest benefit) — the lossy ones,
  * solved only when no lossless one held every object, were never weighed against the lossless ones'
@@ -366,7 +353,8 @@ static void solve_fs_layers(struct frm_select *s, const struct scn_scene *scene,
         struct frm_layer_outcome outcome = {fmax(0.0, p.budget_ms - cand_expected),
                                             dropped_pixels(s, &p, s->choice),
                                             fmin(p.budget_ms, cand_expected) - cand_budget, r.benefit,
-                                            r.cost_ms + cand->overhead_ms, scale_visible_loss_px(s, in, c)};
+                                            r.cost_ms + cand->overhead_ms,
+                                            frm_layers_visible_loss_px(l, cand, s->pixels_px, in->count)};
         if (!have || frm_layers_outcome_better(&outcome, &best_outcome)) {
             have = 1;
             best_outcome = outcome;

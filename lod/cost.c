@@ -224,7 +224,8 @@ static double objects_budget(const struct lod_cost_rls *c, double budget_ms, dou
 {
     double model = budget_ms - c->c0_ms;
     double fitted = (budget_ms - c->a_ms - margin_ms) / c->b;
-    double x = fitted < model ? fitted : model; /* only ever tightens */
+    double cap = c->recent_count >= LOD_COST_RLS_LOOSEN_AFTER ? LOD_COST_RLS_LOOSEN_MAX * model : model;
+    double x = fitted < cap ? fitted : cap;
     return x > 0.0 ? x : 0.0;
 }
 

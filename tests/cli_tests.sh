@@ -200,15 +200,26 @@ predicted_within() { # CSV BUDGET_MS
   awk -F, -v b="$2" 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "predicted_ms") c = i; next }
                      { n++; if ($c > b + 1e-9) bad++ } END { exit !(c > 0 && n > 0 && bad == 0) }' "$1"
 }
+# After 64 fitted frames the affine correction may loosen the model's budget (docs/cost-model.md):
+# then each frame's choice stays within what the optimizer was given (predicted_ms ≤ c0 +
+# optimizer_budget_ms), which is at most 1.5 × the model's (budget − c0); before, predicted_ms ≤ budget.
+predicted_within_fit() { # CSV BUDGET_MS C0_MS
+  awk -F, -v b="$2" -v c0="$3" 'NR == 1 { for (i = 1; i <= NF; ++i) { if ($i == "predicted_ms") c = i;
+                                  if ($i == "optimizer_budget_ms") o = i; if ($i == "frame") f = i }; next }
+                     { n++; if ($f < 64 && $c > b + 1e-9) bad++; if ($c > c0 + $o + 1e-6) bad++;
+                       if ($o > 1.5 * (b - c0) + 1e-6) bad++ }
+                     END { exit !(c > 0 && o > 0 && f > 0 && n > 0 && bad == 0) }' "$1"
+}
+builtin_c0=1.108178 # frm_cost_profile_builtin_llvmpipe
 for sel in static feedback fs; do
   expect_ok "replay $sel" "frames within the budget" -- "$bin" replay --scene field --objects 300 --selector $sel \
     --frames 120 --render-scale 0.25 --out "$tmp/sel-$sel"
 done
-predicted_within "$tmp/sel-fs/frames.csv" 11.1112 || fail "fs: a frame's predicted cost exceeds the 11.1 ms budget"
+predicted_within_fit "$tmp/sel-fs/frames.csv" 11.1112 $builtin_c0 || fail "fs: a frame's predicted cost exceeds its budget"
 for limit in 200 5; do
   expect_ok "replay fs --opt-limit-us $limit" "frames within the budget" -- "$bin" replay --scene field --objects 300 \
     --selector fs --opt-limit-us $limit --frames 120 --render-scale 0.25 --out "$tmp/fs-limit-$limit"
-  predicted_within "$tmp/fs-limit-$limit/frames.csv" 11.1112 || fail "fs --opt-limit-us $limit: over the budget"
+  predicted_within_fit "$tmp/fs-limit-$limit/frames.csv" 11.1112 $builtin_c0 || fail "fs --opt-limit-us $limit: over the budget"
 done
 expect_ok "replay fs --budget-ms 50" "budget +50\.000 ms" -- "$bin" replay --scene field --objects 300 --selector fs \
   --budget-ms 50 --frames 60 --render-scale 0.25 --out "$tmp/fs-50"
@@ -648,8 +659,10 @@ for r in layered:
 PY
 printf 't_s,qw,qx,qy,qz,gx,gy,gz\n0,1,0,0,0,0,0,-1\n1.0,1,0,0,0,0,0,-1\n1.02,1,0,0,0,0.342020,0,-0.939693\n3,1,0,0,0,0.342020,0,-0.939693\n' \
   >"$tmp/gaze-jump.csv"
+# At 8 ms the plain frame (15.3 ms at the built-in's prices) cannot fit even the loosened budget
+# (at most 1.5 × the model's, docs/cost-model.md): every frame after the saccade is layered.
 "$bin" replay --trace "$tmp/gaze-jump.csv" --scene auditorium --display vive --selector fs --foveation gaze \
-  --gaze tracked --frames 140 --render-scale 0.25 --quiet --out "$tmp/fv-gaze" 2>"$tmp/err" || fail "gaze jump: $(cat "$tmp/err")"
+  --gaze tracked --frames 140 --render-scale 0.25 --budget-ms 8 --quiet --out "$tmp/fv-gaze" 2>"$tmp/err" || fail "gaze jump: $(cat "$tmp/err")"
 python3 - "$tmp/fv-gaze/frames.csv" <<'PY' || fail "--foveation gaze: the inset did not follow the gaze"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))

@@ -395,8 +395,8 @@ double frm_layers_benefit_share(struct frm_layers *l, const struct frm_layer_can
     if (c->scale >= 1.0 || !c->loses)
         return 1.0;
     double periphery, d = candidate_loss(l, c, k, &periphery);
-    /* The inset's part keeps its detail; the periphery's part is worth 1 / (1 + D) of it. */
-    return (1.0 - periphery) + periphery / (1.0 + d);
+    /* The inset's part keeps its detail; the periphery's part is worth what a level losing D is. */
+    return (1.0 - periphery) + periphery * lod_benefit_perceptual_accuracy(d);
 }
 
 double frm_layers_visible_loss_px(struct frm_layers *l, const struct frm_layer_candidate *c, const double *pixels_px,

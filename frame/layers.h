@@ -22,7 +22,8 @@
  * scale cannot show of max(0, c·S·k − 1), c its ring's content contrast, S at its eccentricity and
  * retinal speed (the units of the perceptual benefit's lost LOD detail, lod_visible_loss_contrast) —
  * and f the share of it in the periphery (its part in the inset keeps its detail). Under the
- * perceptual benefit the object is scaled by (1 − f) + f / (1 + D); under Funkhouser's, where D > 0,
+ * perceptual benefit the object is scaled by (1 − f) + f · a(D), a the accuracy that benefit gives a
+ * level losing D (lod_benefit_perceptual_accuracy); under Funkhouser's, where D > 0,
  * each level's periphery part is worth its accuracy with Samples at most s²·pixels (§5), so a scale
  * weighs against a level as their accuracies do (frm_layers_level_share). Either way a scale coarser
  * than the ceiling costs benefit where it shows, a finer one earns nothing. docs/foveation.md. */
@@ -233,7 +234,7 @@ double frm_layers_visible_loss_px(struct frm_layers *l, const struct frm_layer_c
  * detail on the object (D > 0), its periphery's part is worth the level's accuracy with Samples at
  * most s²·pixels_px over its accuracy at pixels_px (lod_benefit_accuracy; §5: Samples never more
  * than the pixels covered) — resolution in the units the levels are valued in. 1 where D = 0. The
- * share 1/(1 + D) above, next to accuracies 10⁻⁵–10⁻³ apart, made fs take the finest scale that fit
+ * perceptual share above (then 1/(1 + D)), next to accuracies 10⁻⁵–10⁻³ apart, made fs take the finest scale that fit
  * and starve the geometry (docs/RESULTS.md, issue 32 sixth round). */
 struct lod_benefit_params;
 double frm_layers_level_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k,

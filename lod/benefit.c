@@ -41,12 +41,24 @@ static int levels_changed(uint8_t level, uint8_t previous)
     return abs(a - b);
 }
 
-/* The perceptual benefit's accuracy: 1 / (1 + D·(1 + h·|ΔL|)). D in threshold units, so a level
- * whose loss is just twice the threshold in one band is worth half a level that loses nothing
- * visible; hysteresis scales the visible loss as it scales Funkhouser's error. */
+/* The perceptual benefit's accuracy: 1 − √(D·(1 + h·|ΔL|) / LOD_PERCEPTUAL_LOSS_WHOLE), at least 0.
+ * D is the lost contrast in threshold units; what is seen of a contrast above threshold grows
+ * compressively, about as its square root (the contrast transducer of Legge & Foley 1980), so a
+ * loss four times another counts twice, however large both are. The form 1 / (1 + D) before it
+ * counted every D ≫ 1 as the whole object: the chairs by the gaze (D 210–840 at level 1) weighed no
+ * more than those 40° out (16–43), and fs sent its finest triangles to the far periphery
+ * (docs/RESULTS.md, issue 32 eleventh round). Hysteresis scales the visible loss as it scales
+ * Funkhouser's error. */
 static double perceptual_accuracy(const struct lod_benefit_params *p, double loss, int levels_changed)
 {
-    return 1.0 / (1.0 + loss * (1.0 + p->hysteresis_per_level * levels_changed));
+    double t = sqrt(fmax(0.0, loss * (1.0 + p->hysteresis_per_level * levels_changed)) / LOD_PERCEPTUAL_LOSS_WHOLE);
+    return t >= 1.0 ? 0.0 : 1.0 - t;
+}
+
+double lod_benefit_perceptual_accuracy(double loss)
+{
+    struct lod_benefit_params none = {0.0, 0.0, 0.0};
+    return perceptual_accuracy(&none, loss, 0);
 }
 
 static double level_accuracy(const struct lod_benefit_params *p, const double *loss_row, uint8_t level,

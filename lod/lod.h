@@ -238,11 +238,19 @@ void lod_benefit_params_default(struct lod_benefit_params *p);
 /* Funkhouser's accuracy of one rendering (§5): 1 − base_error / Samples^m, Samples = min(samples,
  * size_px) and at least 1, without hysteresis; in [0, 1). What lod_benefit_fill values a level by. */
 double lod_benefit_accuracy(const struct lod_benefit_params *p, double samples, double size_px);
+/* The visible loss, in threshold units, at which the perceptual benefit counts an object as lost
+ * whole (worth what dropping it is worth): 300², beyond any level's loss measured on the built-in
+ * scenes (at most ~12 000 by the gaze), so no two levels' losses tie at 0. */
+#define LOD_PERCEPTUAL_LOSS_WHOLE 90000.0
+/* The perceptual benefit's accuracy of a visible loss D ≥ 0 (threshold units), without hysteresis:
+ * max(0, 1 − √(D / LOD_PERCEPTUAL_LOSS_WHOLE)); 1 for D = 0. */
+double lod_benefit_perceptual_accuracy(double loss);
 /* visible_loss: NULL for Funkhouser's accuracy above. Else the perceptual benefit (docs/optimizer.md
  * "Perceptual benefit"; lod_visible_loss_contrast): object i's level l is worth
- *   size_px · importance / (1 + D_il · (1 + h·|level − previous|)),
+ *   size_px · importance · max(0, 1 − √(D_il · (1 + h·|level − previous|) / LOD_PERCEPTUAL_LOSS_WHOLE)),
  * D_il = visible_loss[i·LOD_MAX_LEVELS + l], the suprathreshold contrast it loses in threshold units
- * (0: nothing visible lost, worth the full size); an object whose row starts with NaN (no spectrum)
+ * (0: nothing visible lost, worth the full size; the square root: what is seen of a contrast above
+ * threshold grows about as its square root); an object whose row starts with NaN (no spectrum)
  * keeps Funkhouser's accuracy. The ceiling rule and LOD_DROP = 0 hold as above. */
 void lod_benefit_fill(const struct lod_benefit_params *p, size_t object_count, const uint32_t *first,
                       const uint8_t *count, const uint8_t *level, const uint32_t *samples,

@@ -285,32 +285,38 @@ static void test_perceptual_benefit(void)
     printf("visible loss against the direct model: worst relative difference %.4f, %d positive\n", worst, positive);
     CHECK(worst < 0.03 && positive > 100);
 
-    /* The benefit: size / (1 + D·(1 + h·|ΔL|)); finer than the ceiling earns the ceiling's; a NaN row
-     * keeps Funkhouser's accuracy; a drop earns 0. */
+    /* The benefit: size · (1 − √(D·(1 + h·|ΔL|) / LOD_PERCEPTUAL_LOSS_WHOLE)), at least 0; finer than
+     * the ceiling earns the ceiling's; a NaN row keeps Funkhouser's accuracy; a drop earns 0. The
+     * losses here are the order of the chairs' by the gaze on the auditorium (210–840 at level 1, up
+     * to 12 000 at level 3): they must stay apart, where 1 / (1 + D) put them all within 0.5 % of 0. */
     struct lod_benefit_params bp;
     lod_benefit_params_default(&bp);
     const uint32_t first[2] = {0, 5}, samples[8] = {0, 20, 60, 200, 900, 30, 90, 400};
     const uint8_t count[2] = {5, 3}, level[8] = {LOD_DROP, 3, 2, 1, 0, 2, 1, 0};
     const double px[2] = {1000.0, 500.0};
     const uint8_t ceiling[2] = {1, 0}, previous[2] = {LOD_UNSEEN, 1};
-    double rows[2 * LOD_MAX_LEVELS] = {0, 0.5, 3.0, 9.0};
+    double rows[2 * LOD_MAX_LEVELS] = {0, 2500.0, 10000.0, 40000.0}; /* √(D / 90 000) = 1/6, 1/3, 2/3 */
     for (int l = 0; l < LOD_MAX_LEVELS; ++l)
         rows[LOD_MAX_LEVELS + l] = NAN;
     double benefit[8], funk[8];
     lod_benefit_fill(&bp, 2, first, count, level, samples, px, NULL, ceiling, previous, rows, benefit);
     lod_benefit_fill(&bp, 2, first, count, level, samples, px, NULL, ceiling, previous, NULL, funk);
     CHECK(benefit[0] == 0.0);
-    CHECK(fabs(benefit[1] - 1000.0 / 10.0) < 1e-9);
-    CHECK(fabs(benefit[2] - 1000.0 / 4.0) < 1e-9);
-    CHECK(fabs(benefit[3] - 1000.0 / 1.5) < 1e-9);
+    CHECK(fabs(benefit[1] - 1000.0 / 3.0) < 1e-9);
+    CHECK(fabs(benefit[2] - 2000.0 / 3.0) < 1e-9);
+    CHECK(fabs(benefit[3] - 5000.0 / 6.0) < 1e-9);
     CHECK(benefit[4] == benefit[3]); /* level 0 is finer than the ceiling (1) */
     for (int c = 5; c < 8; ++c)
         CHECK(benefit[c] == funk[c]); /* no spectrum */
     /* Hysteresis scales the visible loss: one level from last frame's counts it twice. */
     const uint8_t previous2[2] = {2, 1};
     lod_benefit_fill(&bp, 2, first, count, level, samples, px, NULL, ceiling, previous2, rows, benefit);
-    CHECK(fabs(benefit[2] - 1000.0 / 4.0) < 1e-9);          /* level 2 = last frame's */
-    CHECK(fabs(benefit[3] - 1000.0 / (1.0 + 0.5 * 2.0)) < 1e-9); /* one step away */
+    CHECK(fabs(benefit[2] - 2000.0 / 3.0) < 1e-9);                        /* level 2 = last frame's */
+    CHECK(fabs(benefit[3] - 1000.0 * (1.0 - sqrt(5000.0 / 90000.0))) < 1e-9); /* one step away */
+    /* Compressive, not saturating: four times the loss takes twice as much; past the whole, 0. */
+    CHECK(fabs((1.0 - lod_benefit_perceptual_accuracy(4.0 * 400.0)) - 2.0 * (1.0 - lod_benefit_perceptual_accuracy(400.0))) < 1e-12);
+    CHECK(lod_benefit_perceptual_accuracy(0.0) == 1.0);
+    CHECK(lod_benefit_perceptual_accuracy(2.0 * LOD_PERCEPTUAL_LOSS_WHOLE) == 0.0);
 }
 
 static void test_cost_correction(void)

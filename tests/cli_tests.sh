@@ -202,19 +202,16 @@ predicted_within() { # CSV BUDGET_MS
 }
 # After 64 fitted frames the affine correction may loosen the model's budget (docs/cost-model.md),
 # to at most 1.5 × the model's (budget − c0): before frame 64 predicted_ms ≤ budget; on every row
-# optimizer_budget_ms and predicted_ms − c0 stay within 1.5 × (budget − c0); and a choice the
-# optimizer finished (truncated 0) stays within what it was given, predicted_ms ≤ c0 +
-# optimizer_budget_ms. A truncated one (--opt-limit-us) starts from last frame's choice and may stop
-# above a budget that shrank (CI's sanitizer stage, where the correction tightens hard).
+# optimizer_budget_ms ≤ 1.5 × (budget − c0) and the choice stays within what the optimizer was given,
+# predicted_ms ≤ c0 + optimizer_budget_ms — to the CSV's rounding (4 decimals: a choice that fills
+# its budget exactly shows up to 1e-4 over; a tolerance of 1e-6 failed CI's sanitizer stage so).
 predicted_within_fit() { # CSV BUDGET_MS C0_MS
   awk -F, -v b="$2" -v c0="$3" 'NR == 1 { for (i = 1; i <= NF; ++i) { if ($i == "predicted_ms") c = i;
-                                  if ($i == "optimizer_budget_ms") o = i; if ($i == "frame") f = i;
-                                  if ($i == "truncated") t = i }; next }
-                     { n++; loose = 1.5 * (b - c0) + 1e-6
+                                  if ($i == "optimizer_budget_ms") o = i; if ($i == "frame") f = i }; next }
+                     { n++
                        if ($f < 64 && $c > b + 1e-9) bad++
-                       if ($o > loose || $c - c0 > loose) bad++
-                       if ($t == 0 && $c > c0 + $o + 1e-6) bad++ }
-                     END { exit !(c > 0 && o > 0 && f > 0 && t > 0 && n > 0 && bad == 0) }' "$1"
+                       if ($o > 1.5 * (b - c0) + 2e-4 || $c > c0 + $o + 2e-4) bad++ }
+                     END { exit !(c > 0 && o > 0 && f > 0 && n > 0 && bad == 0) }' "$1"
 }
 builtin_c0=1.108178 # frm_cost_profile_builtin_llvmpipe
 for sel in static feedback fs; do

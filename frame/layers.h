@@ -234,8 +234,8 @@ double frm_layers_visible_loss_px(struct frm_layers *l, const struct frm_layer_c
  * detail on the object (D > 0), its periphery's part is worth the level's accuracy with Samples at
  * most s²·pixels_px over its accuracy at pixels_px (lod_benefit_accuracy; §5: Samples never more
  * than the pixels covered) — resolution in the units the levels are valued in. 1 where D = 0. The
- * perceptual share above (then 1/(1 + D)), next to accuracies 10⁻⁵–10⁻³ apart, made fs take the finest scale that fit
- * and starve the geometry (docs/RESULTS.md, issue 32 sixth round). */
+ * perceptual share above (then 1/(1 + D)), next to accuracies 10⁻⁵–10⁻³ apart, made fs take the
+ * finest scale that fit and starve the geometry (docs/RESULTS.md, issue 32 sixth round). */
 struct lod_benefit_params;
 double frm_layers_level_share(struct frm_layers *l, const struct frm_layer_candidate *c, size_t k,
                               const struct lod_benefit_params *p, double samples, double pixels_px);

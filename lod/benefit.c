@@ -49,16 +49,15 @@ static int levels_changed(uint8_t level, uint8_t previous)
  * more than those 40° out (16–43), and fs sent its finest triangles to the far periphery
  * (docs/RESULTS.md, issue 32 eleventh round). Hysteresis scales the visible loss as it scales
  * Funkhouser's error. */
-static double perceptual_accuracy(const struct lod_benefit_params *p, double loss, int levels_changed)
+double lod_benefit_perceptual_accuracy(double loss)
 {
-    double t = sqrt(fmax(0.0, loss * (1.0 + p->hysteresis_per_level * levels_changed)) / LOD_PERCEPTUAL_LOSS_WHOLE);
+    double t = sqrt(fmax(0.0, loss) / LOD_PERCEPTUAL_LOSS_WHOLE);
     return t >= 1.0 ? 0.0 : 1.0 - t;
 }
 
-double lod_benefit_perceptual_accuracy(double loss)
+static double perceptual_accuracy(const struct lod_benefit_params *p, double loss, int levels_changed)
 {
-    struct lod_benefit_params none = {0.0, 0.0, 0.0};
-    return perceptual_accuracy(&none, loss, 0);
+    return lod_benefit_perceptual_accuracy(loss * (1.0 + p->hysteresis_per_level * levels_changed));
 }
 
 static double level_accuracy(const struct lod_benefit_params *p, const double *loss_row, uint8_t level,

@@ -149,8 +149,8 @@ static void test_candidates(struct fixture *f)
         double coarse = frm_layers_level_share(&l, &l.cand[quarter], 1, &bp, 50.0, 1600.0);
         /* the periphery's share f of the object at 12°, from share = (1 − f) + f · a(D), a the
          * perceptual benefit's accuracy of D (lod_benefit_perceptual_accuracy) */
-        double f1 = (1.0 - at_12) /
-                    (1.0 - lod_benefit_perceptual_accuracy(l.resolution_loss[1 * FRM_LAYER_SCALES + FRM_LAYER_SCALES - 1]));
+        double d_12 = l.resolution_loss[1 * FRM_LAYER_SCALES + FRM_LAYER_SCALES - 1];
+        double f1 = (1.0 - at_12) / (1.0 - lod_benefit_perceptual_accuracy(d_12));
         double want = (1.0 - f1) + f1 * (1.0 - 0.5 / (100.0 * 100.0)) / (1.0 - 0.5 / (400.0 * 400.0));
         printf("Funkhouser units, scale 0.25, object at 12 deg: 400 samples keep %.8f (want %.8f), 50 keep %.8f\n",
                fine, want, coarse);

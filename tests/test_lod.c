@@ -314,7 +314,9 @@ static void test_perceptual_benefit(void)
     CHECK(fabs(benefit[2] - 2000.0 / 3.0) < 1e-9);                        /* level 2 = last frame's */
     CHECK(fabs(benefit[3] - 1000.0 * (1.0 - sqrt(5000.0 / 90000.0))) < 1e-9); /* one step away */
     /* Compressive, not saturating: four times the loss takes twice as much; past the whole, 0. */
-    CHECK(fabs((1.0 - lod_benefit_perceptual_accuracy(4.0 * 400.0)) - 2.0 * (1.0 - lod_benefit_perceptual_accuracy(400.0))) < 1e-12);
+    double taken_d = 1.0 - lod_benefit_perceptual_accuracy(400.0);
+    double taken_4d = 1.0 - lod_benefit_perceptual_accuracy(4.0 * 400.0);
+    CHECK(fabs(taken_4d - 2.0 * taken_d) < 1e-12);
     CHECK(lod_benefit_perceptual_accuracy(0.0) == 1.0);
     CHECK(lod_benefit_perceptual_accuracy(2.0 * LOD_PERCEPTUAL_LOSS_WHOLE) == 0.0);
 }
